@@ -1,0 +1,614 @@
+//! The scene: every parameter of the stick-slip set-up, in SI units.
+//!
+//! A [`Scene`] is plain data (serde, loadable from TOML or JSON). It becomes usable only
+//! through [`Scene::check`], which validates every field once and returns a
+//! [`CheckedScene`]; everything downstream takes a `CheckedScene` and does not re-check.
+//!
+//! `Scene::default()` is the paper's scene (Vater, Stender, Hoffmann, PAMM 2023,
+//! Fig. 1a and Sections 3-4): L = 2 m, h = 0.01 m, rho = 1000 kg/m3, E = 200 GPa,
+//! v_b = 0.02 m/s, F_n = 100 N, mu_s = 0.5, mu_k = 0.2, alpha = 5 s/m, eps = 1e-3 m/s,
+//! dt = 1e-4 s, t_end = 1.2 s. The paper does not give Poisson's ratio; 0.3 (steel) is used.
+
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::path::Path;
+
+/// Beam geometry (m). Plane stress with out-of-plane width `width`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Geometry {
+    /// Beam length L (m).
+    pub length: f64,
+    /// Beam height h (m), in the direction of the tip deflection.
+    pub height: f64,
+    /// Out-of-plane width b (m); the paper's plane-stress model uses unit width.
+    pub width: f64,
+}
+
+impl Default for Geometry {
+    fn default() -> Self {
+        Self {
+            length: 2.0,
+            height: 0.01,
+            width: 1.0,
+        }
+    }
+}
+
+/// Linear elastic, isotropic material.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Material {
+    /// Mass density rho (kg/m3).
+    pub density: f64,
+    /// Young's modulus E (Pa).
+    pub youngs_modulus: f64,
+    /// Poisson's ratio nu (1); used by the plane-stress model only.
+    pub poisson_ratio: f64,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self {
+            density: 1000.0,
+            youngs_modulus: 200e9,
+            poisson_ratio: 0.3,
+        }
+    }
+}
+
+/// The conveyor belt under the tip.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Loading {
+    /// Belt speed v_b (m/s), in the tip's transverse direction.
+    pub belt_speed: f64,
+    /// Normal force F_n pressing the tip on the belt (N).
+    pub normal_force: f64,
+}
+
+impl Default for Loading {
+    fn default() -> Self {
+        Self {
+            belt_speed: 0.02,
+            normal_force: 100.0,
+        }
+    }
+}
+
+/// Which kinetic friction law acts during slip.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FrictionLawKind {
+    /// mu(v) = mu_k + (mu_s - mu_k) exp(-alpha |v|) (paper, Eq. 6).
+    Exponential,
+    /// mu(v) = mu_k (plain Coulomb).
+    Coulomb,
+    /// A trained network (see the `neural` module); weights from `friction.weights`.
+    Neural,
+}
+
+/// Friction parameters (paper, Eq. 3 and Eq. 6) and the stick threshold.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Friction {
+    /// Kinetic law used during slip.
+    pub law: FrictionLawKind,
+    /// Static coefficient mu_s (1): stick holds while |F_hold| <= mu_s F_n.
+    pub static_coefficient: f64,
+    /// Kinetic coefficient mu_k (1): the high-speed limit of the exponential law.
+    pub kinetic_coefficient: f64,
+    /// Decay alpha of the exponential law (s/m).
+    pub decay: f64,
+    /// Stick threshold eps (m/s): slip -> stick is considered when |v_rel| < eps.
+    pub stick_threshold: f64,
+    /// Weights file of the neural law; `None` uses the weights shipped with the crate.
+    pub weights: Option<String>,
+}
+
+impl Default for Friction {
+    fn default() -> Self {
+        Self {
+            law: FrictionLawKind::Exponential,
+            static_coefficient: 0.5,
+            kinetic_coefficient: 0.2,
+            decay: 5.0,
+            stick_threshold: 1e-3,
+            weights: None,
+        }
+    }
+}
+
+/// How the holding (static friction) force is obtained during stick.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum HoldingForce {
+    /// The exact constraint reaction of the discrete equations (default).
+    Reaction,
+    /// The paper's literal rule: P = E h^3 delta / (4 L^3) from the tip deflection.
+    EulerBernoulli,
+}
+
+/// Which velocity feeds the kinetic friction law.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SlidingVelocity {
+    /// v_rel = v_b - v_tip (default, physically right).
+    Relative,
+    /// The paper's literal v_s = v_tip.
+    Tip,
+}
+
+/// How the beam starts at t = 0.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum InitialState {
+    /// Undeformed, with the velocity field v_b times the static tip-load shape (tip at
+    /// belt speed, consistent with the stick constraint).
+    QuasiStatic,
+    /// Undeformed and at rest; the stick constraint then jerks the tip to belt speed.
+    AtRest,
+}
+
+/// Contact options, including the ones that reproduce the paper literally.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Contact {
+    pub holding_force: HoldingForce,
+    pub sliding_velocity: SlidingVelocity,
+    pub initial_state: InitialState,
+}
+
+impl Default for Contact {
+    fn default() -> Self {
+        Self {
+            holding_force: HoldingForce::Reaction,
+            sliding_velocity: SlidingVelocity::Relative,
+            initial_state: InitialState::QuasiStatic,
+        }
+    }
+}
+
+/// Rayleigh damping C = a M + b K.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+#[serde(default, deny_unknown_fields)]
+pub struct Damping {
+    /// Mass-proportional coefficient a (1/s).
+    pub mass_proportional: f64,
+    /// Stiffness-proportional coefficient b (s).
+    pub stiffness_proportional: f64,
+}
+
+impl Damping {
+    /// Rayleigh coefficients that give the damping ratio `ratio` at the two frequencies
+    /// `f1_hz` and `f2_hz`: zeta(w) = a / (2 w) + b w / 2 (Chopra, Dynamics of Structures,
+    /// Sec. 11.4).
+    pub fn from_ratio(ratio: f64, f1_hz: f64, f2_hz: f64) -> Self {
+        let (w1, w2) = (
+            2.0 * std::f64::consts::PI * f1_hz,
+            2.0 * std::f64::consts::PI * f2_hz,
+        );
+        Self {
+            mass_proportional: 2.0 * ratio * w1 * w2 / (w1 + w2),
+            stiffness_proportional: 2.0 * ratio / (w1 + w2),
+        }
+    }
+}
+
+/// Time stepping (s).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Time {
+    /// Time step dt (s).
+    pub step: f64,
+    /// End time (s).
+    pub end: f64,
+}
+
+impl Default for Time {
+    fn default() -> Self {
+        Self {
+            step: 1e-4,
+            end: 1.2,
+        }
+    }
+}
+
+/// Structural model level.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FidelityLevel {
+    /// Reduced model: `modes` eigenmodes of `modal_basis` plus static correction.
+    Modal,
+    /// Euler-Bernoulli Hermite beam elements.
+    Beam,
+    /// The paper's 2D plane-stress continuum (quadratic Q8 elements).
+    PlaneStress,
+}
+
+/// Full model that a modal model is reduced from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ModalBasis {
+    Beam,
+    PlaneStress,
+}
+
+/// Fidelity level and its resolution.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Fidelity {
+    pub level: FidelityLevel,
+    /// Number of beam elements (beam level, and the modal basis when it is a beam).
+    pub beam_elements: usize,
+    /// Target element edge length of the plane-stress mesh (m).
+    pub element_size: f64,
+    /// Number of eigenmodes kept by the modal level.
+    pub modes: usize,
+    /// Full model the modal level is reduced from.
+    pub modal_basis: ModalBasis,
+    /// Add the static tip-load shape to the modal basis, so that the static tip
+    /// stiffness is exact whatever `modes` is.
+    pub static_correction: bool,
+}
+
+impl Default for Fidelity {
+    fn default() -> Self {
+        Self {
+            level: FidelityLevel::PlaneStress,
+            beam_elements: 100,
+            element_size: 0.02,
+            modes: 10,
+            modal_basis: ModalBasis::Beam,
+            static_correction: true,
+        }
+    }
+}
+
+/// Time integration scheme.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Scheme {
+    /// Chung-Hulbert generalised-alpha; rho_inf = 1 is Newmark average acceleration.
+    GeneralizedAlpha,
+    /// Moreau-Jean nonsmooth theta scheme with impulse-level contact.
+    MoreauJean,
+}
+
+/// Integrator and its parameters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Integrator {
+    pub scheme: Scheme,
+    /// Spectral radius at infinite frequency of generalised-alpha, in [0, 1].
+    pub rho_inf: f64,
+    /// Theta of Moreau-Jean, in [0.5, 1]; 0.5 is the trapezoidal rule.
+    pub theta: f64,
+}
+
+impl Default for Integrator {
+    fn default() -> Self {
+        Self {
+            scheme: Scheme::GeneralizedAlpha,
+            rho_inf: 0.8,
+            theta: 0.5,
+        }
+    }
+}
+
+/// Every parameter of the stick-slip set-up. `Scene::default()` is the paper's scene.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+#[serde(default, deny_unknown_fields)]
+pub struct Scene {
+    pub geometry: Geometry,
+    pub material: Material,
+    pub loading: Loading,
+    pub friction: Friction,
+    pub contact: Contact,
+    pub damping: Damping,
+    pub time: Time,
+    pub fidelity: Fidelity,
+    pub integrator: Integrator,
+}
+
+/// A scene field outside its allowed range, or a file that does not parse.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SceneError {
+    /// `field` holds `value`, which violates `requirement`.
+    Invalid {
+        field: &'static str,
+        value: String,
+        requirement: String,
+    },
+    /// The scene text could not be read or parsed.
+    Parse(String),
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SceneError::Invalid {
+                field,
+                value,
+                requirement,
+            } => write!(
+                f,
+                "invalid scene: {field} = {value}; it must be {requirement}"
+            ),
+            SceneError::Parse(msg) => write!(f, "scene file: {msg}"),
+        }
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+impl SceneError {
+    /// The offending field's dotted name, when the error is about one field.
+    pub fn field(&self) -> Option<&'static str> {
+        match self {
+            SceneError::Invalid { field, .. } => Some(field),
+            SceneError::Parse(_) => None,
+        }
+    }
+}
+
+/// Largest plane-stress mesh the scene accepts, in degrees of freedom; a guard against a
+/// typo in `element_size` exhausting memory.
+pub const MAX_DOFS: usize = 2_000_000;
+/// Largest number of time steps a scene accepts.
+pub const MAX_STEPS: f64 = 1e9;
+
+fn invalid(field: &'static str, value: f64, requirement: &str) -> SceneError {
+    SceneError::Invalid {
+        field,
+        value: format!("{value:e}"),
+        requirement: requirement.to_string(),
+    }
+}
+
+/// `value` is finite and strictly positive.
+fn positive(field: &'static str, value: f64, unit: &str) -> Result<(), SceneError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(field, value, &format!("finite and > 0 ({unit})")))
+    }
+}
+
+/// `value` is finite and not negative.
+fn non_negative(field: &'static str, value: f64, unit: &str) -> Result<(), SceneError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(field, value, &format!("finite and >= 0 ({unit})")))
+    }
+}
+
+/// `value` lies in `[lo, hi]` (or `[lo, hi)` when `hi_open`).
+fn within(
+    field: &'static str,
+    value: f64,
+    lo: f64,
+    hi: f64,
+    hi_open: bool,
+) -> Result<(), SceneError> {
+    let above = if hi_open { value < hi } else { value <= hi };
+    if value.is_finite() && value >= lo && above {
+        Ok(())
+    } else {
+        let close = if hi_open { ")" } else { "]" };
+        Err(invalid(field, value, &format!("in [{lo}, {hi}{close}")))
+    }
+}
+
+/// Plane-stress mesh size for a scene: (elements along the length, elements through the
+/// height). The element edge never exceeds `element_size`.
+pub fn plane_stress_divisions(geometry: &Geometry, element_size: f64) -> (usize, usize) {
+    let along = (geometry.length / element_size - 1e-9).ceil().max(1.0) as usize;
+    let through = (geometry.height / element_size - 1e-9).ceil().max(1.0) as usize;
+    (along, through)
+}
+
+impl Scene {
+    /// Validates every field and returns the checked scene.
+    pub fn check(self) -> Result<CheckedScene, SceneError> {
+        let g = &self.geometry;
+        positive("geometry.length", g.length, "m")?;
+        positive("geometry.height", g.height, "m")?;
+        if g.height >= g.length {
+            return Err(invalid(
+                "geometry.height",
+                g.height,
+                &format!("smaller than geometry.length = {} m", g.length),
+            ));
+        }
+        positive("geometry.width", g.width, "m")?;
+
+        let m = &self.material;
+        positive("material.density", m.density, "kg/m3")?;
+        positive("material.youngs_modulus", m.youngs_modulus, "Pa")?;
+        within("material.poisson_ratio", m.poisson_ratio, -1.0, 0.5, true)?;
+        if m.poisson_ratio <= -1.0 {
+            return Err(invalid(
+                "material.poisson_ratio",
+                m.poisson_ratio,
+                "in (-1, 0.5)",
+            ));
+        }
+
+        let l = &self.loading;
+        if !l.belt_speed.is_finite() {
+            return Err(invalid("loading.belt_speed", l.belt_speed, "finite (m/s)"));
+        }
+        non_negative("loading.normal_force", l.normal_force, "N")?;
+
+        let f = &self.friction;
+        non_negative("friction.static_coefficient", f.static_coefficient, "1")?;
+        non_negative("friction.kinetic_coefficient", f.kinetic_coefficient, "1")?;
+        if f.kinetic_coefficient > f.static_coefficient {
+            return Err(invalid(
+                "friction.kinetic_coefficient",
+                f.kinetic_coefficient,
+                &format!(
+                    "<= friction.static_coefficient = {}",
+                    f.static_coefficient
+                ),
+            ));
+        }
+        non_negative("friction.decay", f.decay, "s/m")?;
+        non_negative("friction.stick_threshold", f.stick_threshold, "m/s")?;
+        if let Some(path) = &f.weights {
+            if path.trim().is_empty() {
+                return Err(SceneError::Invalid {
+                    field: "friction.weights",
+                    value: "\"\"".into(),
+                    requirement: "a path to a weights file, or absent".into(),
+                });
+            }
+        }
+
+        let d = &self.damping;
+        non_negative("damping.mass_proportional", d.mass_proportional, "1/s")?;
+        non_negative(
+            "damping.stiffness_proportional",
+            d.stiffness_proportional,
+            "s",
+        )?;
+
+        let t = &self.time;
+        positive("time.step", t.step, "s")?;
+        positive("time.end", t.end, "s")?;
+        if t.step > t.end {
+            return Err(invalid(
+                "time.step",
+                t.step,
+                &format!("<= time.end = {} s", t.end),
+            ));
+        }
+        if t.end / t.step > MAX_STEPS {
+            return Err(invalid(
+                "time.step",
+                t.step,
+                &format!("large enough that time.end / time.step <= {MAX_STEPS:e}"),
+            ));
+        }
+
+        let fi = &self.fidelity;
+        if fi.beam_elements == 0 || fi.beam_elements > 100_000 {
+            return Err(invalid(
+                "fidelity.beam_elements",
+                fi.beam_elements as f64,
+                "in [1, 100000]",
+            ));
+        }
+        positive("fidelity.element_size", fi.element_size, "m")?;
+        if fi.element_size > g.length {
+            return Err(invalid(
+                "fidelity.element_size",
+                fi.element_size,
+                &format!("<= geometry.length = {} m", g.length),
+            ));
+        }
+        let plane_stress_used = fi.level == FidelityLevel::PlaneStress
+            || (fi.level == FidelityLevel::Modal && fi.modal_basis == ModalBasis::PlaneStress);
+        if plane_stress_used {
+            let (nx, ny) = plane_stress_divisions(g, fi.element_size);
+            // Q8 nodes: (2 nx + 1)(ny + 1) corner-row nodes plus (nx + 1) ny mid-side ones.
+            let nodes = (2 * nx + 1) * (ny + 1) + (nx + 1) * ny;
+            if 2 * nodes > MAX_DOFS {
+                return Err(invalid(
+                    "fidelity.element_size",
+                    fi.element_size,
+                    &format!("coarse enough for at most {MAX_DOFS} degrees of freedom"),
+                ));
+            }
+        }
+        if fi.modes == 0 || fi.modes > 200 {
+            return Err(invalid("fidelity.modes", fi.modes as f64, "in [1, 200]"));
+        }
+
+        let i = &self.integrator;
+        within("integrator.rho_inf", i.rho_inf, 0.0, 1.0, false)?;
+        within("integrator.theta", i.theta, 0.5, 1.0, false)?;
+
+        Ok(CheckedScene(self))
+    }
+
+    /// Parses a scene from TOML text; missing fields take the paper's values.
+    pub fn from_toml_str(text: &str) -> Result<Scene, SceneError> {
+        toml::from_str(text).map_err(|e| SceneError::Parse(e.to_string()))
+    }
+
+    /// Parses a scene from JSON text; missing fields take the paper's values.
+    pub fn from_json_str(text: &str) -> Result<Scene, SceneError> {
+        serde_json::from_str(text).map_err(|e| SceneError::Parse(e.to_string()))
+    }
+
+    /// Reads a `.toml` or `.json` scene file and checks it.
+    pub fn load(path: &Path) -> Result<CheckedScene, SceneError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| SceneError::Parse(format!("{}: {e}", path.display())))?;
+        let scene = match path.extension().and_then(|e| e.to_str()) {
+            Some("json") => Scene::from_json_str(&text),
+            Some("toml") => Scene::from_toml_str(&text),
+            _ => {
+                return Err(SceneError::Parse(format!(
+                    "{}: unknown extension; use .toml or .json",
+                    path.display()
+                )))
+            }
+        }
+        .map_err(|e| match e {
+            SceneError::Parse(msg) => SceneError::Parse(format!("{}: {msg}", path.display())),
+            other => other,
+        })?;
+        scene.check()
+    }
+}
+
+/// A scene whose every field has been validated by [`Scene::check`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckedScene(Scene);
+
+impl CheckedScene {
+    /// The paper's scene, checked.
+    pub fn paper() -> Self {
+        Scene::default()
+            .check()
+            .expect("the paper's scene is valid")
+    }
+
+    /// The underlying scene data.
+    pub fn scene(&self) -> &Scene {
+        &self.0
+    }
+
+    /// Returns the data for editing; it must be checked again to be used.
+    pub fn into_scene(self) -> Scene {
+        self.0
+    }
+
+    /// Bending stiffness EI (N m2) of the Euler-Bernoulli beam.
+    pub fn bending_stiffness(&self) -> f64 {
+        let g = &self.0.geometry;
+        self.0.material.youngs_modulus * g.width * g.height.powi(3) / 12.0
+    }
+
+    /// Mass per unit length rho A (kg/m).
+    pub fn mass_per_length(&self) -> f64 {
+        let g = &self.0.geometry;
+        self.0.material.density * g.width * g.height
+    }
+
+    /// Static tip stiffness of the Euler-Bernoulli cantilever, k = 3 EI / L^3 (N/m).
+    pub fn euler_bernoulli_tip_stiffness(&self) -> f64 {
+        3.0 * self.bending_stiffness() / self.0.geometry.length.powi(3)
+    }
+}
+
+impl std::ops::Deref for CheckedScene {
+    type Target = Scene;
+    fn deref(&self) -> &Scene {
+        &self.0
+    }
+}
