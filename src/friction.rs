@@ -36,7 +36,8 @@ impl ExponentialLaw {
     /// Friction coefficient mu(|v|) (1).
     pub fn coefficient(&self, speed: f64) -> f64 {
         self.kinetic_coefficient
-            + (self.static_coefficient - self.kinetic_coefficient) * (-self.decay * speed.abs()).exp()
+            + (self.static_coefficient - self.kinetic_coefficient)
+                * (-self.decay * speed.abs()).exp()
     }
 }
 
@@ -109,7 +110,10 @@ mod tests {
         // v -> 0+: mu_s F_n; large v: mu_k F_n; odd in v.
         assert!((law.sliding_force(1e-12, 100.0) - 50.0).abs() < 1e-9);
         assert!((law.sliding_force(100.0, 100.0) - 20.0).abs() < 1e-9);
-        assert_eq!(law.sliding_force(-0.1, 100.0), -law.sliding_force(0.1, 100.0));
+        assert_eq!(
+            law.sliding_force(-0.1, 100.0),
+            -law.sliding_force(0.1, 100.0)
+        );
         // Eq. 6 at v = 0.2 m/s: 0.2 + 0.3 e^-1.
         let expected = (0.2 + 0.3 * (-1.0f64).exp()) * 100.0;
         assert!((law.sliding_force(0.2, 100.0) - expected).abs() < 1e-12);

@@ -3,5 +3,13 @@
 //! The physics (scene, structural models, integrator, contact, friction laws) is plain
 //! Rust; the FMI 2.0 layer is a thin adapter over it.
 
+pub mod banded;
+pub mod contact;
+pub mod element;
 pub mod friction;
+pub mod integrator;
+pub mod mesh;
+pub mod modal;
 pub mod scene;
+pub mod simulation;
+pub mod structure;

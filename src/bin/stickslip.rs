@@ -4,7 +4,11 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "stickslip", version, about = "Stick-slip cantilever beam with analytical or neural friction")]
+#[command(
+    name = "stickslip",
+    version,
+    about = "Stick-slip cantilever beam with analytical or neural friction"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

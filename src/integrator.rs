@@ -1,0 +1,284 @@
+//! Implicit time integration of M u'' + C u' + K u = c F with Rayleigh damping
+//! C = a M + b K, and one scalar tip force F decided by the contact each step.
+//!
+//! Both schemes reduce a step to one solve with a constant effective matrix S:
+//! x = x_free + F z with S x_free = r (the step without tip force) and z = S^-1 c, both
+//! from the one factorisation, which is computed once per (model, dt). The contact then
+//! picks F knowing exactly how the tip responds to it (the tip "compliance" c . z): the
+//! stick reaction is a Schur complement of the constrained system, with no second
+//! factorisation and no reassembly.
+//!
+//! - Generalised-alpha (Chung and Hulbert, J. Appl. Mech. 60 (1993) 371), unknown
+//!   u_{n+1}; the balance holds at t_{n+1-alpha_f} and F is the force at that level.
+//!   alpha_m = (2 rho - 1) / (rho + 1), alpha_f = rho / (rho + 1),
+//!   gamma = 1/2 - alpha_m + alpha_f, beta = (1 - alpha_m + alpha_f)^2 / 4.
+//!   rho_inf = 1 gives alpha_m = alpha_f = 1/2, gamma = 1/2, beta = 1/4: the
+//!   trapezoidal rule in the balance at the midpoint, which conserves energy for linear
+//!   undamped systems.
+//! - Moreau-Jean (Jean, Comput. Methods Appl. Mech. Eng. 177 (1999) 235; Acary, ZAMM
+//!   96 (2016) 585), unknown v_{n+1}, theta-method on
+//!   M (v_{n+1} - v_n) = h (f - C v - K u)_{n+theta} + c P,
+//!   u_{n+1} = u_n + h v_{n+theta}; the tip force acts as an impulse P = h F.
+
+use crate::banded::{BandCholesky, SymBandMatrix};
+use crate::scene::{CheckedScene, Scheme};
+use crate::structure::{singular, ModelError, StructuralModel};
+
+/// Constants of one scheme at one time step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Coefficients {
+    GeneralizedAlpha {
+        alpha_m: f64,
+        alpha_f: f64,
+        gamma: f64,
+        beta: f64,
+    },
+    MoreauJean {
+        theta: f64,
+    },
+}
+
+impl Coefficients {
+    /// Generalised-alpha coefficients for spectral radius `rho_inf` in [0, 1].
+    pub fn generalized_alpha(rho_inf: f64) -> Self {
+        let alpha_m = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
+        let alpha_f = rho_inf / (rho_inf + 1.0);
+        let gamma = 0.5 - alpha_m + alpha_f;
+        let beta = 0.25 * (1.0 - alpha_m + alpha_f).powi(2);
+        Coefficients::GeneralizedAlpha {
+            alpha_m,
+            alpha_f,
+            gamma,
+            beta,
+        }
+    }
+
+    pub fn from_scene(scene: &CheckedScene) -> Self {
+        match scene.integrator.scheme {
+            Scheme::GeneralizedAlpha => Self::generalized_alpha(scene.integrator.rho_inf),
+            Scheme::MoreauJean => Coefficients::MoreauJean {
+                theta: scene.integrator.theta,
+            },
+        }
+    }
+}
+
+/// Kinematic state of the structure.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Kinematics {
+    /// Displacements u (m).
+    pub displacement: Vec<f64>,
+    /// Velocities u' (m/s).
+    pub velocity: Vec<f64>,
+    /// Accelerations u'' (m/s2); used by generalised-alpha only.
+    pub acceleration: Vec<f64>,
+}
+
+impl Kinematics {
+    pub fn at_rest(n: usize) -> Self {
+        Self {
+            displacement: vec![0.0; n],
+            velocity: vec![0.0; n],
+            acceleration: vec![0.0; n],
+        }
+    }
+}
+
+/// One scheme set up for one model and one time step: the factorised effective matrix
+/// and the tip response z = S^-1 c.
+pub struct Integrator {
+    coefficients: Coefficients,
+    dt: f64,
+    mass_damping: f64,
+    stiffness_damping: f64,
+    factor: BandCholesky,
+    tip_response: Vec<f64>,
+    /// c . z: the tip's unknown (displacement or velocity) per unit tip force.
+    tip_compliance: f64,
+    scratch_m: Vec<f64>,
+    scratch_k: Vec<f64>,
+    free: Vec<f64>,
+}
+
+/// The step without tip force, and how the tip responds to a force.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrialStep {
+    /// Tip displacement at t_{n+1} with F = 0 (m).
+    pub free_tip_displacement: f64,
+    /// Tip velocity at t_{n+1} with F = 0 (m/s).
+    pub free_tip_velocity: f64,
+    /// d(tip displacement_{n+1}) / dF (m/N).
+    pub displacement_per_force: f64,
+    /// d(tip velocity_{n+1}) / dF (m/(s N)).
+    pub velocity_per_force: f64,
+}
+
+impl Integrator {
+    /// Factorises the effective matrix of `model` for time step `dt` (s) with Rayleigh
+    /// coefficients a = `mass_damping` (1/s), b = `stiffness_damping` (s).
+    pub fn new(
+        model: &StructuralModel,
+        coefficients: Coefficients,
+        dt: f64,
+        mass_damping: f64,
+        stiffness_damping: f64,
+    ) -> Result<Self, ModelError> {
+        let (a, b) = (mass_damping, stiffness_damping);
+        let (s_mass, s_stiffness) = match coefficients {
+            Coefficients::GeneralizedAlpha {
+                alpha_m,
+                alpha_f,
+                gamma,
+                beta,
+            } => {
+                // S = (1 - am)/(beta dt^2) M + (1 - af) gamma/(beta dt) C + (1 - af) K
+                let c_damp = (1.0 - alpha_f) * gamma / (beta * dt);
+                (
+                    (1.0 - alpha_m) / (beta * dt * dt) + a * c_damp,
+                    (1.0 - alpha_f) + b * c_damp,
+                )
+            }
+            // W = M + h theta C + h^2 theta^2 K
+            Coefficients::MoreauJean { theta } => (
+                1.0 + dt * theta * a,
+                dt * theta * b + dt * dt * theta * theta,
+            ),
+        };
+        let effective: SymBandMatrix =
+            model
+                .mass
+                .linear_combination(s_mass, &model.stiffness, s_stiffness);
+        let factor = effective.cholesky().map_err(singular("effective"))?;
+        let n = model.dofs();
+        let mut tip_response = vec![0.0; n];
+        model.add_tip_force(1.0, &mut tip_response);
+        factor.solve_in_place(&mut tip_response);
+        let tip_compliance = model.tip_value(&tip_response);
+        Ok(Self {
+            coefficients,
+            dt,
+            mass_damping: a,
+            stiffness_damping: b,
+            factor,
+            tip_response,
+            tip_compliance,
+            scratch_m: vec![0.0; n],
+            scratch_k: vec![0.0; n],
+            free: vec![0.0; n],
+        })
+    }
+
+    pub fn coefficients(&self) -> Coefficients {
+        self.coefficients
+    }
+
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    /// The step from `state` without tip force, kept internally for [`Self::finish`].
+    /// No allocation.
+    pub fn trial(&mut self, model: &StructuralModel, state: &Kinematics) -> TrialStep {
+        let dt = self.dt;
+        let (a, b) = (self.mass_damping, self.stiffness_damping);
+        let (u, v, acc) = (&state.displacement, &state.velocity, &state.acceleration);
+        match self.coefficients {
+            Coefficients::GeneralizedAlpha {
+                alpha_m,
+                alpha_f,
+                gamma,
+                beta,
+            } => {
+                // r = M (m~ + a c~) + K (b c~ - af u_n), with
+                // m~ = (1-am)/(beta dt^2)(u + dt v) + ((1-am)(1/2-beta)/beta - am) a_n,
+                // c~ = (1-af) gamma/(beta dt) u - ((1-af)(1 - gamma/beta) + af) v
+                //      - (1-af) dt (1 - gamma/(2 beta)) a_n.
+                let m1 = (1.0 - alpha_m) / (beta * dt * dt);
+                let m2 = (1.0 - alpha_m) * (0.5 - beta) / beta - alpha_m;
+                let c0 = (1.0 - alpha_f) * gamma / (beta * dt);
+                let c1 = (1.0 - alpha_f) * (1.0 - gamma / beta) + alpha_f;
+                let c2 = (1.0 - alpha_f) * dt * (1.0 - gamma / (2.0 * beta));
+                for i in 0..u.len() {
+                    let c_tilde = c0 * u[i] - c1 * v[i] - c2 * acc[i];
+                    self.free[i] = m1 * (u[i] + dt * v[i]) + m2 * acc[i] + a * c_tilde;
+                    self.scratch_k[i] = b * c_tilde - alpha_f * u[i];
+                }
+            }
+            Coefficients::MoreauJean { theta } => {
+                // r = M v (1 - h (1-theta) a) + K (-h u - (h (1-theta) b + h^2 theta (1-theta)) v)
+                let mv = 1.0 - dt * (1.0 - theta) * a;
+                let kv = dt * (1.0 - theta) * b + dt * dt * theta * (1.0 - theta);
+                for i in 0..u.len() {
+                    self.free[i] = mv * v[i];
+                    self.scratch_k[i] = -dt * u[i] - kv * v[i];
+                }
+            }
+        }
+        model.mass.mul_vec(&self.free, &mut self.scratch_m);
+        model.stiffness.mul_vec(&self.scratch_k, &mut self.free);
+        for (r, m) in self.free.iter_mut().zip(&self.scratch_m) {
+            *r += m;
+        }
+        self.factor.solve_in_place(&mut self.free);
+        let tip_free = model.tip_value(&self.free);
+        let tip_u = model.tip_value(u);
+        let tip_v = model.tip_value(v);
+        let tip_a = model.tip_value(acc);
+        match self.coefficients {
+            Coefficients::GeneralizedAlpha { gamma, beta, .. } => {
+                let g = gamma / (beta * dt);
+                TrialStep {
+                    free_tip_displacement: tip_free,
+                    free_tip_velocity: g * (tip_free - tip_u)
+                        + (1.0 - gamma / beta) * tip_v
+                        + dt * (1.0 - gamma / (2.0 * beta)) * tip_a,
+                    displacement_per_force: self.tip_compliance,
+                    velocity_per_force: g * self.tip_compliance,
+                }
+            }
+            Coefficients::MoreauJean { theta } => TrialStep {
+                free_tip_displacement: tip_u + dt * ((1.0 - theta) * tip_v + theta * tip_free),
+                free_tip_velocity: tip_free,
+                // P = dt F, so the velocity moves by (c . z) dt per newton.
+                displacement_per_force: dt * dt * theta * self.tip_compliance,
+                velocity_per_force: dt * self.tip_compliance,
+            },
+        }
+    }
+
+    /// Completes the step of the last [`Self::trial`] with tip force `force` (N),
+    /// updating `state` in place. No allocation.
+    pub fn finish(&mut self, state: &mut Kinematics, force: f64) {
+        let dt = self.dt;
+        let impulse_scale = match self.coefficients {
+            Coefficients::GeneralizedAlpha { .. } => force,
+            Coefficients::MoreauJean { .. } => force * dt,
+        };
+        for (x, z) in self.free.iter_mut().zip(&self.tip_response) {
+            *x += impulse_scale * z;
+        }
+        match self.coefficients {
+            Coefficients::GeneralizedAlpha { gamma, beta, .. } => {
+                for i in 0..self.free.len() {
+                    let u_new = self.free[i];
+                    let a_new = (u_new - state.displacement[i] - dt * state.velocity[i])
+                        / (beta * dt * dt)
+                        - (0.5 - beta) / beta * state.acceleration[i];
+                    state.velocity[i] +=
+                        dt * ((1.0 - gamma) * state.acceleration[i] + gamma * a_new);
+                    state.acceleration[i] = a_new;
+                    state.displacement[i] = u_new;
+                }
+            }
+            Coefficients::MoreauJean { theta } => {
+                for i in 0..self.free.len() {
+                    let v_new = self.free[i];
+                    state.displacement[i] +=
+                        dt * ((1.0 - theta) * state.velocity[i] + theta * v_new);
+                    state.acceleration[i] = (v_new - state.velocity[i]) / dt;
+                    state.velocity[i] = v_new;
+                }
+            }
+        }
+    }
+}
