@@ -96,6 +96,11 @@ pub fn analytical_law(scene: &CheckedScene) -> Option<Box<dyn FrictionLaw>> {
     }
 }
 
+/// The neural law a checked scene asks for: its weights file, or the shipped weights.
+pub fn neural_law(_scene: &CheckedScene) -> Result<Box<dyn FrictionLaw>, String> {
+    Err("the neural friction law is not wired into the simulator yet".into())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

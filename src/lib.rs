@@ -4,12 +4,15 @@
 //! Rust; the FMI 2.0 layer is a thin adapter over it.
 
 pub mod banded;
+pub mod cli;
 pub mod contact;
 pub mod element;
 pub mod friction;
 pub mod integrator;
 pub mod mesh;
+pub mod metrics;
 pub mod modal;
+pub mod neural;
 pub mod scene;
 pub mod simulation;
 pub mod structure;

@@ -170,7 +170,15 @@ impl Default for Contact {
 }
 
 /// Rayleigh damping C = a M + b K.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+///
+/// The paper gives no damping. Its MATLAB transient solver (a stiff, variable-step
+/// integrator) damps high frequencies numerically. Undamped, the beam's higher modes make
+/// every slip break into bursts of re-stick/slip whose timing depends on the time step
+/// (the stick-slip period then moves by ~15 % when dt is halved). The default is
+/// therefore light stiffness-proportional damping, b = 5e-5 s. Its ratio
+/// zeta_n = b omega_n / 2 is 0.09 % at mode 1, 1.6 % at mode 3, and grows with
+/// frequency. It shifts breakaway by only c v_b / k = b = half a step at the paper's dt.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Damping {
     /// Mass-proportional coefficient a (1/s).
@@ -179,7 +187,24 @@ pub struct Damping {
     pub stiffness_proportional: f64,
 }
 
+impl Default for Damping {
+    fn default() -> Self {
+        Self {
+            mass_proportional: 0.0,
+            stiffness_proportional: 5e-5,
+        }
+    }
+}
+
 impl Damping {
+    /// No damping at all.
+    pub fn none() -> Self {
+        Self {
+            mass_proportional: 0.0,
+            stiffness_proportional: 0.0,
+        }
+    }
+
     /// Rayleigh coefficients that give the damping ratio `ratio` at the two frequencies
     /// `f1_hz` and `f2_hz`: zeta(w) = a / (2 w) + b w / 2 (Chopra, Dynamics of Structures,
     /// Sec. 11.4).

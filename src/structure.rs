@@ -264,3 +264,27 @@ impl StructuralModel {
             .collect())
     }
 }
+
+/// Euler-Bernoulli tip deflection of the cantilever under tip force `force` (N):
+/// delta = P L^3 / (3 EI) = 4 P L^3 / (E b h^3) (the paper's Eq. 2 with b = 1) (m).
+pub fn euler_bernoulli_tip_deflection(scene: &CheckedScene, force: f64) -> f64 {
+    force / scene.euler_bernoulli_tip_stiffness()
+}
+
+/// Timoshenko tip deflection: Euler-Bernoulli plus shear, P L / (kappa G A) with
+/// kappa = 5/6 for a rectangle and G = E / (2 (1 + nu)) (m). The plane-stress model with
+/// the neutral-axis clamp converges to this value.
+pub fn timoshenko_tip_deflection(scene: &CheckedScene, force: f64) -> f64 {
+    let g = &scene.geometry;
+    let shear_modulus =
+        scene.material.youngs_modulus / (2.0 * (1.0 + scene.material.poisson_ratio));
+    let area = g.width * g.height;
+    euler_bernoulli_tip_deflection(scene, force)
+        + force * g.length / (5.0 / 6.0 * shear_modulus * area)
+}
+
+/// Number of nodes of the plane-stress Q8 mesh for the scene and element size.
+pub fn plane_stress_nodes(scene: &CheckedScene, element_size: f64) -> usize {
+    let (nx, ny) = plane_stress_divisions(&scene.geometry, element_size);
+    (2 * nx + 1) * (ny + 1) + (nx + 1) * ny
+}

@@ -15,9 +15,34 @@ struct Cli {
 }
 
 #[derive(Subcommand)]
-enum Command {}
+enum Command {
+    /// Run a stick-slip scene (default: the paper's) and print its summary.
+    Simulate(stickslip::cli::SimulateArgs),
+    /// Static tip-load check against Euler-Bernoulli, or the mesh-convergence table.
+    Static(stickslip::cli::StaticArgs),
+    /// Train the neural friction law (paper data by default) and write its weights file.
+    Train(stickslip::neural::cli::TrainArgs),
+    /// Hyperparameter grid search with k-fold cross-validation for the neural law.
+    Search(stickslip::neural::cli::SearchArgs),
+}
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match cli.command {}
+    let result = match &cli.command {
+        Command::Simulate(args) => stickslip::cli::simulate(args),
+        Command::Static(args) => stickslip::cli::static_check(args),
+        Command::Train(args) => stickslip::neural::cli::run_train(args)
+            .map(|_| ())
+            .map_err(|e| e.to_string()),
+        Command::Search(args) => stickslip::neural::cli::run_search(args)
+            .map(|_| ())
+            .map_err(|e| e.to_string()),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
 }

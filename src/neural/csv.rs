@@ -201,7 +201,10 @@ pub fn parse_csv(
     let n_features = selection.features.len();
     let quantity = |column: usize| Quantity::new(&columns[column].0, &columns[column].1);
     Ok(Dataset {
-        features: selected[..n_features].iter().map(|&c| quantity(c)).collect(),
+        features: selected[..n_features]
+            .iter()
+            .map(|&c| quantity(c))
+            .collect(),
         roles,
         target: quantity(selected[n_features]),
         inputs: DMatrix::from_vec(n_features, targets.len(), values),
@@ -223,7 +226,9 @@ mod tests {
     }
 
     fn message(text: &str) -> String {
-        parse_csv(text, "t.csv", &selection()).unwrap_err().to_string()
+        parse_csv(text, "t.csv", &selection())
+            .unwrap_err()
+            .to_string()
     }
 
     #[test]
@@ -247,7 +252,10 @@ mod tests {
         assert!(message("v,Fn,F\n").contains("no data rows"));
         assert!(message("v,F\n1,2\n").contains("no column named 'Fn'"));
         let m = message("v,Fn,F\n0.1,100,20\n0.2,abc,20\n");
-        assert!(m.contains("line 3") && m.contains("'abc' is not a number"), "{m}");
+        assert!(
+            m.contains("line 3") && m.contains("'abc' is not a number"),
+            "{m}"
+        );
         let m = message("v,Fn,F\n0.1,100,NaN\n");
         assert!(m.contains("line 2") && m.contains("not a finite"), "{m}");
         let m = message("v,Fn,F\n0.1,100,inf\n");

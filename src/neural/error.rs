@@ -85,7 +85,11 @@ pub enum NeuralError {
 }
 
 impl NeuralError {
-    pub(crate) fn io(action: &'static str, path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+    pub(crate) fn io(
+        action: &'static str,
+        path: impl Into<PathBuf>,
+        source: std::io::Error,
+    ) -> Self {
         NeuralError::Io {
             action,
             path: path.into(),

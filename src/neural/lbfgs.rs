@@ -160,14 +160,20 @@ where
         for (k, (s, y, rho)) in memory.iter().enumerate() {
             let b = rho * dot(y, &direction);
             let a = alphas[k];
-            direction.iter_mut().zip(s).for_each(|(r, si)| *r += (a - b) * si);
+            direction
+                .iter_mut()
+                .zip(s)
+                .for_each(|(r, si)| *r += (a - b) * si);
         }
         direction.iter_mut().for_each(|r| *r = -*r);
         let mut slope = dot(&gradient, &direction);
         if !(slope < 0.0) || !slope.is_finite() {
             // Lost descent (rounding): restart from steepest descent.
             memory.clear();
-            direction.iter_mut().zip(&gradient).for_each(|(d, g)| *d = -g);
+            direction
+                .iter_mut()
+                .zip(&gradient)
+                .for_each(|(d, g)| *d = -g);
             slope = -dot(&gradient, &gradient);
         }
         let initial_step = if memory.is_empty() {
@@ -404,7 +410,10 @@ mod tests {
             ..Default::default()
         };
         let mut values = Vec::new();
-        let result = minimize(rosenbrock, &mut x, &options, |info, _| values.push(info.value)).unwrap();
+        let result = minimize(rosenbrock, &mut x, &options, |info, _| {
+            values.push(info.value)
+        })
+        .unwrap();
         assert_eq!(result.stop, StopReason::GradientTolerance, "{result:?}");
         assert!(x.iter().all(|v| (v - 1.0).abs() < 1e-6), "{x:?}");
         // Every accepted step decreases the objective (sufficient decrease).

@@ -143,9 +143,7 @@ impl Network {
         self.layer_sizes[0]
     }
     pub fn parameter_count(&self) -> usize {
-        self.layers
-            .last()
-            .map_or(0, |l| l.biases + l.outputs)
+        self.layers.last().map_or(0, |l| l.biases + l.outputs)
     }
 
     /// Glorot (Xavier) uniform weights, W ~ U(-r, r) with r = sqrt(6 / (inputs + outputs)),
@@ -422,7 +420,13 @@ impl<'a> Objective<'a> {
                 *dz = scale * r;
             }
             block.squared_error = squared_error;
-            network.backward(params, x, block.len, &mut block.workspace, &mut block.gradient);
+            network.backward(
+                params,
+                x,
+                block.len,
+                &mut block.workspace,
+                &mut block.gradient,
+            );
         };
         if self.blocks.len() == 1 {
             run(&mut self.blocks[0]);
@@ -529,7 +533,9 @@ mod tests {
         let mut gradient = vec![0.0; params.len()];
         let value = objective.value_and_gradient(&params, &mut gradient);
         let mut workspace = Workspace::default();
-        let outputs = network.forward(&params, &inputs, 50, &mut workspace).to_vec();
+        let outputs = network
+            .forward(&params, &inputs, 50, &mut workspace)
+            .to_vec();
         let mse = outputs
             .iter()
             .zip(&targets)

@@ -140,7 +140,11 @@ impl TrainReport {
 pub fn mse_and_r2(predicted: &[f64], truth: &[f64]) -> (f64, f64) {
     let n = truth.len() as f64;
     let mean = truth.iter().sum::<f64>() / n;
-    let ss_res: f64 = predicted.iter().zip(truth).map(|(p, t)| (p - t).powi(2)).sum();
+    let ss_res: f64 = predicted
+        .iter()
+        .zip(truth)
+        .map(|(p, t)| (p - t).powi(2))
+        .sum();
     let ss_tot: f64 = truth.iter().map(|t| (t - mean).powi(2)).sum();
     (ss_res / n, 1.0 - ss_res / ss_tot)
 }
@@ -151,7 +155,11 @@ fn mean_and_std(values: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
     let variance = values.map(|v| (v - mean).powi(2)).sum::<f64>() / n;
     let std = variance.sqrt();
     // A constant column carries no information; std 1 keeps it harmless.
-    let std = if std > 1e-12 * mean.abs().max(1.0) { std } else { 1.0 };
+    let std = if std > 1e-12 * mean.abs().max(1.0) {
+        std
+    } else {
+        1.0
+    };
     (mean, std)
 }
 
@@ -167,7 +175,10 @@ pub struct DataSource {
 fn check_config(config: &TrainConfig, data: &Dataset) -> Result<(), NeuralError> {
     let bad = |m: String| Err(NeuralError::InvalidInput(m));
     if !(config.lambda >= 0.0 && config.lambda.is_finite()) {
-        return bad(format!("lambda must be a finite number >= 0, got {}", config.lambda));
+        return bad(format!(
+            "lambda must be a finite number >= 0, got {}",
+            config.lambda
+        ));
     }
     if config.hidden_layers.contains(&0) {
         return bad("hidden layer widths must be positive".into());
@@ -181,7 +192,11 @@ fn check_config(config: &TrainConfig, data: &Dataset) -> Result<(), NeuralError>
     if data.len() < 2 {
         return bad(format!("{} training sample(s) are too few", data.len()));
     }
-    if config.variant == Variant::Signed && data.feature_with_role(FeatureRole::SlidingVelocity).is_none() {
+    if config.variant == Variant::Signed
+        && data
+            .feature_with_role(FeatureRole::SlidingVelocity)
+            .is_none()
+    {
         return bad(
             "the signed variant needs a sliding-velocity feature (its sign gives the direction)"
                 .into(),
@@ -217,13 +232,19 @@ pub fn train(
         Some(k) if data.inputs[(k, sample)] < 0.0 => -1.0,
         _ => 1.0,
     };
-    let fitted: Vec<f64> = (0..data.len()).map(|i| direction(i) * data.targets[i]).collect();
+    let fitted: Vec<f64> = (0..data.len())
+        .map(|i| direction(i) * data.targets[i])
+        .collect();
 
     let features: Vec<FeatureSpec> = (0..d)
         .map(|k| {
             let network_input = |i: usize| {
                 let v = data.inputs[(k, i)];
-                if Some(k) == signed_velocity { v.abs() } else { v }
+                if Some(k) == signed_velocity {
+                    v.abs()
+                } else {
+                    v
+                }
             };
             let (input_mean, input_std) = mean_and_std((0..data.len()).map(network_input));
             let (min, max) = data.feature_range(k);
@@ -283,10 +304,19 @@ pub fn train(
     // Standardised training inputs use the same mapping as inference (clamping is a
     // no-op inside the training range).
     let (train_inputs, _) = model.network_inputs(&data.inputs);
-    let train_targets: Vec<f64> = fitted.iter().map(|y| (y - output_mean) / output_std).collect();
+    let train_targets: Vec<f64> = fitted
+        .iter()
+        .map(|y| (y - output_mean) / output_std)
+        .collect();
     let (test_inputs, test_signs) = model.network_inputs(&split.test.inputs);
     let penalty = config.lambda / (output_std * output_std);
-    let mut objective = Objective::new(&network, &train_inputs, &train_targets, penalty, config.blocks)?;
+    let mut objective = Objective::new(
+        &network,
+        &train_inputs,
+        &train_targets,
+        penalty,
+        config.blocks,
+    )?;
 
     let mut params = network.initial_parameters(&mut seeded_rng(config.seed, INIT_STREAM));
     let options = LbfgsOptions {
@@ -344,7 +374,10 @@ pub fn train(
     let (mse_test, r2_test) = if split.test.is_empty() {
         (f64::NAN, f64::NAN)
     } else {
-        mse_and_r2(&model.predict_columns(&split.test.inputs)?, &split.test.targets)
+        mse_and_r2(
+            &model.predict_columns(&split.test.inputs)?,
+            &split.test.targets,
+        )
     };
     model.metrics = Metrics {
         mse_train,
@@ -399,5 +432,7 @@ pub fn evaluate_model(model: &NeuralModel, data: &Dataset) -> Result<(f64, f64),
 /// Raw feature matrix helper for callers that have rows of samples.
 pub fn columns_from_rows(rows: &[Vec<f64>]) -> DMatrix<f64> {
     let d = rows.first().map_or(0, Vec::len);
-    DMatrix::from_fn(d, rows.len(), |k, i| rows[i].get(k).copied().unwrap_or(f64::NAN))
+    DMatrix::from_fn(d, rows.len(), |k, i| {
+        rows[i].get(k).copied().unwrap_or(f64::NAN)
+    })
 }

@@ -307,10 +307,16 @@ impl NeuralModel {
         }
         for role in [FeatureRole::SlidingVelocity, FeatureRole::NormalForce] {
             if self.features.iter().filter(|f| f.role == role).count() > 1 {
-                return Err(shape(format!("more than one feature has the role {role:?}")));
+                return Err(shape(format!(
+                    "more than one feature has the role {role:?}"
+                )));
             }
         }
-        if self.variant == Variant::Signed && self.feature_with_role(FeatureRole::SlidingVelocity).is_none() {
+        if self.variant == Variant::Signed
+            && self
+                .feature_with_role(FeatureRole::SlidingVelocity)
+                .is_none()
+        {
             return Err(shape(
                 "the signed variant needs a feature with the role sliding_velocity".into(),
             ));
@@ -325,7 +331,9 @@ impl NeuralModel {
             finite(format!("target.{what}"), v)?;
         }
         if !(t.output_std > 0.0) || t.min > t.max {
-            return Err(shape("target: output_std must be positive and min <= max".into()));
+            return Err(shape(
+                "target: output_std must be positive and min <= max".into(),
+            ));
         }
         finite("training.lambda".into(), self.training.lambda)?;
         let m = &self.metrics;
@@ -367,7 +375,11 @@ impl NeuralModel {
                 let w = &params[shape.weight_range()];
                 LayerWeights {
                     weights: (0..shape.outputs)
-                        .map(|o| (0..shape.inputs).map(|i| w[o + i * shape.outputs]).collect())
+                        .map(|o| {
+                            (0..shape.inputs)
+                                .map(|i| w[o + i * shape.outputs])
+                                .collect()
+                        })
                         .collect(),
                     biases: params[shape.bias_range()].to_vec(),
                 }
@@ -389,7 +401,11 @@ impl NeuralModel {
         let mut signs = Vec::with_capacity(samples);
         for column in raw.column_iter() {
             for (k, f) in self.features.iter().enumerate() {
-                let value = if Some(k) == velocity { column[k].abs() } else { column[k] };
+                let value = if Some(k) == velocity {
+                    column[k].abs()
+                } else {
+                    column[k]
+                };
                 let (lo, hi) = network_input_range(f, self.variant);
                 inputs.push((value.clamp(lo, hi) - f.input_mean) / f.input_std);
             }

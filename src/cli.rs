@@ -1,0 +1,378 @@
+//! The `simulate` and `static` commands of the `stickslip` binary.
+//!
+//! The command-line contract (relied on by scripts; extend it, don't rename it):
+//! `stickslip simulate [--scene FILE] [--fidelity modal|beam|plane-stress] [--dt S]
+//! [--t-end S] [--out FILE.csv]` writes `t,tip_deflection,tip_velocity,friction_force,stick`
+//! (SI units, stick as 0/1) and prints a summary.
+//! `stickslip static [--fidelity ...] [--element-size M] [--convergence]`.
+
+use crate::friction::FrictionLaw;
+use crate::metrics::Summary;
+use crate::scene::{CheckedScene, Clamp, Damping, FidelityLevel, FrictionLawKind, Scene, Scheme};
+use crate::simulation::{Sample, Simulator};
+use crate::structure::{
+    euler_bernoulli_tip_deflection, plane_stress_nodes, timoshenko_tip_deflection, StructuralModel,
+};
+use clap::{Args, ValueEnum};
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// `--fidelity` values.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum FidelityArg {
+    Modal,
+    Beam,
+    PlaneStress,
+}
+
+impl From<FidelityArg> for FidelityLevel {
+    fn from(f: FidelityArg) -> Self {
+        match f {
+            FidelityArg::Modal => FidelityLevel::Modal,
+            FidelityArg::Beam => FidelityLevel::Beam,
+            FidelityArg::PlaneStress => FidelityLevel::PlaneStress,
+        }
+    }
+}
+
+/// `--friction` values; `analytical` is the paper's exponential law.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum FrictionArg {
+    Analytical,
+    Coulomb,
+    Neural,
+}
+
+/// `--integrator` values.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum SchemeArg {
+    GeneralizedAlpha,
+    MoreauJean,
+}
+
+/// Options shared by commands that build a scene: a scene file plus overrides.
+#[derive(Args, Debug, Clone, Default)]
+pub struct SceneArgs {
+    /// Scene file (.toml or .json); missing fields take the paper's values.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// Structural model.
+    #[arg(long, value_enum)]
+    pub fidelity: Option<FidelityArg>,
+    /// Number of beam elements (beam, and modal from a beam).
+    #[arg(long)]
+    pub elements: Option<usize>,
+    /// Plane-stress element size (m).
+    #[arg(long)]
+    pub element_size: Option<f64>,
+    /// Number of modes of the modal model.
+    #[arg(long)]
+    pub modes: Option<usize>,
+    /// Time step (s).
+    #[arg(long)]
+    pub dt: Option<f64>,
+    /// End time (s).
+    #[arg(long)]
+    pub t_end: Option<f64>,
+    /// Time integration scheme.
+    #[arg(long, value_enum)]
+    pub integrator: Option<SchemeArg>,
+    /// Generalised-alpha spectral radius at infinity, in [0, 1].
+    #[arg(long)]
+    pub rho_inf: Option<f64>,
+    /// Rayleigh damping ratio applied at the first and third bending frequencies of the
+    /// Euler-Bernoulli cantilever.
+    #[arg(long)]
+    pub damping_ratio: Option<f64>,
+    /// Friction law during slip.
+    #[arg(long, value_enum)]
+    pub friction: Option<FrictionArg>,
+    /// Weights file of the neural law (default: the weights shipped with the crate).
+    #[arg(long)]
+    pub weights: Option<String>,
+}
+
+impl SceneArgs {
+    /// The scene file (or the paper's scene) with the overrides applied, checked.
+    pub fn scene(&self) -> Result<CheckedScene, String> {
+        let mut scene: Scene = match &self.scene {
+            Some(path) => Scene::load(path).map_err(|e| e.to_string())?.into_scene(),
+            None => Scene::default(),
+        };
+        if let Some(f) = self.fidelity {
+            scene.fidelity.level = f.into();
+        }
+        if let Some(n) = self.elements {
+            scene.fidelity.beam_elements = n;
+        }
+        if let Some(s) = self.element_size {
+            scene.fidelity.element_size = s;
+        }
+        if let Some(m) = self.modes {
+            scene.fidelity.modes = m;
+        }
+        if let Some(dt) = self.dt {
+            scene.time.step = dt;
+        }
+        if let Some(t) = self.t_end {
+            scene.time.end = t;
+        }
+        if let Some(s) = self.integrator {
+            scene.integrator.scheme = match s {
+                SchemeArg::GeneralizedAlpha => Scheme::GeneralizedAlpha,
+                SchemeArg::MoreauJean => Scheme::MoreauJean,
+            };
+        }
+        if let Some(r) = self.rho_inf {
+            scene.integrator.rho_inf = r;
+        }
+        if let Some(f) = self.friction {
+            scene.friction.law = match f {
+                FrictionArg::Analytical => FrictionLawKind::Exponential,
+                FrictionArg::Coulomb => FrictionLawKind::Coulomb,
+                FrictionArg::Neural => FrictionLawKind::Neural,
+            };
+        }
+        if let Some(w) = &self.weights {
+            scene.friction.weights = Some(w.clone());
+        }
+        if let Some(zeta) = self.damping_ratio {
+            // First and third cantilever frequencies: f_i = (beta_i L)^2 / (2 pi L^2)
+            // sqrt(EI / rho A), beta_1 L = 1.8751, beta_3 L = 7.8548.
+            let checked = scene.clone().check().map_err(|e| e.to_string())?;
+            let base = (checked.bending_stiffness() / checked.mass_per_length()).sqrt()
+                / (2.0 * std::f64::consts::PI * scene.geometry.length.powi(2));
+            if !(zeta.is_finite() && zeta >= 0.0) {
+                return Err(format!(
+                    "--damping-ratio = {zeta}; it must be finite and >= 0"
+                ));
+            }
+            scene.damping =
+                Damping::from_ratio(zeta, 1.8751f64.powi(2) * base, 7.8548f64.powi(2) * base);
+        }
+        scene.check().map_err(|e| e.to_string())
+    }
+}
+
+/// Arguments of `stickslip simulate`.
+#[derive(Args, Debug, Clone)]
+pub struct SimulateArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// CSV output: t,tip_deflection,tip_velocity,friction_force,stick (SI units).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Write every N-th step to the CSV.
+    #[arg(long, default_value_t = 1)]
+    pub every: usize,
+    /// Also write the summary (and the transitions) as JSON.
+    #[arg(long)]
+    pub summary_json: Option<PathBuf>,
+}
+
+/// The friction law a scene asks for.
+pub fn friction_law(scene: &CheckedScene) -> Result<Box<dyn FrictionLaw>, String> {
+    match scene.friction.law {
+        FrictionLawKind::Neural => crate::friction::neural_law(scene),
+        _ => Ok(crate::friction::analytical_law(scene).expect("analytical law")),
+    }
+}
+
+/// A finished run: samples, summary and wall time.
+pub struct Run {
+    pub samples: Vec<Sample>,
+    pub summary: Summary,
+    pub seconds: f64,
+    pub label: String,
+}
+
+/// Runs a checked scene to its end time.
+pub fn run_scene(scene: CheckedScene, every: usize) -> Result<Run, String> {
+    let law = friction_law(&scene)?;
+    let started = Instant::now();
+    let mut sim = Simulator::new(scene, law).map_err(|e| e.to_string())?;
+    let samples = sim.run(every).map_err(|e| e.to_string())?;
+    let seconds = started.elapsed().as_secs_f64();
+    // The summary wants every step; with decimated samples it is computed on those.
+    let summary = Summary::new(&samples, sim.transitions());
+    Ok(Run {
+        samples,
+        summary,
+        seconds,
+        label: format!("{}, {} friction", sim.model().label, sim.law_name()),
+    })
+}
+
+/// Writes samples as the contract's CSV.
+pub fn write_csv(path: &PathBuf, samples: &[Sample]) -> Result<(), String> {
+    let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut w = std::io::BufWriter::new(file);
+    let io = |e: std::io::Error| format!("{}: {e}", path.display());
+    writeln!(w, "t,tip_deflection,tip_velocity,friction_force,stick").map_err(io)?;
+    for s in samples {
+        writeln!(
+            w,
+            "{:.10e},{:.10e},{:.10e},{:.10e},{}",
+            s.time, s.tip_deflection, s.tip_velocity, s.friction_force, s.stick as u8
+        )
+        .map_err(io)?;
+    }
+    w.flush().map_err(io)
+}
+
+/// `stickslip simulate`.
+pub fn simulate(args: &SimulateArgs) -> Result<(), String> {
+    let scene = args.scene.scene()?;
+    let end = scene.time.end;
+    // The summary is computed on every step; decimation applies to the CSV only.
+    let run = run_scene(scene, 1)?;
+    if let Some(path) = &args.out {
+        let every = args.every.max(1);
+        let kept: Vec<Sample> = run.samples.iter().step_by(every).copied().collect();
+        write_csv(path, &kept)?;
+    }
+    if let Some(path) = &args.summary_json {
+        let text = serde_json::to_string_pretty(&run.summary).map_err(|e| e.to_string())?;
+        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    println!("{}", run.label);
+    print!("{}", run.summary.report());
+    println!(
+        "wall time               {:.3} s ({:.1}x real time)",
+        run.seconds,
+        end / run.seconds
+    );
+    Ok(())
+}
+
+/// Arguments of `stickslip static`.
+#[derive(Args, Debug, Clone)]
+pub struct StaticArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Tip load P (N).
+    #[arg(long, default_value_t = 50.0)]
+    pub load: f64,
+    /// Print the mesh-convergence table of the plane-stress model (the paper's Fig. 1b).
+    #[arg(long)]
+    pub convergence: bool,
+    /// Write the convergence table as CSV.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// One row of the mesh-convergence study.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ConvergenceRow {
+    pub clamp: &'static str,
+    pub element_size: f64,
+    pub nodes: usize,
+    pub dofs: usize,
+    pub deflection: f64,
+    /// Relative error against Euler-Bernoulli, (delta - delta_EB) / delta_EB.
+    pub error_euler_bernoulli: f64,
+    /// Relative error against Timoshenko (Euler-Bernoulli plus shear).
+    pub error_timoshenko: f64,
+}
+
+/// Plane-stress static tip deflection over a sequence of element sizes, both clamps.
+pub fn convergence_study(
+    scene: &CheckedScene,
+    load: f64,
+    sizes: &[f64],
+) -> Result<Vec<ConvergenceRow>, String> {
+    let eb = euler_bernoulli_tip_deflection(scene, load);
+    let timo = timoshenko_tip_deflection(scene, load);
+    let mut rows = Vec::new();
+    for (clamp, name) in [(Clamp::NeutralAxis, "neutral-axis"), (Clamp::Full, "full")] {
+        for &size in sizes {
+            let model = StructuralModel::plane_stress_clamped(scene, size, clamp);
+            let d = model
+                .static_tip_deflection(load)
+                .map_err(|e| e.to_string())?;
+            rows.push(ConvergenceRow {
+                clamp: name,
+                element_size: size,
+                nodes: plane_stress_nodes(scene, size),
+                dofs: model.dofs(),
+                deflection: d,
+                error_euler_bernoulli: (d - eb) / eb,
+                error_timoshenko: (d - timo) / timo,
+            });
+        }
+    }
+    Ok(rows)
+}
+
+/// `stickslip static`.
+pub fn static_check(args: &StaticArgs) -> Result<(), String> {
+    let scene = args.scene.scene()?;
+    if !(args.load.is_finite() && args.load != 0.0) {
+        return Err(format!(
+            "--load = {}; it must be finite and non-zero",
+            args.load
+        ));
+    }
+    let eb = euler_bernoulli_tip_deflection(&scene, args.load);
+    if args.convergence {
+        let sizes = [0.16, 0.08, 0.04, 0.02, 0.01, 0.005];
+        let rows = convergence_study(&scene, args.load, &sizes)?;
+        println!(
+            "plane-stress Q8, tip load {} N, delta_EB = 4 P L^3 / (E h^3) = {:.6} mm",
+            args.load,
+            eb * 1e3
+        );
+        println!(
+            "{:<13} {:>10} {:>7} {:>7} {:>14} {:>12} {:>12}",
+            "clamp", "size (m)", "nodes", "dofs", "delta (mm)", "err EB", "err Timo"
+        );
+        for r in &rows {
+            println!(
+                "{:<13} {:>10.4} {:>7} {:>7} {:>14.9} {:>11.4}% {:>11.4}%",
+                r.clamp,
+                r.element_size,
+                r.nodes,
+                r.dofs,
+                r.deflection * 1e3,
+                100.0 * r.error_euler_bernoulli,
+                100.0 * r.error_timoshenko
+            );
+        }
+        if let Some(path) = &args.out {
+            let mut text = String::from(
+                "clamp,element_size,nodes,dofs,deflection,error_euler_bernoulli,error_timoshenko\n",
+            );
+            for r in &rows {
+                text += &format!(
+                    "{},{},{},{},{:.12e},{:.6e},{:.6e}\n",
+                    r.clamp,
+                    r.element_size,
+                    r.nodes,
+                    r.dofs,
+                    r.deflection,
+                    r.error_euler_bernoulli,
+                    r.error_timoshenko
+                );
+            }
+            std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+        return Ok(());
+    }
+    let model = StructuralModel::build(&scene).map_err(|e| e.to_string())?;
+    let d = model
+        .static_tip_deflection(args.load)
+        .map_err(|e| e.to_string())?;
+    println!("{}", model.label);
+    println!("tip load                {} N", args.load);
+    println!("tip deflection          {:.9} mm", d * 1e3);
+    println!(
+        "Euler-Bernoulli         {:.9} mm (4 P L^3 / (E h^3))",
+        eb * 1e3
+    );
+    println!(
+        "relative error          {:.5} %",
+        100.0 * (d - eb).abs() / eb.abs()
+    );
+    Ok(())
+}
