@@ -267,9 +267,9 @@ mod tests {
         let x: Vec<f64> = (0..12).map(|i| i as f64 - 3.0).collect();
         let mut y = vec![0.0; 12];
         a.mul_vec(&x, &mut y);
-        for i in 0..12 {
-            let dense: f64 = (0..12).map(|j| a.get(i, j) * x[j]).sum();
-            assert!((dense - y[i]).abs() < 1e-12);
+        for (i, yi) in y.iter().enumerate() {
+            let dense: f64 = x.iter().enumerate().map(|(j, xj)| a.get(i, j) * xj).sum();
+            assert!((dense - yi).abs() < 1e-12);
         }
     }
 

@@ -14,7 +14,6 @@
 //! which its balance holds. Moreau-Jean takes the contact at impulse level: stick when
 //! the needed impulse lies in [-mu_s F_n dt, mu_s F_n dt], with no threshold eps.
 
-use crate::banded::dot;
 use crate::contact::{next_state, ContactState, Transition};
 use crate::friction::{signum_or_zero, FrictionLaw};
 use crate::integrator::{Coefficients, Integrator, Kinematics};
@@ -321,7 +320,7 @@ impl Simulator {
         samples.push(self.sample());
         while self.state.step < steps {
             self.step()?;
-            if self.state.step % every == 0 || self.state.step == steps {
+            if self.state.step.is_multiple_of(every) || self.state.step == steps {
                 samples.push(self.sample());
             }
         }
@@ -356,11 +355,15 @@ fn initial_state(
         let mut w = model.tip_vector();
         mass_factor.solve_in_place(&mut w);
         let tip_w = model.tip_value(&w);
-        for i in 0..n {
-            kinematics.acceleration[i] = -a * kinematics.velocity[i] + a * vb / tip_w * w[i];
+        for ((acc, vel), wi) in kinematics
+            .acceleration
+            .iter_mut()
+            .zip(&kinematics.velocity)
+            .zip(&w)
+        {
+            *acc = -a * vel + a * vb / tip_w * wi;
         }
         holding = a * vb / tip_w + b * vb / tip_psi;
-        debug_assert!(dot(&w, &w).is_finite());
     }
     Ok(SimulationState {
         step: 0,

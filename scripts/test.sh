@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Runs every test: formatting and lints, the Rust test suite, and the Python checks in
+# the project's venv (created on the fly from pinned requirements).
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+
+echo "== cargo fmt --check"
+cargo fmt --all -- --check
+echo "== cargo clippy -D warnings"
+cargo clippy --release --all-targets -- -D warnings
+echo "== cargo test"
+cargo test --release --all-targets 2>&1 | tee target/cargo-test.log
+# A summary line that the CI log readers understand, over every test binary.
+awk '/^test result:/ {p += $4; f += $6; i += $8} END {printf "rust: %d passed, %d failed, %d skipped\n", p, f, i}' target/cargo-test.log
+
+echo "== python-checks (pytest)"
+python="$(bash scripts/python-env.sh)"
+cargo build --release --bins
+set +e
+"$python" -m pytest -q python-checks
+status=$?
+set -e
+# pytest exits 5 when it collects no test; that is not a failure of this project.
+if [ "$status" -ne 0 ] && [ "$status" -ne 5 ]; then
+  exit "$status"
+fi
