@@ -17,13 +17,16 @@ echo "== Mesh convergence (paper Fig. 1b)"
 "$bin" static --convergence --out "$out/mesh_convergence.csv"
 echo
 for fidelity in modal beam plane-stress; do
-  for friction in analytical neural; do
-    echo "== Paper scene: $fidelity, $friction friction"
-    if ! "$bin" simulate --fidelity "$fidelity" --friction "$friction" \
-        --out "$out/paper_${fidelity}_${friction}.csv" \
-        --summary-json "$out/paper_${fidelity}_${friction}.json"; then
-      echo "(not available: see the error above)"
-    fi
+  for law in analytical neural-plain neural-signed; do
+    case "$law" in
+      analytical) args=(--friction analytical) ;;
+      neural-plain) args=(--friction neural --weights weights/paper-plain.json) ;;
+      neural-signed) args=(--friction neural --weights weights/paper-signed.json) ;;
+    esac
+    echo "== Paper scene: $fidelity, $law friction"
+    "$bin" simulate --fidelity "$fidelity" "${args[@]}" \
+      --out "$out/paper_${fidelity}_${law}.csv" \
+      --summary-json "$out/paper_${fidelity}_${law}.json"
     echo
   done
 done

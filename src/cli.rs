@@ -64,26 +64,26 @@ pub struct SceneArgs {
     #[arg(long)]
     pub elements: Option<usize>,
     /// Plane-stress element size (m).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub element_size: Option<f64>,
     /// Number of modes of the modal model.
     #[arg(long)]
     pub modes: Option<usize>,
     /// Time step (s).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub dt: Option<f64>,
     /// End time (s).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub t_end: Option<f64>,
     /// Time integration scheme.
     #[arg(long, value_enum)]
     pub integrator: Option<SchemeArg>,
     /// Generalised-alpha spectral radius at infinity, in [0, 1].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub rho_inf: Option<f64>,
     /// Rayleigh damping ratio applied at the first and third bending frequencies of the
     /// Euler-Bernoulli cantilever.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub damping_ratio: Option<f64>,
     /// Friction law during slip.
     #[arg(long, value_enum)]
@@ -252,7 +252,7 @@ pub struct StaticArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Tip load P (N).
-    #[arg(long, default_value_t = 50.0)]
+    #[arg(long, default_value_t = 50.0, allow_negative_numbers = true)]
     pub load: f64,
     /// Print the mesh-convergence table of the plane-stress model (the paper's Fig. 1b).
     #[arg(long)]

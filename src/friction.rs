@@ -96,9 +96,15 @@ pub fn analytical_law(scene: &CheckedScene) -> Option<Box<dyn FrictionLaw>> {
     }
 }
 
-/// The neural law a checked scene asks for: its weights file, or the shipped weights.
-pub fn neural_law(_scene: &CheckedScene) -> Result<Box<dyn FrictionLaw>, String> {
-    Err("the neural friction law is not wired into the simulator yet".into())
+/// The neural law a checked scene asks for: its weights file (`friction.weights`), or the
+/// shipped plain-variant weights (the paper's model) when none is given.
+pub fn neural_law(scene: &CheckedScene) -> Result<Box<dyn FrictionLaw>, String> {
+    match &scene.friction.weights {
+        Some(path) => crate::neural::load_friction_law(std::path::Path::new(path))
+            .map_err(|e| format!("friction.weights = {path}: {e}")),
+        None => crate::neural::default_friction_law(crate::neural::Variant::Plain)
+            .map_err(|e| format!("shipped neural weights: {e}")),
+    }
 }
 
 #[cfg(test)]
