@@ -167,7 +167,8 @@ where
         }
         direction.iter_mut().for_each(|r| *r = -*r);
         let mut slope = dot(&gradient, &direction);
-        if !(slope < 0.0) || !slope.is_finite() {
+        // Also catches NaN: a NaN slope is not a descent direction either.
+        if slope.is_nan() || slope >= 0.0 || !slope.is_finite() {
             // Lost descent (rounding): restart from steepest descent.
             memory.clear();
             direction

@@ -271,6 +271,12 @@ impl Network {
     }
 }
 
+/// Products with a dimension at or below this go through `small_gemm`: nalgebra 0.33
+/// sends them to a gemv fallback that indexes past the buffer when A is a strided
+/// (transposed) view (caught by debug assertions); above it, nalgebra calls
+/// `matrixmultiply`, which honours any strides.
+const SMALL_DIMENSION: usize = 5;
+
 /// C = A B for column-major C (m x n); A (m x k) and B (k x n) are given by their buffers
 /// and (row stride, column stride), so a transpose is just swapped strides.
 fn gemm(
@@ -281,10 +287,36 @@ fn gemm(
     b_strides: (usize, usize),
     c: &mut [f64],
 ) {
+    if m.min(k).min(n) <= SMALL_DIMENSION {
+        small_gemm((m, k, n), a, a_strides, b, b_strides, c);
+        return;
+    }
     let a = DMatrixView::from_slice_with_strides(a, m, k, a_strides.0, a_strides.1);
     let b = DMatrixView::from_slice_with_strides(b, k, n, b_strides.0, b_strides.1);
     let mut c = DMatrixViewMut::from_slice(c, m, n);
     c.gemm(1.0, &a, &b, 0.0);
+}
+
+/// Plain loops for thin products (a layer with 1 or 2 units): C[:, j] = sum_p A[:, p] B[p, j],
+/// accumulated in increasing p.
+fn small_gemm(
+    (m, k, n): (usize, usize, usize),
+    a: &[f64],
+    (a_row, a_col): (usize, usize),
+    b: &[f64],
+    (b_row, b_col): (usize, usize),
+    c: &mut [f64],
+) {
+    for j in 0..n {
+        let column = &mut c[j * m..(j + 1) * m];
+        column.iter_mut().for_each(|v| *v = 0.0);
+        for p in 0..k {
+            let b_pj = b[p * b_row + j * b_col];
+            for (i, c_ij) in column.iter_mut().enumerate() {
+                *c_ij += a[i * a_row + p * a_col] * b_pj;
+            }
+        }
+    }
 }
 
 /// Buffers for one batch: activations and deltas of every layer, reused across calls.
@@ -331,15 +363,15 @@ struct Block {
 /// Training objective on standardised data (see `train` for how it relates to the
 /// paper's and scikit-learn's definitions):
 ///
-/// J(theta) = (1/n) sum_i (f(x_i; theta) - t_i)^2 + (penalty / 2) ||W||^2,
+/// J(theta) = (1/n) sum_i (f(x_i; theta) - t_i)^2 + sum_l (penalty_l / 2) ||W_l||^2,
 ///
-/// with x_i and t_i the standardised inputs and targets, ||W||^2 the squared weights
-/// (no biases). Its gradient comes from backpropagation.
+/// with x_i and t_i the standardised inputs and targets, ||W_l||^2 the squared weights of
+/// layer l (biases are not penalised). Its gradient comes from backpropagation.
 pub struct Objective<'a> {
     network: &'a Network,
     inputs: &'a [f64],
     targets: &'a [f64],
-    penalty: f64,
+    penalties: Vec<f64>,
     blocks: Vec<Block>,
     /// (1/n) sum (f - t)^2 at the last evaluation (standardised units).
     pub last_mean_squared_error: f64,
@@ -350,16 +382,24 @@ const MIN_BLOCK: usize = 256;
 
 impl<'a> Objective<'a> {
     /// `inputs`: standardised inputs, one column per sample; `targets`: standardised
-    /// targets; `blocks`: how many blocks (threads) to split the batch into. The split
-    /// changes the summation order, so a fixed `blocks` gives bit-identical results.
+    /// targets; `penalties`: one L2 coefficient per layer; `blocks`: how many blocks
+    /// (threads) to split the batch into. The split changes the summation order, so a
+    /// fixed `blocks` gives bit-identical results.
     pub fn new(
         network: &'a Network,
         inputs: &'a [f64],
         targets: &'a [f64],
-        penalty: f64,
+        penalties: &[f64],
         blocks: usize,
     ) -> Result<Self, NeuralError> {
         let samples = targets.len();
+        if penalties.len() != network.layers.len() || penalties.iter().any(|p| p.is_nan() || *p < 0.0) {
+            return Err(NeuralError::InvalidInput(format!(
+                "{} penalty coefficients (>= 0) for {} layers",
+                penalties.len(),
+                network.layers.len()
+            )));
+        }
         if samples == 0 || inputs.len() != samples * network.inputs() {
             return Err(NeuralError::InvalidInput(format!(
                 "training data: {} input values for {samples} samples of {} features",
@@ -386,7 +426,7 @@ impl<'a> Objective<'a> {
             network,
             inputs,
             targets,
-            penalty,
+            penalties: penalties.to_vec(),
             blocks,
             last_mean_squared_error: f64::NAN,
         })
@@ -457,14 +497,16 @@ impl<'a> Objective<'a> {
         }
         let mean_squared_error = squared_error / n as f64;
         self.last_mean_squared_error = mean_squared_error;
-        let mut weight_norm = 0.0;
-        for layer in network.layers() {
+        let mut penalty_term = 0.0;
+        for (layer, &penalty) in network.layers().iter().zip(&self.penalties) {
+            let mut weight_norm = 0.0;
             for i in layer.weight_range() {
                 weight_norm += params[i] * params[i];
-                gradient[i] += self.penalty * params[i];
+                gradient[i] += penalty * params[i];
             }
+            penalty_term += 0.5 * penalty * weight_norm;
         }
-        mean_squared_error + 0.5 * self.penalty * weight_norm
+        mean_squared_error + penalty_term
     }
 }
 
@@ -489,7 +531,8 @@ mod tests {
         for (i, p) in params.iter_mut().enumerate() {
             *p += 0.01 * ((i % 7) as f64 - 3.0);
         }
-        let mut objective = Objective::new(&network, &inputs, &targets, 0.03, blocks).unwrap();
+        let mut objective =
+            Objective::new(&network, &inputs, &targets, &[0.03, 0.05, 0.07], blocks).unwrap();
         let mut gradient = vec![0.0; params.len()];
         objective.value_and_gradient(&params, &mut gradient);
         let mut scratch = vec![0.0; params.len()];
@@ -529,7 +572,7 @@ mod tests {
     #[test]
     fn objective_value_is_mse_plus_half_penalty_norm() {
         let (network, params, inputs, targets) = problem(50);
-        let mut objective = Objective::new(&network, &inputs, &targets, 0.5, 1).unwrap();
+        let mut objective = Objective::new(&network, &inputs, &targets, &[0.5; 3], 1).unwrap();
         let mut gradient = vec![0.0; params.len()];
         let value = objective.value_and_gradient(&params, &mut gradient);
         let mut workspace = Workspace::default();

@@ -295,7 +295,7 @@ impl NeuralModel {
             ] {
                 finite(format!("features[{k}] ('{}').{what}", f.name), v)?;
             }
-            if !(f.input_std > 0.0) || f.min > f.max {
+            if f.input_std <= 0.0 || f.min > f.max {
                 return Err(shape(format!(
                     "feature '{}': input_std must be positive and min <= max",
                     f.name
@@ -330,7 +330,7 @@ impl NeuralModel {
         ] {
             finite(format!("target.{what}"), v)?;
         }
-        if !(t.output_std > 0.0) || t.min > t.max {
+        if t.output_std <= 0.0 || t.min > t.max {
             return Err(shape(
                 "target: output_std must be positive and min <= max".into(),
             ));
