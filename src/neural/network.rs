@@ -393,7 +393,9 @@ impl<'a> Objective<'a> {
         blocks: usize,
     ) -> Result<Self, NeuralError> {
         let samples = targets.len();
-        if penalties.len() != network.layers.len() || penalties.iter().any(|p| p.is_nan() || *p < 0.0) {
+        if penalties.len() != network.layers.len()
+            || penalties.iter().any(|p| p.is_nan() || *p < 0.0)
+        {
             return Err(NeuralError::InvalidInput(format!(
                 "{} penalty coefficients (>= 0) for {} layers",
                 penalties.len(),
