@@ -50,13 +50,14 @@ use super::NeuralError;
 /// Default seed of data generation, split and initial weights.
 ///
 /// Why 2: the plain variant's test MSE is dominated by the handful of test samples that
-/// fall within ~1e-3 m/s of the jump at v = 0, so on 1500 test samples it is a lottery
-/// (200 iterations, seeds 1..7 and 2023: 0.25 to 8.4 N^2), while the same models'
-/// MSE on 200 000 fresh samples is stable (2.6 to 4.4 N^2, R^2 >= 0.9974 for all eight).
-/// Seed 2 was picked after that sweep because its test split is representative: test
-/// MSE 4.45 N^2 against 4.44 N^2 on the fresh samples (paper: 4.52). Seed 2023, the
-/// first choice, puts three test samples within 6e-5 m/s of v = 0 and gets 8.4 N^2 (and
-/// scikit-learn 11.3 N^2 on that same split).
+/// fall within ~1e-3 m/s of the jump at v = 0, so on 1500 test samples it is a lottery.
+/// With the defaults (200 iterations) and seeds 1..7 and 2023 the test MSE ranged from
+/// 0.17 to 8.6 N^2, while the same models' MSE on 200 000 fresh samples stayed within
+/// 2.2 to 4.5 N^2 (R^2 0.9974 to 0.9987). Seed 2 was picked after such a sweep because
+/// its test split is representative (test MSE 3.94 N^2, fresh samples 4.44 N^2; paper
+/// 4.52 N^2), not the luckiest (seed 1: 0.17 N^2). Seed 2023, the first choice, puts
+/// three test samples within 6e-5 m/s of v = 0 and gets 8.6 N^2 (scikit-learn on that
+/// same split: 11.3 N^2).
 pub const DEFAULT_SEED: u64 = 2;
 /// The paper's regularisation strength.
 pub const DEFAULT_LAMBDA: f64 = 0.004;
