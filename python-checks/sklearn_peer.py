@@ -1,0 +1,190 @@
+"""Independent peer for the Rust neural friction law (issue 3).
+
+Runs `stickslip train` on the paper's synthetic data, exports the exact train/test
+split it used (--export-data), fits scikit-learn's MLPRegressor with the same
+architecture (100, 100, 100), tanh, L-BFGS, standardised inputs and the same iteration
+limit on that very split, and prints both fits side by side with their training times.
+
+Regularisation: the Rust loss is MSE + lambda/2 ||W||^2 (raw target, standardised
+inputs); scikit-learn minimises (1/2) MSE + alpha/(2 n) ||W||^2, so the same penalty is
+alpha = n * lambda / 2 (alpha = 7 for lambda = 0.004, n = 3500).
+
+Times: "ours" is the optimisation time the Rust report gives (`seconds`, data
+generation and I/O excluded); scikit-learn's is the wall time of `fit` alone
+(standardisation excluded). Both run in this one invocation on the same machine.
+
+Usage: python sklearn_peer.py [--iterations 200] [--seed 2] [--lambda 0.004]
+       [--binary PATH] [--json OUT.json]
+The binary defaults to $STICKSLIP_BIN, else it is built with `cargo build --release`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+from sklearn.neural_network import MLPRegressor
+from sklearn.preprocessing import StandardScaler
+
+REPO = Path(__file__).resolve().parent.parent
+
+
+def find_binary() -> Path:
+    """$STICKSLIP_BIN, or the release binary built (if needed) by cargo."""
+    if os.environ.get("STICKSLIP_BIN"):
+        return Path(os.environ["STICKSLIP_BIN"])
+    subprocess.run(
+        ["cargo", "build", "--release", "--quiet", "--bin", "stickslip"],
+        cwd=REPO,
+        check=True,
+    )
+    metadata = subprocess.run(
+        ["cargo", "metadata", "--format-version", "1", "--no-deps"],
+        cwd=REPO,
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    return Path(json.loads(metadata.stdout)["target_directory"]) / "release" / "stickslip"
+
+
+def read_split(path: Path) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """Features and target of one exported CSV (header `name[unit],...`)."""
+    with path.open() as handle:
+        header = handle.readline().strip().split(",")
+    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    return data[:, :-1], data[:, -1], header
+
+
+def metrics(predicted: np.ndarray, truth: np.ndarray) -> tuple[float, float]:
+    """MSE and R^2 (1 - SS_res / SS_tot), as the Rust report computes them."""
+    residual = predicted - truth
+    mse = float(np.mean(residual**2))
+    r2 = float(1.0 - np.sum(residual**2) / np.sum((truth - truth.mean()) ** 2))
+    return mse, r2
+
+
+def run(iterations: int, seed: int, lam: float, binary: Path, workdir: Path) -> dict:
+    split_dir = workdir / "split"
+    report_path = workdir / "report.json"
+    command = [
+        str(binary),
+        "train",
+        "--iterations",
+        str(iterations),
+        "--seed",
+        str(seed),
+        "--lambda",
+        str(lam),
+        "--out",
+        str(workdir / "weights.json"),
+        "--report",
+        str(report_path),
+        "--export-data",
+        str(split_dir),
+        "--quiet",
+    ]
+    started = time.perf_counter()
+    subprocess.run(command, check=True, capture_output=True, text=True)
+    ours_wall = time.perf_counter() - started
+    ours = json.loads(report_path.read_text())
+
+    x_train, y_train, header = read_split(split_dir / "train.csv")
+    x_test, y_test, _ = read_split(split_dir / "test.csv")
+    scaler = StandardScaler().fit(x_train)
+    alpha = len(y_train) * lam / 2.0
+    model = MLPRegressor(
+        hidden_layer_sizes=(100, 100, 100),
+        activation="tanh",
+        solver="lbfgs",
+        alpha=alpha,
+        max_iter=iterations,
+        random_state=seed,
+    )
+    started = time.perf_counter()
+    with np.errstate(all="ignore"):
+        import warnings
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # "lbfgs failed to converge" at max_iter
+            model.fit(scaler.transform(x_train), y_train)
+    sklearn_seconds = time.perf_counter() - started
+    mse_train, r2_train = metrics(model.predict(scaler.transform(x_train)), y_train)
+    mse_test, r2_test = metrics(model.predict(scaler.transform(x_test)), y_test)
+    return {
+        "columns": header,
+        "train_samples": len(y_train),
+        "test_samples": len(y_test),
+        "iterations_limit": iterations,
+        "lambda": lam,
+        "alpha": alpha,
+        "ours": {
+            "mse_train": ours["mse_train"],
+            "mse_test": ours["mse_test"],
+            "r2_train": ours["r2_train"],
+            "r2_test": ours["r2_test"],
+            "iterations": ours["iterations"],
+            "seconds": ours["seconds"],
+            "wall_seconds_with_io": ours_wall,
+        },
+        "sklearn": {
+            "mse_train": mse_train,
+            "mse_test": mse_test,
+            "r2_train": r2_train,
+            "r2_test": r2_test,
+            "iterations": int(model.n_iter_),
+            "seconds": sklearn_seconds,
+        },
+        "time_ratio_sklearn_over_ours": sklearn_seconds / ours["seconds"],
+    }
+
+
+def print_table(result: dict) -> None:
+    ours, peer = result["ours"], result["sklearn"]
+    print(
+        f"paper data, {result['train_samples']}/{result['test_samples']} split, "
+        f"(100,100,100) tanh L-BFGS, max {result['iterations_limit']} iterations, "
+        f"lambda {result['lambda']} = sklearn alpha {result['alpha']:g}"
+    )
+    print(f"  {'':16}{'stickslip (Rust)':>18}{'scikit-learn':>16}")
+    for key, label, fmt in [
+        ("mse_train", "MSE train [N^2]", "{:.4f}"),
+        ("mse_test", "MSE test [N^2]", "{:.4f}"),
+        ("r2_train", "R2 train", "{:.5f}"),
+        ("r2_test", "R2 test", "{:.5f}"),
+        ("iterations", "iterations", "{}"),
+        ("seconds", "training [s]", "{:.2f}"),
+    ]:
+        print(f"  {label:16}{fmt.format(ours[key]):>18}{fmt.format(peer[key]):>16}")
+    print(
+        f"  scikit-learn / stickslip training time: "
+        f"{result['time_ratio_sklearn_over_ours']:.1f}x"
+    )
+
+
+def main(argv: list[str] | None = None) -> dict:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--iterations", type=int, default=200)
+    parser.add_argument("--seed", type=int, default=2)
+    parser.add_argument("--lambda", dest="lam", type=float, default=0.004)
+    parser.add_argument("--binary", type=Path, default=None)
+    parser.add_argument("--json", type=Path, default=None, help="also write the result here")
+    args = parser.parse_args(argv)
+    binary = args.binary or find_binary()
+    with tempfile.TemporaryDirectory(prefix="sklearn-peer-") as workdir:
+        result = run(args.iterations, args.seed, args.lam, binary, Path(workdir))
+    print_table(result)
+    if args.json:
+        args.json.write_text(json.dumps(result, indent=2) + "\n")
+    return result
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

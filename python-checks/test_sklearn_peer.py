@@ -1,0 +1,27 @@
+"""The scikit-learn peer on a reduced iteration count: both fits of the paper's data
+(same exported split) must explain more than 99 % of the test variance.
+
+Uses $STICKSLIP_BIN if set, else builds the release binary (first run only).
+Runs in about 6 s once the binary exists.
+"""
+
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import sklearn_peer  # noqa: E402
+
+
+def test_rust_and_sklearn_fit_the_same_split(capsys):
+    result = sklearn_peer.main(["--iterations", "60"])
+    assert result["train_samples"] == 3500 and result["test_samples"] == 1500
+    assert result["alpha"] == 7.0
+    for name in ("ours", "sklearn"):
+        fit = result[name]
+        assert fit["r2_test"] > 0.99, (name, fit)
+        assert 0 < fit["iterations"] <= 60, (name, fit)
+        assert fit["seconds"] > 0
+    assert result["time_ratio_sklearn_over_ours"] > 0
+    printed = capsys.readouterr().out
+    assert "stickslip (Rust)" in printed and "scikit-learn" in printed
