@@ -257,6 +257,8 @@ impl Simulator {
             (force, vb - v_tip)
         };
 
+        // The slip solution, when the decision needed it, is reused for the force.
+        let mut slip_solution = None;
         let next = match self.integrator.coefficients() {
             Coefficients::MoreauJean { .. } => {
                 if stick_force.abs() <= limit {
@@ -270,7 +272,8 @@ impl Simulator {
                     next_state(ContactState::Stick, holding, limit, 0.0, 0.0, 0.0)
                 }
                 ContactState::Slip => {
-                    let (_, v_rel_slip) = slip(&mut self.law);
+                    let (force, v_rel_slip) = slip(&mut self.law);
+                    slip_solution = Some(force);
                     next_state(
                         ContactState::Slip,
                         holding,
@@ -284,7 +287,10 @@ impl Simulator {
         };
         let force = match next {
             ContactState::Stick => stick_force,
-            ContactState::Slip => slip(&mut self.law).0,
+            ContactState::Slip => match slip_solution {
+                Some(force) => force,
+                None => slip(&mut self.law).0,
+            },
         };
         self.integrator.finish(&mut state.kinematics, force);
         state.step += 1;
