@@ -55,6 +55,8 @@ pub struct NeuralLaw {
     normal_force: Option<usize>,
     /// Values for features the beam does not supply.
     fixed: Vec<Option<f64>>,
+    /// AVX2 + FMA available (detected once, at construction).
+    avx2_fma: bool,
     /// Scratch: the feature vector and two layer buffers (no allocation per call).
     features: Vec<f64>,
     buffer_a: Vec<f64>,
@@ -64,8 +66,9 @@ pub struct NeuralLaw {
 /// Dot product with eight independent partial sums: a single running sum forces strictly
 /// sequential additions, eight let the compiler keep several SIMD additions in flight
 /// (measured: 100 x 100 matrix-vector product 2.3 us with four, 1.8 us with eight).
-#[inline]
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+/// `FUSED` uses fused multiply-adds; only instantiated where the CPU has FMA.
+#[inline(always)]
+fn dot<const FUSED: bool>(a: &[f64], b: &[f64]) -> f64 {
     let mut partial = [0.0; 8];
     let (a8, b8) = (a.chunks_exact(8), b.chunks_exact(8));
     let tail: f64 = a8
@@ -76,11 +79,44 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
         .sum();
     for (x, y) in a8.zip(b8) {
         for k in 0..8 {
-            partial[k] += x[k] * y[k];
+            partial[k] = if FUSED {
+                x[k].mul_add(y[k], partial[k])
+            } else {
+                partial[k] + x[k] * y[k]
+            };
         }
     }
     let [p0, p1, p2, p3, p4, p5, p6, p7] = partial;
     ((p0 + p4) + (p1 + p5)) + ((p2 + p6) + (p3 + p7)) + tail
+}
+
+/// y = W x + b for a row-major W (outputs x inputs).
+#[inline(always)]
+fn affine<const FUSED: bool>(layer: &DenseLayer, x: &[f64], y: &mut [f64]) {
+    for (o, y_o) in y.iter_mut().enumerate() {
+        let row = &layer.weights[o * layer.inputs..(o + 1) * layer.inputs];
+        *y_o = dot::<FUSED>(row, x) + layer.biases[o];
+    }
+}
+
+/// `affine` compiled for AVX2 + FMA (256-bit vectors, fused multiply-add): 1.0 us
+/// instead of 1.8 us for a 100 x 100 layer here. Called only after run-time detection.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn affine_avx2_fma(layer: &DenseLayer, x: &[f64], y: &mut [f64]) {
+    affine::<true>(layer, x, y);
+}
+
+/// Whether this CPU can run `affine_avx2_fma`.
+fn cpu_has_avx2_fma() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
 }
 
 impl NeuralLaw {
@@ -120,6 +156,7 @@ impl NeuralLaw {
             velocity,
             normal_force: model.feature_with_role(FeatureRole::NormalForce),
             fixed: vec![None; d],
+            avx2_fma: cpu_has_avx2_fma(),
             features: vec![0.0; d],
             buffer_a: vec![0.0; widest],
             buffer_b: vec![0.0; widest],
@@ -279,6 +316,7 @@ impl NeuralLaw {
             buffer_a,
             buffer_b,
             model,
+            avx2_fma,
             ..
         } = self;
         let mut sign = 1.0;
@@ -296,10 +334,19 @@ impl NeuralLaw {
         for (l, layer) in layers.iter().enumerate() {
             let x = &input[..layer.inputs];
             let y = &mut output[..layer.outputs];
-            for (o, y_o) in y.iter_mut().enumerate() {
-                let row = &layer.weights[o * layer.inputs..(o + 1) * layer.inputs];
-                let z = dot(row, x) + layer.biases[o];
-                *y_o = if l == last { z } else { activation.apply(z) };
+            #[cfg(target_arch = "x86_64")]
+            if *avx2_fma {
+                // SAFETY: avx2_fma is true only if the running CPU has AVX2 and FMA
+                // (is_x86_feature_detected at construction), the features this function
+                // is compiled for. It has no other safety requirement.
+                unsafe { affine_avx2_fma(layer, x, y) };
+            } else {
+                affine::<false>(layer, x, y);
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            affine::<false>(layer, x, y);
+            if l != last {
+                y.iter_mut().for_each(|v| *v = activation.apply(*v));
             }
             std::mem::swap(&mut input, &mut output);
         }

@@ -11,9 +11,33 @@
 //!   model as a `crate::friction::FrictionLaw`.
 //! - `cli`: the `stickslip train` and `stickslip search` commands.
 //!
-//! Two shipped models, trained on the paper's data with the default seed, are embedded:
-//! `NeuralLaw::paper_default()` (plain, the paper's model) and `NeuralLaw::paper_signed()`.
-//! `stickslip train` (and `--variant signed`) regenerates them byte for byte.
+//! # Shipped models
+//! Two models trained on the paper's data with the default seed (2) are embedded:
+//! `NeuralLaw::paper_default()` (plain, the paper's 3 x 100 tanh network, lambda 0.004,
+//! 200 L-BFGS iterations) and `NeuralLaw::paper_signed()`. These commands regenerate
+//! them byte for byte (default `--threads 2`; matrixmultiply picks its kernel by CPU
+//! features at run time, so a CPU without AVX2/FMA may differ in the last bits):
+//!
+//! ```text
+//! stickslip train --out weights/paper-plain.json
+//! stickslip train --variant signed --lambda 1e-5 --iterations 1000 --out weights/paper-signed.json
+//! ```
+//!
+//! The signed model uses a weaker penalty: with no jump to smooth, lambda 0.004 only
+//! biases the smooth magnitude (test MSE 0.0036 N^2 instead of the noise floor 0.0004).
+//!
+//! # Decisions
+//! - Loss: MSE on the raw target plus lambda/2 ||W||^2 of the raw-output network; maps
+//!   to scikit-learn's alpha = n lambda / 2 (see `train` for fitrnet).
+//! - CSV units come from the header, `name[unit]`; a bare `name` has an empty unit.
+//!   Names, units, order and roles of the features travel in the weights file.
+//! - Inputs outside the training range are clamped to it (see `law`).
+//! - A model is the beam's `FrictionLaw` only if it has a sliding-velocity and a
+//!   normal-force feature and every other feature is given a fixed value (see `law`).
+//! - Matrix products: nalgebra's gemm, i.e. `matrixmultiply`, measured at ~50 GFLOP/s
+//!   per core here (100 x 100 by 100 x 1750); products are under a third of a training
+//!   evaluation (tanh and element-wise work dominate), so faer could not be clearly
+//!   faster and was not added.
 
 pub mod cli;
 pub mod csv;
