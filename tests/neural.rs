@@ -462,3 +462,33 @@ fn grid_search_scores_every_grid_point() {
     );
     assert!(grid_search(&data, &SearchConfig { folds: 1, ..config }, |_| {}).is_err());
 }
+
+/// Full regeneration of the shipped plain weights (about 5 s in release, longer in the
+/// test profile), so opt-in: `cargo test --release --test neural -- --ignored`.
+#[test]
+#[ignore = "trains the paper network for 200 iterations"]
+fn training_with_defaults_regenerates_the_shipped_plain_weights() {
+    let (model, _, _) =
+        train_synthetic(&SyntheticSpec::default(), &TrainConfig::default(), |_| {}).unwrap();
+    assert!(
+        model.to_json().unwrap() == PAPER_PLAIN_JSON,
+        "retrained weights differ from weights/paper-plain.json"
+    );
+}
+
+/// Same for the signed weights (lambda 1e-5, 1000 iterations, about 20 s in release).
+#[test]
+#[ignore = "trains the paper network for 1000 iterations"]
+fn training_the_signed_variant_regenerates_the_shipped_signed_weights() {
+    let config = TrainConfig {
+        variant: Variant::Signed,
+        lambda: 1e-5,
+        max_iterations: 1000,
+        ..TrainConfig::default()
+    };
+    let (model, _, _) = train_synthetic(&SyntheticSpec::default(), &config, |_| {}).unwrap();
+    assert!(
+        model.to_json().unwrap() == PAPER_SIGNED_JSON,
+        "retrained weights differ from weights/paper-signed.json"
+    );
+}

@@ -190,8 +190,26 @@ fn write_file(path: &Path, text: &str) -> Result<(), NeuralError> {
     std::fs::write(path, text).map_err(|e| NeuralError::io("cannot write", path, e))
 }
 
+/// Fails early (before minutes of training) if an output file's directory is missing.
+fn check_output_directory(path: &Path) -> Result<(), NeuralError> {
+    match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() && !dir.is_dir() => Err(NeuralError::io(
+            "cannot write",
+            path,
+            std::io::Error::new(std::io::ErrorKind::NotFound, "its directory does not exist"),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Runs `stickslip train`; returns the report.
 pub fn run_train(args: &TrainArgs) -> Result<TrainReport, NeuralError> {
+    for path in [Some(&args.out), args.report.as_ref(), args.history.as_ref()]
+        .into_iter()
+        .flatten()
+    {
+        check_output_directory(path)?;
+    }
     let (split, source) = load_split(&args.data)?;
     if let Some(dir) = &args.export_data {
         std::fs::create_dir_all(dir).map_err(|e| NeuralError::io("cannot create", dir, e))?;
