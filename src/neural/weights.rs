@@ -36,7 +36,9 @@ pub enum Variant {
     Plain,
     /// Structured model (beyond the paper): the network maps (|v|, F_n, ...) to the
     /// magnitude g >= 0 and F = sign(v) g, so the jump at v = 0 is exact and the law is
-    /// odd in v by construction. Needs a feature with the `sliding_velocity` role.
+    /// odd in v by construction. Needs a feature with the `sliding_velocity` role, and
+    /// the target must be the signed force (positive for v > 0, as the paper's data):
+    /// the network is fitted to sign(v) * target.
     Signed,
 }
 
