@@ -103,6 +103,10 @@ pub struct Integrator {
 /// The step without tip force, and how the tip responds to a force.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrialStep {
+    /// Tip displacement at t_n, the start of the step (m).
+    pub start_tip_displacement: f64,
+    /// Tip velocity at t_n (m/s).
+    pub start_tip_velocity: f64,
     /// Tip displacement at t_{n+1} with F = 0 (m).
     pub free_tip_displacement: f64,
     /// Tip velocity at t_{n+1} with F = 0 (m/s).
@@ -228,6 +232,8 @@ impl Integrator {
             Coefficients::GeneralizedAlpha { gamma, beta, .. } => {
                 let g = gamma / (beta * dt);
                 TrialStep {
+                    start_tip_displacement: tip_u,
+                    start_tip_velocity: tip_v,
                     free_tip_displacement: tip_free,
                     free_tip_velocity: g * (tip_free - tip_u)
                         + (1.0 - gamma / beta) * tip_v
@@ -237,6 +243,8 @@ impl Integrator {
                 }
             }
             Coefficients::MoreauJean { theta } => TrialStep {
+                start_tip_displacement: tip_u,
+                start_tip_velocity: tip_v,
                 free_tip_displacement: tip_u + dt * ((1.0 - theta) * tip_v + theta * tip_free),
                 free_tip_velocity: tip_free,
                 // P = dt F, so the velocity moves by (c . z) dt per newton.

@@ -469,8 +469,8 @@ impl Scene {
         let m = &self.material;
         positive("material.density", m.density, "kg/m3")?;
         positive("material.youngs_modulus", m.youngs_modulus, "Pa")?;
-        within("material.poisson_ratio", m.poisson_ratio, -1.0, 0.5, true)?;
-        if m.poisson_ratio <= -1.0 {
+        // Open at both ends: nu = -1 and nu = 0.5 make the plane-stress D singular.
+        if !(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5) {
             return Err(invalid(
                 "material.poisson_ratio",
                 m.poisson_ratio,

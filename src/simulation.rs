@@ -204,9 +204,8 @@ impl Simulator {
         let fnormal = self.normal_force;
         let limit = self.static_limit();
         let state = &mut self.state;
-        let tip_u = self.model.tip_value(&state.kinematics.displacement);
-        let tip_v = self.model.tip_value(&state.kinematics.velocity);
         let trial = self.integrator.trial(&self.model, &state.kinematics);
+        let (tip_u, tip_v) = (trial.start_tip_displacement, trial.start_tip_velocity);
 
         let (stick_force, stick_tip) = match self.integrator.coefficients() {
             Coefficients::GeneralizedAlpha { .. } => {
