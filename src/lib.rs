@@ -7,6 +7,7 @@ pub mod banded;
 pub mod cli;
 pub mod contact;
 pub mod element;
+pub mod fmu;
 pub mod friction;
 pub mod integrator;
 pub mod mesh;

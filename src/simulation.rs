@@ -44,6 +44,13 @@ pub struct SimulationState {
     pub holding_force: f64,
     /// Number of stick/slip transitions so far.
     pub transition_count: u64,
+    /// Time (s) of the last step of irregular length (0 if none): full steps count from
+    /// here, so that `time` stays anchor + n dt rather than accumulating rounding.
+    #[serde(default)]
+    pub anchor_time: f64,
+    /// Full steps since `anchor_time`.
+    #[serde(default)]
+    pub steps_since_anchor: u64,
 }
 
 /// One output sample (SI units).
@@ -73,6 +80,11 @@ pub enum SimulationError {
         time: f64,
         quantity: &'static str,
     },
+    /// A requested end time that is not finite or lies in the past.
+    InvalidTarget {
+        time: f64,
+        target: f64,
+    },
 }
 
 impl fmt::Display for SimulationError {
@@ -82,11 +94,35 @@ impl fmt::Display for SimulationError {
             SimulationError::NonFinite { time, quantity } => {
                 write!(f, "{quantity} became non-finite at t = {time} s")
             }
+            SimulationError::InvalidTarget { time, target } => write!(
+                f,
+                "cannot advance to t = {target} s from t = {time} s: the target must be finite and not in the past"
+            ),
         }
     }
 }
 
 impl std::error::Error for SimulationError {}
+
+/// Friction supplied from outside (a coupled friction model), held constant over a step.
+/// It replaces the law and the static limit mu_s F_n of the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ExternalFriction {
+    /// Magnitude of the kinetic friction force (N); it acts in the direction of v_rel.
+    pub kinetic_force: f64,
+    /// Largest holding force that stick sustains (N).
+    pub static_limit: f64,
+}
+
+/// Why a saved state does not fit a simulator.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StateMismatch(pub String);
+
+impl fmt::Display for StateMismatch {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "saved state does not fit this model: {}", self.0)
+    }
+}
 
 impl From<ModelError> for SimulationError {
     fn from(e: ModelError) -> Self {
@@ -102,9 +138,17 @@ pub struct Simulator {
     law: Box<dyn FrictionLaw>,
     belt_speed: f64,
     normal_force: f64,
+    external: Option<ExternalFriction>,
+    /// Integrator for the shorter last step that lands on a requested time; rebuilt
+    /// only when that length changes.
+    landing: Option<Integrator>,
     state: SimulationState,
     transitions: Vec<Transition>,
 }
+
+/// Two times closer than this fraction of the step are the same time (landing on a
+/// communication point must not leave a step of 1e-20 s behind).
+const SAME_TIME: f64 = 1e-9;
 
 impl Simulator {
     /// Builds the model the scene asks for and sets up the simulation with `law`.
@@ -134,6 +178,8 @@ impl Simulator {
             model,
             integrator,
             law,
+            external: None,
+            landing: None,
             state,
             transitions: Vec::with_capacity(256),
         })
@@ -155,11 +201,57 @@ impl Simulator {
         &self.state
     }
 
-    /// Replaces the evolving state (for FMU get/set state). The caller guarantees it
-    /// came from a simulator of the same scene and model.
-    pub fn restore(&mut self, state: SimulationState, transitions: Vec<Transition>) {
+    /// Replaces the evolving state (for FMU get/set state). Refuses a state whose size
+    /// does not match the model or that holds non-finite numbers; the simulator is
+    /// unchanged then.
+    pub fn restore(
+        &mut self,
+        state: SimulationState,
+        transitions: Vec<Transition>,
+    ) -> Result<(), StateMismatch> {
+        let n = self.model.dofs();
+        let k = &state.kinematics;
+        for (name, v) in [
+            ("displacement", &k.displacement),
+            ("velocity", &k.velocity),
+            ("acceleration", &k.acceleration),
+        ] {
+            if v.len() != n {
+                return Err(StateMismatch(format!(
+                    "{name} has {} entries, the model has {n} degrees of freedom",
+                    v.len()
+                )));
+            }
+            if v.iter().any(|x| !x.is_finite()) {
+                return Err(StateMismatch(format!("{name} holds a non-finite value")));
+            }
+        }
+        let scalars = [
+            ("time", state.time),
+            ("relative_velocity", state.relative_velocity),
+            ("contact_force", state.contact_force),
+            ("holding_force", state.holding_force),
+            ("anchor_time", state.anchor_time),
+        ];
+        if let Some((name, _)) = scalars.iter().find(|(_, v)| !v.is_finite()) {
+            return Err(StateMismatch(format!("{name} is not finite")));
+        }
+        if transitions.len() as u64 != state.transition_count {
+            return Err(StateMismatch(format!(
+                "{} transitions listed, the count says {}",
+                transitions.len(),
+                state.transition_count
+            )));
+        }
         self.state = state;
         self.transitions = transitions;
+        Ok(())
+    }
+
+    /// Friction from a coupled model instead of the law and mu_s F_n; `None` returns to
+    /// the scene's law.
+    pub fn set_external_friction(&mut self, external: Option<ExternalFriction>) {
+        self.external = external;
     }
 
     /// Every stick/slip transition so far.
@@ -191,23 +283,73 @@ impl Simulator {
         }
     }
 
-    /// Static limit mu_s F_n (N).
+    /// Static limit (N): mu_s F_n, or the external one when set.
     pub fn static_limit(&self) -> f64 {
-        self.scene.friction.static_coefficient * self.normal_force
+        match self.external {
+            Some(e) => e.static_limit,
+            None => self.scene.friction.static_coefficient * self.normal_force,
+        }
     }
 
     /// Advances one time step. No allocation, except when a transition is recorded
     /// beyond the reserved capacity.
     pub fn step(&mut self) -> Result<(), SimulationError> {
+        self.take_step(false)
+    }
+
+    /// Advances to `target` (s): full steps, then one shorter step if `target` is not on
+    /// the step grid, so that the simulation ends exactly at `target`. A target within
+    /// 1e-9 steps of the current time is reached without a step.
+    pub fn advance_to(&mut self, target: f64) -> Result<(), SimulationError> {
         let dt = self.integrator.dt();
+        let tolerance = SAME_TIME * dt;
+        if !target.is_finite() || target < self.state.time - tolerance {
+            return Err(SimulationError::InvalidTarget {
+                time: self.state.time,
+                target,
+            });
+        }
+        let full_steps = ((target - self.state.time + tolerance) / dt).floor() as u64;
+        for _ in 0..full_steps {
+            self.take_step(false)?;
+        }
+        let rest = target - self.state.time;
+        if rest > tolerance {
+            let reusable = matches!(&self.landing, Some(i) if i.dt() == rest);
+            if !reusable {
+                self.landing = Some(Integrator::new(
+                    &self.model,
+                    Coefficients::from_scene(&self.scene),
+                    rest,
+                    self.scene.damping.mass_proportional,
+                    self.scene.damping.stiffness_proportional,
+                )?);
+            }
+            self.take_step(true)?;
+        }
+        if self.state.time != target {
+            self.state.time = target;
+            self.state.anchor_time = target;
+            self.state.steps_since_anchor = 0;
+        }
+        Ok(())
+    }
+
+    fn take_step(&mut self, landing: bool) -> Result<(), SimulationError> {
+        let limit = self.static_limit();
+        let external = self.external;
+        let integrator = match (landing, self.landing.as_mut()) {
+            (true, Some(short)) => short,
+            _ => &mut self.integrator,
+        };
+        let dt = integrator.dt();
         let vb = self.belt_speed;
         let fnormal = self.normal_force;
-        let limit = self.static_limit();
         let state = &mut self.state;
-        let trial = self.integrator.trial(&self.model, &state.kinematics);
+        let trial = integrator.trial(&self.model, &state.kinematics);
         let (tip_u, tip_v) = (trial.start_tip_displacement, trial.start_tip_velocity);
 
-        let (stick_force, stick_tip) = match self.integrator.coefficients() {
+        let (stick_force, stick_tip) = match integrator.coefficients() {
             Coefficients::GeneralizedAlpha { .. } => {
                 let target = tip_u + vb * dt;
                 (
@@ -229,7 +371,7 @@ impl Simulator {
             HoldingForce::EulerBernoulli => self.scene.euler_bernoulli_tip_stiffness() * stick_tip,
         };
 
-        let alpha_f = match self.integrator.coefficients() {
+        let alpha_f = match integrator.coefficients() {
             Coefficients::GeneralizedAlpha { alpha_f, .. } => alpha_f,
             Coefficients::MoreauJean { .. } => 0.0,
         };
@@ -245,7 +387,10 @@ impl Simulator {
                         signum_or_zero(rel_eval) * ((1.0 - alpha_f) * v_tip + alpha_f * tip_v).abs()
                     }
                 };
-                let next = law.sliding_force(argument, fnormal);
+                let next = match external {
+                    Some(e) => signum_or_zero(argument) * e.kinetic_force,
+                    None => law.sliding_force(argument, fnormal),
+                };
                 let converged = (next - force).abs() <= 1e-12 * (1.0 + next.abs());
                 force = next;
                 if converged {
@@ -258,7 +403,7 @@ impl Simulator {
 
         // The slip solution, when the decision needed it, is reused for the force.
         let mut slip_solution = None;
-        let next = match self.integrator.coefficients() {
+        let next = match integrator.coefficients() {
             Coefficients::MoreauJean { .. } => {
                 if stick_force.abs() <= limit {
                     ContactState::Stick
@@ -291,9 +436,16 @@ impl Simulator {
                 None => slip(&mut self.law).0,
             },
         };
-        self.integrator.finish(&mut state.kinematics, force);
+        integrator.finish(&mut state.kinematics, force);
         state.step += 1;
-        state.time = state.step as f64 * dt;
+        if landing {
+            state.time += dt;
+            state.anchor_time = state.time;
+            state.steps_since_anchor = 0;
+        } else {
+            state.steps_since_anchor += 1;
+            state.time = state.anchor_time + state.steps_since_anchor as f64 * dt;
+        }
         let new_tip_v = self.model.tip_value(&state.kinematics.velocity);
         let new_tip_u = self.model.tip_value(&state.kinematics.displacement);
         if !(new_tip_u.is_finite() && new_tip_v.is_finite() && force.is_finite()) {
@@ -379,5 +531,7 @@ fn initial_state(
         contact_force: holding,
         holding_force: holding,
         transition_count: 0,
+        anchor_time: 0.0,
+        steps_since_anchor: 0,
     })
 }

@@ -1,0 +1,135 @@
+//! Packages the FMUs: `modelDescription.xml` (generated from the Rust variable tables),
+//! `binaries/linux64/<modelIdentifier>.so` (the one stickslip cdylib under each
+//! model's name) and `resources/` (the network weights).
+//!
+//! Archives are reproducible: entries in a fixed order with a fixed timestamp.
+
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use stickslip::fmu::FmuKind;
+use zip::write::SimpleFileOptions;
+use zip::{CompressionMethod, DateTime, ZipWriter};
+
+/// The workspace root (where Cargo.toml with `[workspace]` lives).
+pub fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."))
+}
+
+/// The cargo target directory (CARGO_TARGET_DIR or `<root>/target`).
+pub fn target_dir() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .map(|p| {
+            if p.is_absolute() {
+                p
+            } else {
+                workspace_root().join(p)
+            }
+        })
+        .unwrap_or_else(|| workspace_root().join("target"))
+}
+
+/// Where the FMUs are written.
+pub fn fmu_dir() -> PathBuf {
+    target_dir().join("fmu")
+}
+
+/// Path of the packaged FMU of `kind`.
+pub fn fmu_path(kind: FmuKind) -> PathBuf {
+    fmu_dir().join(format!("{}.fmu", kind.model_identifier()))
+}
+
+/// The checked-in copy of a model description.
+pub fn checked_in_description(kind: FmuKind) -> PathBuf {
+    workspace_root()
+        .join("modelDescription")
+        .join(format!("{}.xml", kind.model_identifier()))
+}
+
+/// Builds the release cdylib with cargo and returns its path.
+pub fn build_library() -> Result<PathBuf, String> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let status = Command::new(cargo)
+        .args(["build", "--release", "--lib", "-p", "stickslip"])
+        .current_dir(workspace_root())
+        .status()
+        .map_err(|e| format!("cannot run cargo: {e}"))?;
+    if !status.success() {
+        return Err(format!(
+            "cargo build of the stickslip library failed ({status})"
+        ));
+    }
+    let library = target_dir().join("release").join("libstickslip.so");
+    if !library.is_file() {
+        return Err(format!("{} was not built", library.display()));
+    }
+    Ok(library)
+}
+
+/// Writes the generated descriptions into `modelDescription/`.
+pub fn update_descriptions() -> Result<(), String> {
+    for kind in FmuKind::ALL {
+        let path = checked_in_description(kind);
+        fs::write(&path, kind.model_description())
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+/// The checked-in descriptions that differ from the generated ones.
+pub fn drifted_descriptions() -> Vec<PathBuf> {
+    FmuKind::ALL
+        .into_iter()
+        .filter(|&kind| {
+            let path = checked_in_description(kind);
+            fs::read_to_string(&path).ok().as_deref() != Some(kind.model_description().as_str())
+        })
+        .map(checked_in_description)
+        .collect()
+}
+
+/// Writes the FMU of `kind` around `library` into `out_dir`; returns its path.
+pub fn package(kind: FmuKind, library: &Path, out_dir: &Path) -> Result<PathBuf, String> {
+    let binary = fs::read(library).map_err(|e| format!("{}: {e}", library.display()))?;
+    fs::create_dir_all(out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
+    let path = out_dir.join(format!("{}.fmu", kind.model_identifier()));
+    let file = fs::File::create(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut zip = ZipWriter::new(file);
+    let options = SimpleFileOptions::default()
+        .compression_method(CompressionMethod::Deflated)
+        .last_modified_time(DateTime::default())
+        .unix_permissions(0o644);
+    let mut entries: Vec<(String, Vec<u8>)> = vec![
+        (
+            "modelDescription.xml".into(),
+            kind.model_description().into_bytes(),
+        ),
+        (
+            format!("binaries/linux64/{}.so", kind.model_identifier()),
+            binary,
+        ),
+    ];
+    for (name, contents) in kind.info().resources {
+        entries.push((format!("resources/{name}"), contents.as_bytes().to_vec()));
+    }
+    for (name, bytes) in entries {
+        let options = if name.ends_with(".so") {
+            options.unix_permissions(0o755)
+        } else {
+            options
+        };
+        zip.start_file(name.as_str(), options)
+            .map_err(|e| format!("{}: {name}: {e}", path.display()))?;
+        zip.write_all(&bytes)
+            .map_err(|e| format!("{}: {name}: {e}", path.display()))?;
+    }
+    zip.finish()
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(path)
+}

@@ -1,0 +1,120 @@
+//! The FMI 2.0 co-simulation layer: a thin adapter between the plain-Rust physics and
+//! the C interface that FMI importers call.
+//!
+//! One library serves two FMUs, told apart by the GUID passed to `fmi2Instantiate`:
+//! - `StickSlipBeam` (`beam`): the beam with its stick-slip contact and a friction law
+//!   (analytical, neural, or supplied from outside through inputs);
+//! - `NeuralFriction` (`friction`): the friction law alone, for coupling.
+//!
+//! Rooms:
+//! - `variables`: the table type each model fills once (names, value references, units,
+//!   accessors);
+//! - `model_description`: generates modelDescription.xml from that table;
+//! - `beam`, `friction`: one small file per model;
+//! - `instance`: the FMI state machine, logging and FMU state, in plain Rust;
+//! - `ffi`: the 34 `extern "C"` functions, which only convert C arguments and catch
+//!   panics.
+
+pub mod beam;
+mod ffi;
+pub mod friction;
+pub mod instance;
+pub mod model_description;
+pub mod variables;
+
+use std::path::Path;
+use variables::Variable;
+
+/// Static facts of an FMU.
+#[derive(Debug)]
+pub struct ModelInfo {
+    /// modelName and modelIdentifier (the binary's file name inside the FMU).
+    pub model_identifier: &'static str,
+    pub description: &'static str,
+    /// DefaultExperiment (s).
+    pub start_time: f64,
+    pub stop_time: f64,
+    /// Suggested communication step (s).
+    pub step_size: f64,
+    /// Files the FMU carries in `resources/`: (name, contents).
+    pub resources: &'static [(&'static str, &'static str)],
+}
+
+/// A model behind an FMU. Plain Rust: no C types. The `instance` module drives it
+/// through the FMI state machine.
+pub trait Model: Send + Sized + 'static {
+    const INFO: ModelInfo;
+
+    /// The variable table (one source of truth for the XML and the accessors).
+    fn variables() -> &'static [Variable<Self>];
+
+    /// A model with every variable at its start value and nothing loaded.
+    fn with_defaults() -> Self;
+
+    /// Reads the files in the unpacked `resources/` folder (at instantiation).
+    fn load_resources(&mut self, resources: &Path) -> Result<(), String>;
+
+    /// Back to the start values, keeping what `load_resources` read.
+    fn reset(&mut self);
+
+    /// Makes the outputs current (called before outputs are read).
+    fn refresh_outputs(&mut self) -> Result<(), String>;
+
+    /// Checks every parameter and builds what the simulation needs (at
+    /// fmi2ExitInitializationMode). `stop_time` is the experiment's, if defined.
+    fn initialize(&mut self, start_time: f64, stop_time: Option<f64>) -> Result<(), String>;
+
+    /// Advances from `from` to `to` (s). `events` collects messages for the
+    /// logEvents category.
+    fn do_step(&mut self, from: f64, to: f64, events: &mut Vec<String>) -> Result<(), String>;
+
+    /// Everything that `restore` needs, as plain data.
+    fn save(&self) -> serde_json::Value;
+
+    /// Restores what `save` wrote; refuses data that does not fit, leaving the model as
+    /// it was.
+    fn restore(&mut self, saved: serde_json::Value) -> Result<(), String>;
+}
+
+/// The FMUs this library serves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FmuKind {
+    StickSlipBeam,
+    NeuralFriction,
+}
+
+impl FmuKind {
+    pub const ALL: [FmuKind; 2] = [FmuKind::StickSlipBeam, FmuKind::NeuralFriction];
+
+    pub fn info(self) -> &'static ModelInfo {
+        match self {
+            FmuKind::StickSlipBeam => &beam::StickSlipBeam::INFO,
+            FmuKind::NeuralFriction => &friction::NeuralFriction::INFO,
+        }
+    }
+
+    pub fn model_identifier(self) -> &'static str {
+        self.info().model_identifier
+    }
+
+    /// The generated modelDescription.xml.
+    pub fn model_description(self) -> String {
+        match self {
+            FmuKind::StickSlipBeam => model_description::generate::<beam::StickSlipBeam>(),
+            FmuKind::NeuralFriction => model_description::generate::<friction::NeuralFriction>(),
+        }
+    }
+
+    /// The GUID written into modelDescription.xml: a hash of everything else in it, so it
+    /// changes whenever the interface does.
+    pub fn guid(self) -> String {
+        match self {
+            FmuKind::StickSlipBeam => model_description::guid::<beam::StickSlipBeam>(),
+            FmuKind::NeuralFriction => model_description::guid::<friction::NeuralFriction>(),
+        }
+    }
+
+    pub fn from_guid(guid: &str) -> Option<FmuKind> {
+        FmuKind::ALL.into_iter().find(|k| k.guid() == guid)
+    }
+}

@@ -1,0 +1,400 @@
+//! The one table of an FMU's variables.
+//!
+//! Each model lists its variables once, as `Variable`s: name, value reference,
+//! causality, variability, unit, description, and the functions that read and write the
+//! value in the model. The modelDescription.xml is generated from this table (start
+//! values are read from a model with default settings), and the FMI calls dispatch
+//! through it, so the XML and the binary cannot disagree.
+
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+
+/// FMI 2.0 causality (only the ones our models use).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Causality {
+    Parameter,
+    Input,
+    Output,
+}
+
+impl Causality {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Causality::Parameter => "parameter",
+            Causality::Input => "input",
+            Causality::Output => "output",
+        }
+    }
+}
+
+/// FMI 2.0 variability (only the ones our models use).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variability {
+    /// Set before initialisation ends, then constant.
+    Fixed,
+    /// Changes only at communication points (Integer, Boolean outputs).
+    Discrete,
+    /// Real inputs and outputs.
+    Continuous,
+}
+
+impl Variability {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Variability::Fixed => "fixed",
+            Variability::Discrete => "discrete",
+            Variability::Continuous => "continuous",
+        }
+    }
+}
+
+/// An FMI enumeration type: items numbered 1, 2, ... in list order. Item names are the
+/// serde names of the Rust enum they stand for, so a scene file and the FMU use the same
+/// words.
+#[derive(Debug)]
+pub struct EnumerationType {
+    pub name: &'static str,
+    pub description: &'static str,
+    /// (name, description) of each item.
+    pub items: &'static [(&'static str, &'static str)],
+}
+
+impl EnumerationType {
+    /// FMI value (1-based) of a serde enum value.
+    pub fn value_of<T: Serialize>(&self, value: &T) -> i32 {
+        let name = serde_json::to_value(value)
+            .ok()
+            .and_then(|v| v.as_str().map(str::to_owned))
+            .unwrap_or_default();
+        self.items
+            .iter()
+            .position(|(item, _)| *item == name)
+            .map(|k| k as i32 + 1)
+            .unwrap_or(0)
+    }
+
+    /// Name of item `value` (1-based), or an error naming the allowed values.
+    pub fn item(&self, value: i32) -> Result<&'static str, String> {
+        usize::try_from(value)
+            .ok()
+            .and_then(|v| v.checked_sub(1))
+            .and_then(|k| self.items.get(k))
+            .map(|(name, _)| *name)
+            .ok_or_else(|| {
+                let allowed: Vec<String> = self
+                    .items
+                    .iter()
+                    .enumerate()
+                    .map(|(k, (name, _))| format!("{} = {name}", k + 1))
+                    .collect();
+                format!(
+                    "{value} is not a {} value; allowed: {}",
+                    self.name,
+                    allowed.join(", ")
+                )
+            })
+    }
+
+    /// The serde enum value of item `value` (1-based).
+    pub fn parse<T: DeserializeOwned>(&self, value: i32) -> Result<T, String> {
+        let name = self.item(value)?;
+        serde_json::from_value(serde_json::Value::String(name.to_owned()))
+            .map_err(|e| format!("{} item {name}: {e}", self.name))
+    }
+}
+
+/// Writes a value into model `M`, or says why it refuses it.
+pub type Setter<M, T> = Option<fn(&mut M, T) -> Result<(), String>>;
+
+/// Writes a string into model `M`, or says why it refuses it.
+pub type StringSetter<M> = Option<fn(&mut M, &str) -> Result<(), String>>;
+
+/// How a variable of model `M` is read and written. A setter returns the reason when it
+/// refuses a value.
+pub enum Access<M: 'static> {
+    Real {
+        /// Unit name from `UNITS`, or None for dimensionless.
+        unit: Option<&'static str>,
+        get: fn(&M) -> f64,
+        set: Setter<M, f64>,
+    },
+    Integer {
+        min: i32,
+        max: i32,
+        get: fn(&M) -> i32,
+        set: Setter<M, i32>,
+    },
+    Boolean {
+        get: fn(&M) -> bool,
+        set: Setter<M, bool>,
+    },
+    Enumeration {
+        kind: &'static EnumerationType,
+        get: fn(&M) -> i32,
+        set: Setter<M, i32>,
+    },
+    String {
+        get: fn(&M) -> String,
+        set: StringSetter<M>,
+    },
+}
+
+/// The FMI base type of a variable, for type-checked get/set calls.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BaseType {
+    Real,
+    /// Integer and Enumeration variables (both are read with fmi2GetInteger).
+    Integer,
+    Boolean,
+    String,
+}
+
+impl<M> Access<M> {
+    pub fn base_type(&self) -> BaseType {
+        match self {
+            Access::Real { .. } => BaseType::Real,
+            Access::Integer { .. } | Access::Enumeration { .. } => BaseType::Integer,
+            Access::Boolean { .. } => BaseType::Boolean,
+            Access::String { .. } => BaseType::String,
+        }
+    }
+
+    pub fn is_settable(&self) -> bool {
+        match self {
+            Access::Real { set, .. } => set.is_some(),
+            Access::Integer { set, .. } => set.is_some(),
+            Access::Boolean { set, .. } => set.is_some(),
+            Access::Enumeration { set, .. } => set.is_some(),
+            Access::String { set, .. } => set.is_some(),
+        }
+    }
+}
+
+/// One scalar variable of model `M`.
+pub struct Variable<M: 'static> {
+    pub name: &'static str,
+    pub value_reference: u32,
+    pub causality: Causality,
+    pub variability: Variability,
+    pub description: &'static str,
+    pub access: Access<M>,
+}
+
+/// A unit in SI base-unit exponents (kg, m, s).
+#[derive(Debug)]
+pub struct Unit {
+    pub name: &'static str,
+    pub kg: i32,
+    pub m: i32,
+    pub s: i32,
+}
+
+/// Every unit any of our FMUs uses.
+pub const UNITS: &[Unit] = &[
+    Unit {
+        name: "m",
+        kg: 0,
+        m: 1,
+        s: 0,
+    },
+    Unit {
+        name: "s",
+        kg: 0,
+        m: 0,
+        s: 1,
+    },
+    Unit {
+        name: "1/s",
+        kg: 0,
+        m: 0,
+        s: -1,
+    },
+    Unit {
+        name: "m/s",
+        kg: 0,
+        m: 1,
+        s: -1,
+    },
+    Unit {
+        name: "s/m",
+        kg: 0,
+        m: -1,
+        s: 1,
+    },
+    Unit {
+        name: "N",
+        kg: 1,
+        m: 1,
+        s: -2,
+    },
+    Unit {
+        name: "Pa",
+        kg: 1,
+        m: -1,
+        s: -2,
+    },
+    Unit {
+        name: "kg/m3",
+        kg: 1,
+        m: -3,
+        s: 0,
+    },
+];
+
+/// Why a get or set was refused.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AccessError {
+    UnknownReference(u32),
+    WrongType {
+        name: &'static str,
+        expected: BaseType,
+        called: BaseType,
+    },
+    NotSettable {
+        name: &'static str,
+        causality: Causality,
+    },
+    Refused {
+        name: &'static str,
+        reason: String,
+    },
+}
+
+impl std::fmt::Display for AccessError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            AccessError::UnknownReference(vr) => write!(f, "no variable has value reference {vr}"),
+            AccessError::WrongType {
+                name,
+                expected,
+                called,
+            } => write!(
+                f,
+                "{name} is of type {expected:?}; it cannot be accessed as {called:?}"
+            ),
+            AccessError::NotSettable { name, causality } => {
+                write!(f, "{name} is an {} and cannot be set", causality.as_str())
+            }
+            AccessError::Refused { name, reason } => write!(f, "{name}: {reason}"),
+        }
+    }
+}
+
+/// Finds variable `vr` and checks that it is accessed with its own base type.
+pub fn lookup<M>(
+    table: &'static [Variable<M>],
+    vr: u32,
+    called: BaseType,
+) -> Result<&'static Variable<M>, AccessError> {
+    let variable = table
+        .iter()
+        .find(|v| v.value_reference == vr)
+        .ok_or(AccessError::UnknownReference(vr))?;
+    let expected = variable.access.base_type();
+    if expected != called {
+        return Err(AccessError::WrongType {
+            name: variable.name,
+            expected,
+            called,
+        });
+    }
+    Ok(variable)
+}
+
+fn refused(name: &'static str) -> impl Fn(String) -> AccessError {
+    move |reason| AccessError::Refused { name, reason }
+}
+
+fn not_settable<M>(v: &Variable<M>) -> AccessError {
+    AccessError::NotSettable {
+        name: v.name,
+        causality: v.causality,
+    }
+}
+
+impl<M> Variable<M> {
+    pub fn get_real(&self, model: &M) -> f64 {
+        match &self.access {
+            Access::Real { get, .. } => get(model),
+            _ => f64::NAN,
+        }
+    }
+
+    pub fn get_integer(&self, model: &M) -> i32 {
+        match &self.access {
+            Access::Integer { get, .. } | Access::Enumeration { get, .. } => get(model),
+            _ => 0,
+        }
+    }
+
+    pub fn get_boolean(&self, model: &M) -> bool {
+        match &self.access {
+            Access::Boolean { get, .. } => get(model),
+            _ => false,
+        }
+    }
+
+    pub fn get_string(&self, model: &M) -> String {
+        match &self.access {
+            Access::String { get, .. } => get(model),
+            _ => String::new(),
+        }
+    }
+
+    /// Sets a Real; NaN and infinities are refused for every variable.
+    pub fn set_real(&self, model: &mut M, value: f64) -> Result<(), AccessError> {
+        let Access::Real { set: Some(set), .. } = &self.access else {
+            return Err(not_settable(self));
+        };
+        if !value.is_finite() {
+            return Err(AccessError::Refused {
+                name: self.name,
+                reason: format!("{value} is not a finite number"),
+            });
+        }
+        set(model, value).map_err(refused(self.name))
+    }
+
+    /// Sets an Integer or Enumeration, refusing values outside its range.
+    pub fn set_integer(&self, model: &mut M, value: i32) -> Result<(), AccessError> {
+        match &self.access {
+            Access::Integer {
+                set: Some(set),
+                min,
+                max,
+                ..
+            } => {
+                if value < *min || value > *max {
+                    return Err(AccessError::Refused {
+                        name: self.name,
+                        reason: format!("{value} is outside [{min}, {max}]"),
+                    });
+                }
+                set(model, value).map_err(refused(self.name))
+            }
+            Access::Enumeration {
+                set: Some(set),
+                kind,
+                ..
+            } => {
+                kind.item(value).map_err(refused(self.name))?;
+                set(model, value).map_err(refused(self.name))
+            }
+            _ => Err(not_settable(self)),
+        }
+    }
+
+    pub fn set_boolean(&self, model: &mut M, value: bool) -> Result<(), AccessError> {
+        match &self.access {
+            Access::Boolean { set: Some(set), .. } => set(model, value).map_err(refused(self.name)),
+            _ => Err(not_settable(self)),
+        }
+    }
+
+    pub fn set_string(&self, model: &mut M, value: &str) -> Result<(), AccessError> {
+        match &self.access {
+            Access::String { set: Some(set), .. } => set(model, value).map_err(refused(self.name)),
+            _ => Err(not_settable(self)),
+        }
+    }
+}
