@@ -16,7 +16,7 @@
 //!   panics.
 
 pub mod beam;
-mod ffi;
+pub mod ffi;
 pub mod friction;
 pub mod instance;
 pub mod model_description;
