@@ -10,14 +10,14 @@
 //! The FMU steps at `time.step` and ends each communication step with one shorter step
 //! when the communication point is not on that grid (`Simulator::advance_to`).
 
+use super::networks::{Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use super::variables::{Access, Causality, EnumerationType, Variability, Variable};
 use super::{Model, ModelInfo};
 use crate::contact::ContactState;
-use crate::neural::NeuralLaw;
 use crate::scene::{CheckedScene, FrictionLawKind, Scene};
 use crate::simulation::{ExternalFriction, SimulationState, Simulator};
 use serde::{Deserialize, Serialize};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// Where the kinetic friction force comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -28,15 +28,6 @@ pub enum FrictionModel {
     Neural,
     External,
 }
-
-/// The weights file read at instantiation (the paper's network, see `neural`).
-pub const DEFAULT_WEIGHTS: &str = "paper-plain.json";
-
-/// Network weights shipped in `resources/`, shared by both FMUs.
-pub const WEIGHTS_RESOURCES: &[(&str, &str)] = &[
-    ("paper-plain.json", crate::neural::PAPER_PLAIN_JSON),
-    ("paper-signed.json", crate::neural::PAPER_SIGNED_JSON),
-];
 
 /// Inputs of the beam (SI units).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -105,23 +96,11 @@ struct SavedRun {
 
 pub struct StickSlipBeam {
     settings: Settings,
-    resources: Option<PathBuf>,
-    /// Weights read so far: (the name as set, the network).
-    networks: Vec<(String, NeuralLaw)>,
+    networks: Networks,
     running: Option<Running>,
 }
 
 impl StickSlipBeam {
-    /// Reads weights `name`: a file in `resources/`, or an absolute path.
-    fn network(&mut self, name: &str) -> Result<NeuralLaw, String> {
-        if let Some((_, law)) = self.networks.iter().find(|(n, _)| n == name) {
-            return Ok(law.clone());
-        }
-        let law = read_network(self.resources.as_deref(), name)?;
-        self.networks.push((name.to_owned(), law.clone()));
-        Ok(law)
-    }
-
     fn checked_scene(
         &self,
         start_time: f64,
@@ -154,7 +133,9 @@ impl StickSlipBeam {
         let law: Box<dyn crate::friction::FrictionLaw> = match self.settings.friction_model {
             FrictionModel::Neural => {
                 let name = self.settings.weights.clone();
-                self.network(&name)?
+                self.networks
+                    .get(&name)?
+                    .clone()
                     .into_friction_law()
                     .map_err(|e| format!("friction.weights = {name}: {e}"))?
             }
@@ -205,23 +186,6 @@ impl StickSlipBeam {
     }
 }
 
-/// Reads a weights file from `resources` (a bare name) or from an absolute path.
-pub(crate) fn read_network(resources: Option<&Path>, name: &str) -> Result<NeuralLaw, String> {
-    let path = Path::new(name);
-    let full = if path.is_absolute() {
-        path.to_path_buf()
-    } else {
-        match resources {
-            Some(dir) => dir.join(path),
-            None => return Err(format!("weights \"{name}\": no resources folder is known")),
-        }
-    };
-    if !full.is_file() {
-        return Err(format!("weights file {} is missing", full.display()));
-    }
-    NeuralLaw::from_file(&full).map_err(|e| format!("weights file {}: {e}", full.display()))
-}
-
 macro_rules! real_parameter {
     ($vr:expr, $name:expr, $unit:expr, $description:expr, |$s:ident| $field:expr) => {
         Variable {
@@ -263,6 +227,27 @@ macro_rules! enum_parameter {
                 set: Some(|m: &mut StickSlipBeam, v: i32| {
                     let $s = &mut m.settings.scene;
                     $field = $kind.parse(v)?;
+                    Ok(())
+                }),
+            },
+        }
+    };
+}
+
+macro_rules! count_parameter {
+    ($vr:expr, $name:expr, $max:expr, $description:expr, $field:ident) => {
+        Variable {
+            name: $name,
+            value_reference: $vr,
+            causality: Causality::Parameter,
+            variability: Variability::Fixed,
+            description: $description,
+            access: Access::Integer {
+                min: 1,
+                max: $max,
+                get: |m: &StickSlipBeam| m.settings.scene.fidelity.$field as i32,
+                set: Some(|m: &mut StickSlipBeam, v: i32| {
+                    m.settings.scene.fidelity.$field = v as usize;
                     Ok(())
                 }),
             },
@@ -551,21 +536,13 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         "Structural model",
         |s| s.fidelity.level
     ),
-    Variable {
-        name: "fidelity.beam_elements",
-        value_reference: 51,
-        causality: Causality::Parameter,
-        variability: Variability::Fixed,
-        description: "Number of beam elements (beam level, and the modal level's beam basis)",
-        access: Access::Integer {
-            min: 1,
-            max: 1_000_000,
-            get: |m: &StickSlipBeam| m.settings.scene.fidelity.beam_elements as i32,
-            set: Some(|m: &mut StickSlipBeam, v: i32| {
-                m.settings.scene.fidelity.beam_elements = v as usize;
-                Ok(())
-            }),
-        },
+    count_parameter!(
+        51,
+        "fidelity.beam_elements",
+        1_000_000,
+        "Number of beam elements (beam level, and the modal level's beam basis)",
+        beam_elements
+    ),
     },
     real_parameter!(
         52,
@@ -574,21 +551,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         "Plane-stress element size",
         |s| s.fidelity.element_size
     ),
-    Variable {
-        name: "fidelity.modes",
-        value_reference: 53,
-        causality: Causality::Parameter,
-        variability: Variability::Fixed,
-        description: "Number of modes of the modal level",
-        access: Access::Integer {
-            min: 1,
-            max: 10_000,
-            get: |m: &StickSlipBeam| m.settings.scene.fidelity.modes as i32,
-            set: Some(|m: &mut StickSlipBeam, v: i32| {
-                m.settings.scene.fidelity.modes = v as usize;
-                Ok(())
-            }),
-        },
+    count_parameter!(53, "fidelity.modes", 10_000, "Number of modes of the modal level", modes),
     },
     enum_parameter!(
         54,
@@ -740,15 +703,13 @@ impl Model for StickSlipBeam {
     fn with_defaults() -> Self {
         Self {
             settings: Settings::default(),
-            resources: None,
-            networks: Vec::new(),
+            networks: Networks::default(),
             running: None,
         }
     }
 
     fn load_resources(&mut self, resources: &Path) -> Result<(), String> {
-        self.resources = Some(resources.to_path_buf());
-        self.network(DEFAULT_WEIGHTS).map(|_| ())
+        self.networks.open(resources)
     }
 
     fn reset(&mut self) {

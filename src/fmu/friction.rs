@@ -7,14 +7,13 @@
 //! the order the weights file lists them, from `extra_feature[1]` ... `extra_feature[4]`.
 //! Inputs are clamped to the network's training range (see `neural`).
 
-use super::beam::{read_network, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
+use super::networks::{Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use super::variables::{Access, Causality, EnumerationType, Variability, Variable};
 use super::{Model, ModelInfo};
 use crate::friction::{ExponentialLaw, FrictionLaw};
-use crate::neural::NeuralLaw;
 use crate::scene::Scene;
 use serde::{Deserialize, Serialize};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// How many features beyond velocity and normal force a network may have.
 pub const EXTRA_FEATURES: usize = 4;
@@ -64,26 +63,12 @@ struct Outputs {
 
 pub struct NeuralFriction {
     settings: Settings,
-    resources: Option<PathBuf>,
-    networks: Vec<(String, NeuralLaw)>,
+    networks: Networks,
     outputs: Outputs,
     scratch: Vec<f64>,
 }
 
 impl NeuralFriction {
-    fn network(&mut self) -> Result<&mut NeuralLaw, String> {
-        let name = self.settings.weights.clone();
-        let k = match self.networks.iter().position(|(n, _)| *n == name) {
-            Some(k) => k,
-            None => {
-                let law = read_network(self.resources.as_deref(), &name)?;
-                self.networks.push((name, law));
-                self.networks.len() - 1
-            }
-        };
-        Ok(&mut self.networks[k].1)
-    }
-
     /// Checks the analytical parameters with the scene's rules and messages.
     fn check(&self) -> Result<(), String> {
         let mut scene = Scene::default();
@@ -106,7 +91,7 @@ impl NeuralFriction {
             .sliding_force(s.sliding_velocity, s.normal_force),
             LawChoice::Neural => {
                 let mut features = std::mem::take(&mut self.scratch);
-                let network = self.network()?;
+                let network = self.networks.get(&s.weights)?;
                 let model = network.model();
                 let velocity = model.feature_with_role(crate::neural::FeatureRole::SlidingVelocity);
                 let normal = model.feature_with_role(crate::neural::FeatureRole::NormalForce);
@@ -378,16 +363,14 @@ impl Model for NeuralFriction {
     fn with_defaults() -> Self {
         Self {
             settings: Settings::default(),
-            resources: None,
-            networks: Vec::new(),
+            networks: Networks::default(),
             outputs: Outputs::default(),
             scratch: Vec::new(),
         }
     }
 
     fn load_resources(&mut self, resources: &Path) -> Result<(), String> {
-        self.resources = Some(resources.to_path_buf());
-        self.network().map(|_| ())
+        self.networks.open(resources)
     }
 
     fn reset(&mut self) {

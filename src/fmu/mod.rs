@@ -20,6 +20,7 @@ pub mod ffi;
 pub mod friction;
 pub mod instance;
 pub mod model_description;
+pub mod networks;
 pub mod variables;
 
 use std::path::Path;

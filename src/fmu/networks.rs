@@ -1,0 +1,58 @@
+//! The network weights an FMU reads from its `resources/` folder, read once per name.
+
+use crate::neural::NeuralLaw;
+use std::path::{Path, PathBuf};
+
+/// The weights read at instantiation (the paper's network, see `neural`).
+pub const DEFAULT_WEIGHTS: &str = "paper-plain.json";
+
+/// Network weights shipped in `resources/`, shared by both FMUs.
+pub const WEIGHTS_RESOURCES: &[(&str, &str)] = &[
+    ("paper-plain.json", crate::neural::PAPER_PLAIN_JSON),
+    ("paper-signed.json", crate::neural::PAPER_SIGNED_JSON),
+];
+
+/// Networks read so far, by the name they were asked for.
+#[derive(Default)]
+pub struct Networks {
+    folder: Option<PathBuf>,
+    loaded: Vec<(String, NeuralLaw)>,
+}
+
+impl Networks {
+    /// Remembers the unpacked `resources/` folder and reads the default weights, so
+    /// that a missing or corrupted file fails instantiation.
+    pub fn open(&mut self, folder: &Path) -> Result<(), String> {
+        self.folder = Some(folder.to_path_buf());
+        self.get(DEFAULT_WEIGHTS).map(|_| ())
+    }
+
+    /// Weights `name`: a file in `resources/`, or an absolute path.
+    pub fn get(&mut self, name: &str) -> Result<&mut NeuralLaw, String> {
+        let k = match self.loaded.iter().position(|(n, _)| n == name) {
+            Some(k) => k,
+            None => {
+                let law = self.read(name)?;
+                self.loaded.push((name.to_owned(), law));
+                self.loaded.len() - 1
+            }
+        };
+        Ok(&mut self.loaded[k].1)
+    }
+
+    fn read(&self, name: &str) -> Result<NeuralLaw, String> {
+        let path = Path::new(name);
+        let full = if path.is_absolute() {
+            path.to_path_buf()
+        } else {
+            match &self.folder {
+                Some(dir) => dir.join(path),
+                None => return Err(format!("weights \"{name}\": no resources folder is known")),
+            }
+        };
+        if !full.is_file() {
+            return Err(format!("weights file {} is missing", full.display()));
+        }
+        NeuralLaw::from_file(&full).map_err(|e| format!("weights file {}: {e}", full.display()))
+    }
+}
