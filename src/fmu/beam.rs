@@ -543,7 +543,6 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         "Number of beam elements (beam level, and the modal level's beam basis)",
         beam_elements
     ),
-    },
     real_parameter!(
         52,
         "fidelity.element_size",
@@ -551,8 +550,13 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         "Plane-stress element size",
         |s| s.fidelity.element_size
     ),
-    count_parameter!(53, "fidelity.modes", 10_000, "Number of modes of the modal level", modes),
-    },
+    count_parameter!(
+        53,
+        "fidelity.modes",
+        10_000,
+        "Number of modes of the modal level",
+        modes
+    ),
     enum_parameter!(
         54,
         "fidelity.modal_basis",
