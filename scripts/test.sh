@@ -5,12 +5,16 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 
+bash scripts/system-deps.sh
 echo "== cargo fmt --check"
 cargo fmt --all -- --check
 echo "== cargo clippy -D warnings"
-cargo clippy --release --all-targets -- -D warnings
+cargo clippy --release --workspace --all-targets -- -D warnings
+echo "== fmu-build (the FMU tests import the packaged .fmu files)"
+cargo run --release -p fmu-build
 echo "== cargo test"
-cargo test --release --all-targets 2>&1 | tee target/cargo-test.log
+mkdir -p target
+cargo test --release --workspace --all-targets 2>&1 | tee target/cargo-test.log
 # A summary line that the CI log readers understand, over every test binary.
 awk '/^test result:/ {p += $4; f += $6; i += $8} END {printf "rust: %d passed, %d failed, %d skipped\n", p, f, i}' target/cargo-test.log
 

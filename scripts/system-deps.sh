@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Debian packages the build needs beyond Rust, Python and gcc: libclang-dev, for the
+# bindgen step of the `fmi` importer crate used by fmu-build's tests. Installs only
+# what is missing.
+set -euo pipefail
+missing=()
+for package in libclang-dev; do
+  dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")
+done
+if [ "${#missing[@]}" -eq 0 ]; then
+  exit 0
+fi
+if [ "$(id -u)" -eq 0 ]; then
+  sudo=()
+else
+  sudo=(sudo)
+fi
+echo "== apt-get install ${missing[*]}" >&2
+"${sudo[@]}" apt-get update -qq >&2
+DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq "${missing[@]}" >&2
