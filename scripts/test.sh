@@ -20,7 +20,9 @@ awk '/^test result:/ {p += $4; f += $6; i += $8} END {printf "rust: %d passed, %
 
 echo "== python-checks (pytest)"
 python="$(bash scripts/python-env.sh)"
-cargo build --release --bins
+# --workspace: the same feature set as fmu-build's builds, so nothing is rebuilt.
+cargo build --release --workspace --bins
+export STICKSLIP_BIN="$root/target/release/stickslip"
 set +e
 "$python" -m pytest -q python-checks
 status=$?

@@ -536,3 +536,55 @@ fn every_parameter_start_value_is_the_scene_default() {
         }
     }
 }
+
+/// Reading outputs during initialisation must not freeze the inputs or parameters
+/// that shape the start: a belt speed set afterwards still gives its own quasi-static
+/// start (tip at belt speed) and its own breakaway, mu_s F_n / k_tip / v_b later.
+#[test]
+fn outputs_read_in_initialization_mode_do_not_freeze_the_start() {
+    let start = |read_first: bool| {
+        let (mut b, _) = beam(false);
+        b.setup_experiment(0.0, Some(1.2)).unwrap();
+        b.enter_initialization_mode().unwrap();
+        b.set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[LEVEL_BEAM])
+            .unwrap();
+        if read_first {
+            tip(&mut b);
+        }
+        b.set_real(&[vr::<StickSlipBeam>("belt_speed")], &[0.05])
+            .unwrap();
+        let mut v = [0.0];
+        b.get_real(&[vr::<StickSlipBeam>("tip_velocity")], &mut v)
+            .unwrap();
+        assert!((v[0] - 0.05).abs() < 1e-15, "start velocity {} m/s", v[0]);
+        b.exit_initialization_mode().unwrap();
+        run(&mut b, 0.0, 0.3, 1e-3)
+    };
+    assert_eq!(start(true), start(false));
+}
+
+/// A state that does not fit leaves the running simulation as it was.
+#[test]
+fn a_refused_state_leaves_the_instance_running() {
+    let (mut b, _) = initialized_beam(LEVEL_BEAM);
+    run(&mut b, 0.0, 0.2, 1e-3);
+    let mut wrong = b.get_state().unwrap();
+    wrong.model["running"]["state"]["kinematics"]["velocity"][3] =
+        serde_json::Value::String("x".into());
+    assert!(b.set_state(&wrong).is_err());
+    b.reset();
+    let (mut reference, _) = initialized_beam(LEVEL_BEAM);
+    let (mut other, _) = initialized_beam(LEVEL_BEAM);
+    run(&mut reference, 0.0, 0.2, 1e-3);
+    run(&mut other, 0.0, 0.2, 1e-3);
+    let good = other.get_state().unwrap();
+    let mut bad = good.clone();
+    bad.model["running"]["state"]["time"] = serde_json::json!(null);
+    assert!(reference.set_state(&bad).is_err());
+    // Back from the error with the good state: the run continues as the other's.
+    reference.set_state(&good).unwrap();
+    assert_eq!(
+        run(&mut reference, 0.2, 0.3, 1e-3),
+        run(&mut other, 0.2, 0.3, 1e-3)
+    );
+}

@@ -55,7 +55,15 @@ pub fn checked_in_description(kind: FmuKind) -> PathBuf {
 pub fn build_library() -> Result<PathBuf, String> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let status = Command::new(cargo)
-        .args(["build", "--release", "--lib", "-p", "stickslip"])
+        .args([
+            "build",
+            "--release",
+            "--lib",
+            "-p",
+            "stickslip",
+            "-p",
+            "fmu-build",
+        ])
         .current_dir(workspace_root())
         .status()
         .map_err(|e| format!("cannot run cargo: {e}"))?;

@@ -82,6 +82,7 @@ struct Running {
 #[serde(deny_unknown_fields)]
 struct Saved {
     settings: Settings,
+    initialized: bool,
     running: Option<SavedRun>,
 }
 
@@ -98,6 +99,8 @@ pub struct StickSlipBeam {
     settings: Settings,
     networks: Networks,
     running: Option<Running>,
+    /// fmi2ExitInitializationMode has built the simulation the steps use.
+    initialized: bool,
 }
 
 impl StickSlipBeam {
@@ -172,8 +175,12 @@ impl StickSlipBeam {
             s.set_belt_speed(inputs.belt_speed);
             s.set_normal_force(inputs.normal_force);
             s.set_external_friction(external);
-            // Inputs are not parameters: changing them keeps the simulation.
-            running.built_from.inputs = inputs;
+            // After initialisation inputs only drive the steps to come. Before it, they
+            // also shape the start (the quasi-static start moves at the belt speed), so
+            // the simulation is rebuilt from them at fmi2ExitInitializationMode.
+            if self.initialized {
+                running.built_from.inputs = inputs;
+            }
         }
     }
 
@@ -709,6 +716,7 @@ impl Model for StickSlipBeam {
             settings: Settings::default(),
             networks: Networks::default(),
             running: None,
+            initialized: false,
         }
     }
 
@@ -719,11 +727,13 @@ impl Model for StickSlipBeam {
     fn reset(&mut self) {
         self.settings = Settings::default();
         self.running = None;
+        self.initialized = false;
     }
 
     fn refresh_outputs(&mut self) -> Result<(), String> {
-        if self.running.is_none() {
-            // Outputs asked for during initialisation: the state at the start time.
+        if !self.initialized {
+            // Outputs asked for during initialisation: the state at the start time of
+            // the current parameters and inputs.
             self.ensure_running(0.0, None)?;
         }
         Ok(())
@@ -734,6 +744,7 @@ impl Model for StickSlipBeam {
         if let Some(running) = &mut self.running {
             running.start_time = start_time;
         }
+        self.initialized = true;
         Ok(())
     }
 
@@ -760,6 +771,7 @@ impl Model for StickSlipBeam {
     fn save(&self) -> serde_json::Value {
         let saved = Saved {
             settings: self.settings.clone(),
+            initialized: self.initialized,
             running: self.running.as_ref().map(|r| SavedRun {
                 built_from: r.built_from.clone(),
                 start_time: r.start_time,
@@ -776,19 +788,20 @@ impl Model for StickSlipBeam {
         let Some(run) = saved.running else {
             self.settings = saved.settings;
             self.running = None;
+            self.initialized = false;
             return Ok(());
         };
         // Build (or keep) the simulation of the saved settings, then load its state; on
         // failure the model is left as it was.
         let previous_settings = std::mem::replace(&mut self.settings, run.built_from.clone());
-        let previous_running = self.running.take();
+        let mut previous_running = self.running.take();
         let reusable = previous_running.as_ref().is_some_and(|r| {
             r.built_from.scene == run.built_from.scene
                 && r.built_from.friction_model == run.built_from.friction_model
                 && r.built_from.weights == run.built_from.weights
         });
         let built = if reusable {
-            self.running = previous_running;
+            self.running = previous_running.take();
             Ok(())
         } else {
             let stop = Some(run.start_time + run.built_from.scene.time.end);
@@ -806,7 +819,7 @@ impl Model for StickSlipBeam {
         });
         match restored {
             Ok(()) => {
-                self.apply_inputs();
+                self.initialized = saved.initialized;
                 self.settings = saved.settings;
                 if let Some(running) = &mut self.running {
                     running.built_from = run.built_from;
@@ -816,7 +829,9 @@ impl Model for StickSlipBeam {
             }
             Err(reason) => {
                 self.settings = previous_settings;
-                self.running = None;
+                if !reusable {
+                    self.running = previous_running;
+                }
                 Err(reason)
             }
         }

@@ -12,6 +12,7 @@ use super::beam::StickSlipBeam;
 use super::friction::NeuralFriction;
 use super::instance::{CallResult, Instance, Logger, SavedState, Status, StatusKind};
 use super::{FmuKind, Model};
+use libc::size_t;
 use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
@@ -46,7 +47,7 @@ pub type fmi2CallbackLogger = unsafe extern "C" fn(
 #[repr(C)]
 pub struct fmi2CallbackFunctions {
     pub logger: Option<fmi2CallbackLogger>,
-    pub allocateMemory: Option<unsafe extern "C" fn(usize, usize) -> *mut c_void>,
+    pub allocateMemory: Option<unsafe extern "C" fn(size_t, size_t) -> *mut c_void>,
     pub freeMemory: Option<unsafe extern "C" fn(*mut c_void)>,
     pub stepFinished: Option<unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2Status)>,
     pub componentEnvironment: fmi2ComponentEnvironment,
@@ -334,7 +335,7 @@ pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
 pub unsafe extern "C" fn fmi2SetDebugLogging(
     c: fmi2Component,
     loggingOn: fmi2Boolean,
-    nCategories: usize,
+    nCategories: size_t,
     categories: *const fmi2String,
 ) -> fmi2Status {
     unsafe {
@@ -418,7 +419,7 @@ macro_rules! getter {
         pub unsafe extern "C" fn $fn_name(
             c: fmi2Component,
             vr: *const fmi2ValueReference,
-            nvr: usize,
+            nvr: size_t,
             value: *mut $c_type,
         ) -> fmi2Status {
             unsafe {
@@ -455,7 +456,7 @@ getter!(fmi2GetBoolean, fmi2Boolean, get_boolean, |v: bool| {
 pub unsafe extern "C" fn fmi2GetString(
     c: fmi2Component,
     vr: *const fmi2ValueReference,
-    nvr: usize,
+    nvr: size_t,
     value: *mut fmi2String,
 ) -> fmi2Status {
     unsafe {
@@ -484,7 +485,7 @@ macro_rules! setter {
         pub unsafe extern "C" fn $fn_name(
             c: fmi2Component,
             vr: *const fmi2ValueReference,
-            nvr: usize,
+            nvr: size_t,
             value: *const $c_type,
         ) -> fmi2Status {
             unsafe {
@@ -509,7 +510,7 @@ setter!(fmi2SetBoolean, fmi2Boolean, set_boolean, |v: c_int| v
 pub unsafe extern "C" fn fmi2SetString(
     c: fmi2Component,
     vr: *const fmi2ValueReference,
-    nvr: usize,
+    nvr: size_t,
     value: *const fmi2String,
 ) -> fmi2Status {
     unsafe {
@@ -598,7 +599,7 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
 pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     c: fmi2Component,
     FMUstate: fmi2FMUstate,
-    size: *mut usize,
+    size: *mut size_t,
 ) -> fmi2Status {
     unsafe {
         with_component(c, "fmi2SerializedFMUstateSize", |component| {
@@ -622,7 +623,7 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
     c: fmi2Component,
     FMUstate: fmi2FMUstate,
     serializedState: *mut fmi2Byte,
-    size: usize,
+    size: size_t,
 ) -> fmi2Status {
     unsafe {
         with_component(c, "fmi2SerializeFMUstate", |component| {
@@ -658,7 +659,7 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
 pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     c: fmi2Component,
     serializedState: *const fmi2Byte,
-    size: usize,
+    size: size_t,
     FMUstate: *mut fmi2FMUstate,
 ) -> fmi2Status {
     unsafe {
@@ -696,9 +697,9 @@ fn unsupported(component: &mut Component, call: &str, why: &str) -> Status {
 pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     c: fmi2Component,
     _vUnknown_ref: *const fmi2ValueReference,
-    _nUnknown: usize,
+    _nUnknown: size_t,
     _vKnown_ref: *const fmi2ValueReference,
-    _nKnown: usize,
+    _nKnown: size_t,
     _dvKnown: *const fmi2Real,
     _dvUnknown: *mut fmi2Real,
 ) -> fmi2Status {
@@ -717,7 +718,7 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
 pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
     c: fmi2Component,
     _vr: *const fmi2ValueReference,
-    _nvr: usize,
+    _nvr: size_t,
     _order: *const fmi2Integer,
     _value: *const fmi2Real,
 ) -> fmi2Status {
@@ -736,7 +737,7 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
 pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
     c: fmi2Component,
     _vr: *const fmi2ValueReference,
-    _nvr: usize,
+    _nvr: size_t,
     _order: *const fmi2Integer,
     _value: *mut fmi2Real,
 ) -> fmi2Status {

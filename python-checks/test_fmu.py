@@ -1,0 +1,264 @@
+"""The FMUs under fmpy: validation, the stick-slip curve (against the command line),
+missing resources, refused inputs and parameters, and the FMI call order.
+
+Needs the FMUs built by `cargo run --release -p fmu-build`; they are read from
+$STICKSLIP_FMU_DIR, else $CARGO_TARGET_DIR/fmu, else <repo>/target/fmu. Without them every
+test here FAILS (it is not skipped) and says how to build them. The command-line binary
+is $STICKSLIP_BIN, else the release binary built (if needed) by cargo.
+
+Runs in a few seconds once the FMUs and the binary exist.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fmpy import simulate_fmu
+from fmpy.fmi1 import FMICallException
+from fmpy.validation import validate_fmu
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import fmu_scene  # noqa: E402
+from fmu_scene import BEAM, FIDELITY, FRICTION  # noqa: E402
+
+FMI2_ERROR = 3
+BELT_SPEED = 0.02  # m/s
+BREAKAWAY = 0.400  # s
+
+
+@pytest.fixture(scope="module")
+def built():
+    """The unpacked FMUs, or the error that says how to build them."""
+    try:
+        paths = fmu_scene.fmu_paths()
+    except FileNotFoundError as error:
+        yield error
+        return
+    fmus = fmu_scene.Fmus(paths)
+    yield fmus
+    fmus.close()
+
+
+def need(built) -> fmu_scene.Fmus:
+    """Fails (never skips) the calling test when the FMUs are not built."""
+    if isinstance(built, Exception):
+        pytest.fail(str(built), pytrace=False)
+    return built
+
+
+_beam_result = {}
+
+
+def beam_curve(fmus: fmu_scene.Fmus):
+    """The paper scene at beam fidelity through simulate_fmu, 1 ms output (cached)."""
+    if "beam" not in _beam_result:
+        _beam_result["beam"] = simulate_fmu(
+            str(fmus.paths[BEAM]),
+            start_time=0.0,
+            stop_time=1.2,
+            output_interval=1e-3,
+            start_values={"fidelity.level": FIDELITY["beam"]},
+        )
+    return _beam_result["beam"]
+
+
+def stickslip_binary() -> Path:
+    """$STICKSLIP_BIN, else the release binary built (if needed) by cargo."""
+    if os.environ.get("STICKSLIP_BIN"):
+        return Path(os.environ["STICKSLIP_BIN"])
+    repo = fmu_scene.REPO
+    subprocess.run(
+        ["cargo", "build", "--release", "--quiet", "--bin", "stickslip"], cwd=repo, check=True
+    )
+    metadata = subprocess.run(
+        ["cargo", "metadata", "--format-version", "1", "--no-deps"],
+        cwd=repo,
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    return Path(json.loads(metadata.stdout)["target_directory"]) / "release" / "stickslip"
+
+
+def initialised(fmus: fmu_scene.Fmus, name: str, instance: str, **integers):
+    """An instantiated slave in step mode (integer parameters by name set first)."""
+    slave = fmus.slave(name, instance)
+    slave.instantiate()
+    slave.setupExperiment(startTime=0.0, stopTime=1.2)
+    slave.enterInitializationMode()
+    if integers:
+        vr = fmus.vr[name]
+        slave.setInteger([vr[k.replace("__", ".")] for k in integers], list(integers.values()))
+    slave.exitInitializationMode()
+    return slave
+
+
+def still_usable(fmus: fmu_scene.Fmus, slave, name: str) -> None:
+    """After an fmi2Error: fmi2Reset brings the instance back and it steps again."""
+    slave.reset()
+    slave.setupExperiment(startTime=0.0, stopTime=1.2)
+    slave.enterInitializationMode()
+    slave.exitInitializationMode()
+    for k in range(3):
+        slave.doStep(currentCommunicationPoint=k * 1e-3, communicationStepSize=1e-3)
+    output = "tip_deflection" if name == BEAM else "friction_force"
+    (value,) = slave.getReal([fmus.vr[name][output]])
+    assert np.isfinite(value)
+    slave.terminate()
+    slave.freeInstance()
+
+
+# ----------------------------------------------------------------------------- tests
+
+
+def test_fmu_dir_missing_fails_with_the_build_command(tmp_path, monkeypatch):
+    monkeypatch.setenv("STICKSLIP_FMU_DIR", str(tmp_path / "no-such-dir"))
+    with pytest.raises(FileNotFoundError, match="cargo run --release -p fmu-build"):
+        fmu_scene.fmu_paths()
+
+
+@pytest.mark.parametrize("name", [BEAM, FRICTION])
+def test_validate_fmu_finds_no_problem(built, name):
+    fmus = need(built)
+    assert validate_fmu(str(fmus.paths[name])) == []
+
+
+def test_beam_fidelity_reproduces_the_stick_slip_curve(built):
+    result = beam_curve(need(built))
+    t, u, stick = result["time"], result["tip_deflection"], result["stick"].astype(bool)
+    assert len(t) == 1201
+    np.testing.assert_allclose(t, np.arange(1201) * 1e-3, rtol=0, atol=1e-12)
+    # Stick phase: the tip rides on the belt from u = 0.
+    before = t < BREAKAWAY - 1e-9
+    assert stick[before].all()
+    np.testing.assert_allclose(u[before], BELT_SPEED * t[before], rtol=0, atol=1e-9)
+    # Breakaway: the first sample in slip is t = 0.400 s, at u = v_b * 0.4 s = 8 mm.
+    first_slip = np.flatnonzero(~stick)[0]
+    assert t[first_slip] == pytest.approx(BREAKAWAY, abs=1e-9)
+    assert u[first_slip] == pytest.approx(BELT_SPEED * BREAKAWAY, abs=1e-6)
+    # Then stick-slip: several transitions, the deflection inside the paper's corridor.
+    after = t >= BREAKAWAY
+    assert result["transitions"][-1] >= 10
+    assert 4e-3 < u[after].min() < u[after].max() < 9e-3
+
+
+def test_beam_fidelity_equals_the_command_line(built, tmp_path):
+    result = beam_curve(need(built))
+    csv_path = tmp_path / "beam.csv"
+    command = [
+        str(stickslip_binary()),
+        "simulate",
+        "--fidelity",
+        "beam",
+        "--every",
+        "10",
+        "--out",
+        str(csv_path),
+    ]
+    subprocess.run(command, check=True, capture_output=True, text=True)
+    cli = np.genfromtxt(csv_path, delimiter=",", names=True)
+    # Common times: the CLI writes every 10th step of 0.1 ms, the FMU every 1 ms.
+    fmu_index = {round(t * 1e3): k for k, t in enumerate(result["time"])}
+    pairs = [(fmu_index[round(t * 1e3)], j) for j, t in enumerate(cli["t"])]
+    assert len(pairs) == len(result["time"]) == 1201
+    k, j = map(np.array, zip(*pairs))
+    np.testing.assert_allclose(result["time"][k], cli["t"][j], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(
+        result["tip_deflection"][k], cli["tip_deflection"][j], rtol=0, atol=1e-12
+    )
+    np.testing.assert_array_equal(result["stick"][k].astype(int), cli["stick"][j].astype(int))
+
+
+@pytest.mark.parametrize("name", [BEAM, FRICTION])
+def test_missing_weights_resource_fails_instantiation(built, tmp_path, name):
+    fmus = need(built)
+    source = fmus.paths[name]
+
+    def copy(target: Path, leave_out: str | None) -> Path:
+        with zipfile.ZipFile(source) as zin, zipfile.ZipFile(target, "w") as zout:
+            for item in zin.infolist():
+                if item.filename != leave_out:
+                    zout.writestr(item, zin.read(item.filename))
+        return target
+
+    # Control: a full copy instantiates (so the copying is not what breaks it).
+    full = copy(tmp_path / f"{name}-full.fmu", None)
+    assert len(simulate_fmu(str(full), stop_time=0.01, output_interval=1e-3)) == 11
+
+    broken = copy(tmp_path / f"{name}.fmu", "resources/paper-plain.json")
+    with zipfile.ZipFile(broken) as z:
+        assert "resources/paper-plain.json" not in z.namelist()
+        assert "resources/paper-signed.json" in z.namelist()
+    with pytest.raises(Exception, match="[Ii]nstantiate"):
+        simulate_fmu(str(broken), stop_time=0.01, output_interval=1e-3)
+
+
+@pytest.mark.parametrize(
+    ("name", "variable"),
+    [
+        (BEAM, "belt_speed"),
+        (BEAM, "normal_force"),
+        (BEAM, "external.kinetic_force"),
+        (FRICTION, "sliding_velocity"),
+        (FRICTION, "normal_force"),
+    ],
+)
+def test_nan_input_is_an_fmi2_error(built, name, variable):
+    fmus = need(built)
+    slave = initialised(fmus, name, "nan")
+    slave.doStep(currentCommunicationPoint=0.0, communicationStepSize=1e-3)
+    with pytest.raises(FMICallException) as error:
+        slave.setReal([fmus.vr[name][variable]], [float("nan")])
+    assert error.value.status == FMI2_ERROR
+    still_usable(fmus, slave, name)
+
+
+def test_negative_youngs_modulus_is_an_fmi2_error(built):
+    fmus = need(built)
+    # Through simulate_fmu, as a user would set it.
+    with pytest.raises(FMICallException) as error:
+        simulate_fmu(
+            str(fmus.paths[BEAM]),
+            stop_time=0.01,
+            output_interval=1e-3,
+            start_values={"material.youngs_modulus": -2.1e11, "fidelity.level": 2},
+        )
+    assert error.value.status == FMI2_ERROR
+    # Step by step: refused when initialisation ends; the instance survives a reset.
+    slave = fmus.slave(BEAM, "negative-E")
+    slave.instantiate()
+    slave.setupExperiment(startTime=0.0, stopTime=1.2)
+    slave.enterInitializationMode()
+    slave.setReal([fmus.vr[BEAM]["material.youngs_modulus"]], [-2.1e11])
+    with pytest.raises(FMICallException) as error:
+        slave.exitInitializationMode()
+    assert error.value.status == FMI2_ERROR
+    still_usable(fmus, slave, BEAM)
+
+
+@pytest.mark.parametrize("name", [BEAM, FRICTION])
+def test_do_step_before_initialisation_raises(built, name):
+    fmus = need(built)
+    slave = fmus.slave(name, "order")
+    slave.instantiate()
+    with pytest.raises(FMICallException) as error:
+        slave.doStep(currentCommunicationPoint=0.0, communicationStepSize=1e-3)
+    assert error.value.status == FMI2_ERROR
+    still_usable(fmus, slave, name)
+
+
+def test_fixed_parameter_after_initialisation_raises(built):
+    fmus = need(built)
+    slave = initialised(fmus, BEAM, "fixed", fidelity__level=FIDELITY["beam"])
+    with pytest.raises(FMICallException) as error:
+        slave.setReal([fmus.vr[BEAM]["material.youngs_modulus"]], [2.0e11])
+    assert error.value.status == FMI2_ERROR
+    still_usable(fmus, slave, BEAM)
