@@ -7,7 +7,7 @@
    exponential law and the neural law (friction.weights = paper-plain.json and
    paper-signed.json).
 3. Couples StickSlipBeam (friction.model = external) with NeuralFriction.fmu (law neural
-   with paper-plain.json, and law exponential) in a Jacobi master loop with FMU2Slave at
+   with paper-plain.json, and law exponential) in a Gauss-Seidel master loop (beam first; cosim_convergence.py compares with Jacobi) with FMU2Slave at
    1 ms: beam relative_velocity -> friction sliding_velocity; friction
    friction_force_magnitude -> beam external.kinetic_force and static_limit -> beam
    external.static_limit. Both FMUs step from the same communication point t to t + 1 ms
@@ -97,7 +97,7 @@ class Run:
     name: str
     fidelity: str
     friction: str
-    coupling: str  # "embedded" (one FMU) or "Jacobi" (two FMUs)
+    coupling: str  # "embedded" (one FMU) or "Gauss-Seidel" (two FMUs)
     time: np.ndarray
     tip_deflection: np.ndarray
     stick: np.ndarray
@@ -235,7 +235,7 @@ def run_embedded(fmus: Fmus, fidelity: str, law: str, weights: str | None = None
 
 
 def run_coupled(fmus: Fmus, fidelity: str, law: str, weights: str = WEIGHTS[0]) -> Run:
-    """StickSlipBeam (friction.model = external) + NeuralFriction, Jacobi at DT."""
+    """StickSlipBeam (friction.model = external) + NeuralFriction, Gauss-Seidel at DT."""
     vb, vf = fmus.vr[BEAM], fmus.vr[FRICTION]
     beam = fmus.slave(BEAM, "beam")
     fric = fmus.slave(FRICTION, "friction")
@@ -261,7 +261,7 @@ def run_coupled(fmus: Fmus, fidelity: str, law: str, weights: str = WEIGHTS[0]) 
         # The normal force of both is the paper's 100 N (start values).
 
         def exchange():
-            """Jacobi exchange at the current communication point."""
+            """Gauss-Seidel exchange at the current communication point."""
             (v_rel,) = beam.getReal([vb["relative_velocity"]])
             fric.setReal([vf["sliding_velocity"]], [v_rel])
 
@@ -284,7 +284,7 @@ def run_coupled(fmus: Fmus, fidelity: str, law: str, weights: str = WEIGHTS[0]) 
         record(0)
         for k in range(n):
             t = times[k]
-            # Jacobi: both step from t with the inputs exchanged at t.
+            # Gauss-Seidel: both step from t with the inputs exchanged at t.
             beam.doStep(currentCommunicationPoint=t, communicationStepSize=DT)
             fric.doStep(currentCommunicationPoint=t, communicationStepSize=DT)
             # Outputs at t + DT: beam first, then the friction law at the new velocity
@@ -303,7 +303,7 @@ def run_coupled(fmus: Fmus, fidelity: str, law: str, weights: str = WEIGHTS[0]) 
         name=f"{fidelity} / coupled {label}",
         fidelity=fidelity,
         friction=f"NeuralFriction.fmu {label}",
-        coupling="Jacobi",
+        coupling="Gauss-Seidel",
         time=times,
         tip_deflection=u,
         stick=stick,
@@ -445,7 +445,7 @@ def plot_tip_deflection(runs: list[Run], fidelity: str, path: Path) -> None:
         if r.coupling == "embedded":
             label = f"StickSlipBeam.fmu, {r.friction} law"
         else:
-            label = f"coupled (Jacobi, 1 ms) with {r.friction}"
+            label = f"coupled (Gauss-Seidel, 1 ms) with {r.friction}"
         style = styles.get(r.friction, {})
         ax_u.plot(r.time, 1e3 * r.tip_deflection, label=label, **style)
         if r is not reference:
@@ -594,9 +594,9 @@ def main(argv: list[str] | None = None) -> int:
         )
 
     print()
-    print("== Coupling error: coupled (Jacobi, 1 ms) minus embedded run, same law and fidelity")
+    print("== Coupling error: coupled (Gauss-Seidel, 1 ms) minus embedded run, same law and fidelity")
     for r in runs:
-        if r.coupling != "Jacobi":
+        if r.coupling != "Gauss-Seidel":
             continue
         law = "exponential" if r.friction.endswith("exponential") else "neural paper-plain"
         twin = next(

@@ -40,3 +40,6 @@ python="$(bash scripts/python-env.sh)"
 echo
 echo "== The paper scene through the FMUs with fmpy (validation, both friction laws, coupling)"
 "$python" python-checks/fmu_scene.py "$out"
+echo
+echo "== System-level co-simulation: coupling error against the monolithic FMU, Jacobi and Gauss-Seidel"
+"$python" python-checks/cosim_convergence.py "$out"

@@ -397,6 +397,12 @@ impl SceneError {
 /// Largest plane-stress mesh the scene accepts, in degrees of freedom; a guard against a
 /// typo in `element_size` exhausting memory.
 pub const MAX_DOFS: usize = 2_000_000;
+/// Most beam elements a scene accepts.
+pub const MAX_BEAM_ELEMENTS: usize = 100_000;
+
+/// Most modes the modal level keeps.
+pub const MAX_MODES: usize = 200;
+
 /// Largest number of time steps a scene accepts.
 pub const MAX_STEPS: f64 = 1e9;
 
@@ -533,11 +539,11 @@ impl Scene {
         }
 
         let fi = &self.fidelity;
-        if fi.beam_elements == 0 || fi.beam_elements > 100_000 {
+        if fi.beam_elements == 0 || fi.beam_elements > MAX_BEAM_ELEMENTS {
             return Err(invalid(
                 "fidelity.beam_elements",
                 fi.beam_elements as f64,
-                "in [1, 100000]",
+                &format!("in [1, {MAX_BEAM_ELEMENTS}]"),
             ));
         }
         positive("fidelity.element_size", fi.element_size, "m")?;
@@ -562,8 +568,12 @@ impl Scene {
                 ));
             }
         }
-        if fi.modes == 0 || fi.modes > 200 {
-            return Err(invalid("fidelity.modes", fi.modes as f64, "in [1, 200]"));
+        if fi.modes == 0 || fi.modes > MAX_MODES {
+            return Err(invalid(
+                "fidelity.modes",
+                fi.modes as f64,
+                &format!("in [1, {MAX_MODES}]"),
+            ));
         }
 
         let i = &self.integrator;

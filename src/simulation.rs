@@ -147,8 +147,9 @@ pub struct Simulator {
 }
 
 /// Two times closer than this fraction of the step are the same time (landing on a
-/// communication point must not leave a step of 1e-20 s behind).
-const SAME_TIME: f64 = 1e-9;
+/// communication point must not leave a step of 1e-20 s behind; 1e-6 dt = 1e-10 s at
+/// the paper's step, far below anything the outputs resolve).
+const SAME_TIME: f64 = 1e-6;
 
 impl Simulator {
     /// Builds the model the scene asks for and sets up the simulation with `law`.
@@ -297,35 +298,52 @@ impl Simulator {
         self.take_step(false)
     }
 
-    /// Advances to `target` (s): full steps, then one shorter step if `target` is not on
-    /// the step grid, so that the simulation ends exactly at `target`. A target within
-    /// 1e-9 steps of the current time is reached without a step.
+    /// Advances to `target` (s) and ends exactly there. Full steps, then, when `target`
+    /// is off the step grid, a landing step of the rest. A rest shorter than half a step
+    /// is not taken alone: the last full step and the rest become two equal steps, so
+    /// that no step is much shorter than dt. (A very short step turns any mismatch of
+    /// the tip velocity into a huge stick force.) A target within 1e-6 steps of the grid
+    /// is reached by full steps alone. Refuses more than `MAX_STEPS` steps at once.
     pub fn advance_to(&mut self, target: f64) -> Result<(), SimulationError> {
         let dt = self.integrator.dt();
         let tolerance = SAME_TIME * dt;
+        let invalid = SimulationError::InvalidTarget {
+            time: self.state.time,
+            target,
+        };
         if !target.is_finite() || target < self.state.time - tolerance {
-            return Err(SimulationError::InvalidTarget {
-                time: self.state.time,
-                target,
-            });
+            return Err(invalid);
         }
-        let full_steps = ((target - self.state.time + tolerance) / dt).floor() as u64;
+        let steps = ((target - self.state.time + tolerance) / dt).floor();
+        if steps > crate::scene::MAX_STEPS {
+            return Err(invalid);
+        }
+        let mut full_steps = steps as u64;
+        let rest = target - (self.state.time + full_steps as f64 * dt);
+        let split = rest > tolerance && rest < 0.5 * dt && full_steps >= 1;
+        if split {
+            full_steps -= 1;
+        }
         for _ in 0..full_steps {
             self.take_step(false)?;
         }
-        let rest = target - self.state.time;
-        if rest > tolerance {
-            let reusable = matches!(&self.landing, Some(i) if i.dt() == rest);
+        let landing_steps = if split { 2 } else { 1 };
+        let remaining = target - self.state.time;
+        if remaining > tolerance {
+            let length = remaining / landing_steps as f64;
+            let reusable = matches!(&self.landing, Some(i) if i.dt() == length);
             if !reusable {
                 self.landing = Some(Integrator::new(
                     &self.model,
                     Coefficients::from_scene(&self.scene),
-                    rest,
+                    length,
                     self.scene.damping.mass_proportional,
                     self.scene.damping.stiffness_proportional,
                 )?);
             }
-            self.take_step(true)?;
+            for _ in 0..landing_steps {
+                self.take_step(true)?;
+            }
         }
         if self.state.time != target {
             self.state.time = target;
@@ -448,13 +466,17 @@ impl Simulator {
         }
         let new_tip_v = self.model.tip_value(&state.kinematics.velocity);
         let new_tip_u = self.model.tip_value(&state.kinematics.displacement);
-        if !(new_tip_u.is_finite() && new_tip_v.is_finite() && force.is_finite()) {
+        let relative = vb - new_tip_v;
+        if ![new_tip_u, new_tip_v, force, holding, relative]
+            .iter()
+            .all(|x| x.is_finite())
+        {
             return Err(SimulationError::NonFinite {
                 time: state.time,
                 quantity: "tip state",
             });
         }
-        state.relative_velocity = vb - new_tip_v;
+        state.relative_velocity = relative;
         state.contact_force = force;
         state.holding_force = holding;
         if next != state.contact {

@@ -88,11 +88,15 @@ fn wrong_call_order_is_an_error_and_only_reset_leads_out() {
     assert!(b.do_step(0.0, 1e-3).is_err());
     assert_eq!(b.mode(), Mode::Error);
     assert!(logged(&log, "fmi2DoStep: illegal call sequence"));
-    // After an error, everything but reset/free/set-state is refused.
-    let mut out = [0.0];
+    // After an error: no stepping, setting or mode change; reads are allowed (the
+    // standard's table), and report without computing.
     assert!(b
-        .get_real(&[vr::<StickSlipBeam>("tip_deflection")], &mut out)
+        .set_real(&[vr::<StickSlipBeam>("belt_speed")], &[0.01])
         .is_err());
+    let mut out = [0.0];
+    b.get_real(&[vr::<StickSlipBeam>("geometry.length")], &mut out)
+        .unwrap();
+    assert_eq!(out[0], 2.0);
     assert!(b.enter_initialization_mode().is_err());
     assert!(b.setup_experiment(0.0, None).is_err());
     b.reset();
@@ -587,4 +591,138 @@ fn a_refused_state_leaves_the_instance_running() {
         run(&mut reference, 0.2, 0.3, 1e-3),
         run(&mut other, 0.2, 0.3, 1e-3)
     );
+}
+
+/// A communication step just off the grid (10 steps + 1e-8 s) must not leave a 1e-8 s
+/// step: the last full step and the rest become two equal steps. The stick phase then
+/// still follows the belt exactly and the holding force stays that of quasi-static
+/// bending (3 EI u / L^3 = 25 N at u = 4 mm).
+#[test]
+fn slightly_off_grid_steps_do_not_leave_tiny_steps() {
+    for level in [LEVEL_MODAL, LEVEL_BEAM] {
+        let (mut b, _) = initialized_beam(level);
+        let h = 1.00001e-3;
+        let mut t = 0.0;
+        for _ in 0..200 {
+            b.do_step(t, h).unwrap();
+            t += h;
+        }
+        let mut out = [0.0; 3];
+        b.get_real(
+            &[
+                vr::<StickSlipBeam>("tip_deflection"),
+                vr::<StickSlipBeam>("tip_velocity"),
+                vr::<StickSlipBeam>("holding_force"),
+            ],
+            &mut out,
+        )
+        .unwrap();
+        assert!(
+            (out[0] - 0.02 * t).abs() < 1e-9,
+            "tip {} at t = {t}",
+            out[0]
+        );
+        assert!((out[1] - 0.02).abs() < 1e-6, "tip velocity {}", out[1]);
+        assert!(
+            (out[2] - 25.0 * t / 0.2).abs() < 0.5,
+            "holding force {}",
+            out[2]
+        );
+    }
+}
+
+#[test]
+fn a_step_of_more_than_1e9_internal_steps_is_refused_at_once() {
+    let (mut b, _) = beam(false);
+    b.setup_experiment(0.0, None).unwrap();
+    b.set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[LEVEL_MODAL])
+        .unwrap();
+    b.enter_initialization_mode().unwrap();
+    b.exit_initialization_mode().unwrap();
+    let began = std::time::Instant::now();
+    assert!(b.do_step(0.0, 1e12).is_err());
+    assert!(began.elapsed().as_secs_f64() < 1.0);
+}
+
+/// The standard's way back from an error, with the state kept as bytes: deserialize,
+/// then set, in the Error mode.
+#[test]
+fn recovery_from_an_error_through_serialized_bytes() {
+    let (mut b, log) = initialized_beam(LEVEL_MODAL);
+    run(&mut b, 0.0, 0.3, 1e-3);
+    let saved = b.get_state().unwrap();
+    let bytes = b.serialize_state(&saved).unwrap();
+    let expected = run(&mut b, 0.3, 0.5, 1e-3);
+    assert!(b.do_step(5.0, 1e-3).is_err());
+    assert_eq!(b.mode(), Mode::Error);
+    let restored = b.deserialize_state(&bytes).unwrap();
+    b.set_state(&restored).unwrap();
+    assert_eq!(run(&mut b, 0.3, 0.5, 1e-3), expected);
+    assert!(logged(&log, "does not match the FMU's time"));
+}
+
+#[test]
+fn neural_friction_restores_a_state_saved_before_its_parameters_were_checked() {
+    let (logger, _) = collecting_logger();
+    let mut f = Instance::<NeuralFriction>::new("f", Some(&resources()), false, logger).unwrap();
+    f.set_string(&[vr::<NeuralFriction>("weights")], &["missing.json"])
+        .unwrap();
+    let saved = f.get_state().unwrap();
+    f.set_state(&saved).unwrap();
+    assert_eq!(f.mode(), Mode::Instantiated);
+}
+
+/// Reading a parameter during initialisation computes nothing, so parameters that are
+/// inconsistent only until the importer has set them all do not fail the read; the
+/// experiment's stop time counts when outputs are read.
+#[test]
+fn reads_in_initialization_mode_follow_the_experiment() {
+    let (mut b, _) = beam(false);
+    b.setup_experiment(0.0, Some(100.0)).unwrap();
+    b.enter_initialization_mode().unwrap();
+    b.set_real(&[vr::<StickSlipBeam>("geometry.length")], &[0.005])
+        .unwrap();
+    let mut out = [0.0];
+    b.get_real(&[vr::<StickSlipBeam>("geometry.length")], &mut out)
+        .unwrap();
+    b.set_real(&[vr::<StickSlipBeam>("geometry.length")], &[2.0])
+        .unwrap();
+    b.set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[LEVEL_MODAL])
+        .unwrap();
+    // time.step = 1.5 s exceeds the default end of 1.2 s but not the experiment's 100 s.
+    b.set_real(&[vr::<StickSlipBeam>("time.step")], &[1.5])
+        .unwrap();
+    b.get_real(&[vr::<StickSlipBeam>("tip_deflection")], &mut out)
+        .unwrap();
+    b.exit_initialization_mode().unwrap();
+}
+
+#[test]
+fn non_finite_outputs_are_errors_not_values() {
+    let (logger, log) = collecting_logger();
+    let mut f = Instance::<NeuralFriction>::new("f", Some(&resources()), false, logger).unwrap();
+    f.set_integer(&[vr::<NeuralFriction>("law")], &[2]).unwrap();
+    f.set_real(&[vr::<NeuralFriction>("static_coefficient")], &[4.0])
+        .unwrap();
+    f.setup_experiment(0.0, None).unwrap();
+    f.enter_initialization_mode().unwrap();
+    f.exit_initialization_mode().unwrap();
+    f.set_real(&[vr::<NeuralFriction>("normal_force")], &[1e308])
+        .unwrap();
+    let mut out = [0.0];
+    assert!(f
+        .get_real(&[vr::<NeuralFriction>("static_limit")], &mut out)
+        .is_err());
+    assert!(logged(&log, "not finite"));
+    // The beam: a belt speed whose products overflow.
+    let (mut b, log) = initialized_beam(LEVEL_MODAL);
+    b.set_real(&[vr::<StickSlipBeam>("belt_speed")], &[1e307])
+        .unwrap();
+    let steps: Vec<bool> = (0..100)
+        .map(|k| b.do_step(k as f64 * 1e-3, 1e-3).is_ok())
+        .take_while(|&ok| ok)
+        .collect();
+    assert!(steps.len() < 100, "the overflow was never reported");
+    assert_eq!(b.mode(), Mode::Error);
+    assert!(logged(&log, "non-finite"), "{:?}", log.lock().unwrap());
 }

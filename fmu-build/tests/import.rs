@@ -900,9 +900,10 @@ fn f_coupled_with_neural_friction_fmu_matches_the_monolithic_run() {
     let mut friction = start_friction(&friction_import, "coupled-friction", Some(LAW_EXPONENTIAL));
     let friction_outputs = [fvrs.outputs[1], fvrs.outputs[3]];
 
-    // Jacobi: at t_k both FMUs get their inputs from t_k outputs, then both step to
-    // t_k + h (independently; they could run in parallel). NeuralFriction has direct
-    // feedthrough and no state, so its output at t_k is evaluated at the beam's v_rel(t_k).
+    // Gauss-Seidel at each point t_k: the beam's v_rel(t_k) goes through NeuralFriction
+    // (direct feedthrough, no state) and its force back into the beam, then both step
+    // to t_k + h. (python-checks/cosim_convergence.py compares this with one-pass
+    // Jacobi, where the beam gets the force of v_rel(t_{k-1}).)
     let mut coupled = vec![beam.outputs()];
     let mut t = 0.0;
     for _ in 0..STEPS {

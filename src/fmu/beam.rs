@@ -546,7 +546,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
     count_parameter!(
         51,
         "fidelity.beam_elements",
-        1_000_000,
+        crate::scene::MAX_BEAM_ELEMENTS as i32,
         "Number of beam elements (beam level, and the modal level's beam basis)",
         beam_elements
     ),
@@ -730,11 +730,11 @@ impl Model for StickSlipBeam {
         self.initialized = false;
     }
 
-    fn refresh_outputs(&mut self) -> Result<(), String> {
+    fn refresh_outputs(&mut self, start_time: f64, stop_time: Option<f64>) -> Result<(), String> {
         if !self.initialized {
             // Outputs asked for during initialisation: the state at the start time of
             // the current parameters and inputs.
-            self.ensure_running(0.0, None)?;
+            self.ensure_running(start_time, stop_time)?;
         }
         Ok(())
     }

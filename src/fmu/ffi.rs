@@ -672,12 +672,9 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
             }
             match each!(&mut component.instance, i => i.deserialize_state(bytes)) {
                 Ok(saved) => {
-                    let existing = *FMUstate as *mut SavedState;
-                    if existing.is_null() {
-                        *FMUstate = Box::into_raw(Box::new(saved)) as fmi2FMUstate;
-                    } else {
-                        *existing = saved;
-                    }
+                    // Always a new state: unlike fmi2GetFMUstate, the standard does not
+                    // promise that a non-NULL *FMUstate is one of ours.
+                    *FMUstate = Box::into_raw(Box::new(saved)) as fmi2FMUstate;
                     Status::Ok
                 }
                 Err(_) => Status::Error,

@@ -119,13 +119,7 @@ impl NeuralFriction {
                 force?
             }
         };
-        if !force.is_finite() {
-            return Err(format!(
-                "the friction force is not finite at sliding_velocity = {} m/s, normal_force = {} N",
-                s.sliding_velocity, s.normal_force
-            ));
-        }
-        Ok(Outputs {
+        let outputs = Outputs {
             force,
             coefficient: if s.normal_force > 0.0 {
                 force.abs() / s.normal_force
@@ -133,7 +127,17 @@ impl NeuralFriction {
                 0.0
             },
             static_limit: s.static_coefficient * s.normal_force,
-        })
+        };
+        if ![outputs.force, outputs.coefficient, outputs.static_limit]
+            .iter()
+            .all(|x| x.is_finite())
+        {
+            return Err(format!(
+                "the outputs are not finite at sliding_velocity = {} m/s, normal_force = {} N (force {}, coefficient {}, static limit {})",
+                s.sliding_velocity, s.normal_force, outputs.force, outputs.coefficient, outputs.static_limit
+            ));
+        }
+        Ok(outputs)
     }
 }
 
@@ -378,18 +382,20 @@ impl Model for NeuralFriction {
         self.outputs = Outputs::default();
     }
 
-    fn refresh_outputs(&mut self) -> Result<(), String> {
+    fn refresh_outputs(&mut self, _start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
         self.outputs = self.evaluate()?;
         Ok(())
     }
 
     fn initialize(&mut self, _start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
         self.check()?;
-        self.refresh_outputs()
+        self.outputs = self.evaluate()?;
+        Ok(())
     }
 
     fn do_step(&mut self, _from: f64, _to: f64, _events: &mut Vec<String>) -> Result<(), String> {
-        self.refresh_outputs()
+        self.outputs = self.evaluate()?;
+        Ok(())
     }
 
     fn save(&self) -> serde_json::Value {
@@ -399,11 +405,9 @@ impl Model for NeuralFriction {
     fn restore(&mut self, saved: serde_json::Value) -> Result<(), String> {
         let settings: Settings = serde_json::from_value(saved)
             .map_err(|e| format!("saved NeuralFriction state is malformed: {e}"))?;
-        let previous = std::mem::replace(&mut self.settings, settings);
-        if let Err(reason) = self.refresh_outputs() {
-            self.settings = previous;
-            return Err(reason);
-        }
+        // Plain data: the outputs are evaluated when next read, so a state saved before
+        // its parameters were checked restores too.
+        self.settings = settings;
         Ok(())
     }
 }

@@ -5,9 +5,12 @@
 //! Decisions where the standard leaves room:
 //! - Any call in a mode that does not allow it returns Error with the logged reason
 //!   "illegal call sequence" and puts the instance in the Error mode.
-//! - In the Error mode only fmi2Reset, fmi2FreeInstance, fmi2SetDebugLogging,
-//!   fmi2SetFMUstate (the standard's way back from an error) and fmi2FreeFMUstate are
-//!   accepted.
+//! - In the Error mode an instance accepts what the standard's state table allows
+//!   there and nothing else: fmi2Reset, fmi2FreeInstance, fmi2SetDebugLogging, the
+//!   reads (fmi2Get*, which then report the values as they were, without computing
+//!   anything) and the FMU-state functions, so that a state kept as bytes can be
+//!   deserialized and set: the standard's way back from an error. Stepping, setting
+//!   and the mode changes are refused.
 //! - Functions whose capability flag is false (directional derivatives, input and
 //!   output derivatives, asynchronous steps) return Error and log why.
 //! - Errors are logged in category logStatusError, which is on even when the importer
@@ -102,16 +105,15 @@ impl Call {
             Call::SetupExperiment | Call::EnterInitializationMode => &[Instantiated],
             Call::ExitInitializationMode => &[InitializationMode],
             Call::Terminate => &[StepComplete, StepFailed],
-            Call::Get => &[InitializationMode, StepComplete, StepFailed, Terminated],
-            Call::Set => &[Instantiated, InitializationMode, StepComplete],
-            Call::GetState | Call::SerializeState => &[
-                Instantiated,
+            Call::Get => &[
                 InitializationMode,
                 StepComplete,
                 StepFailed,
                 Terminated,
+                Error,
             ],
-            Call::SetState | Call::FreeState => &[
+            Call::Set => &[Instantiated, InitializationMode, StepComplete],
+            Call::GetState | Call::SerializeState | Call::SetState | Call::FreeState => &[
                 Instantiated,
                 InitializationMode,
                 StepComplete,
@@ -377,16 +379,21 @@ impl<M: Model> Instance<M> {
         self.fail(call, &error.to_string())
     }
 
-    /// Prepares a get: outputs are made current first.
+    /// Prepares a get: when outputs are asked for, they are made current first (not in
+    /// the Error mode, which only reports).
     fn before_get(&mut self, call: &str, vrs: &[u32], base: BaseType) -> CallResult<()> {
         self.check(Call::Get)?;
+        let mut outputs = false;
         for &vr in vrs {
-            if let Err(e) = lookup(M::variables(), vr, base) {
-                return Err(self.access_failed(call, e));
+            match lookup(M::variables(), vr, base) {
+                Ok(v) => outputs |= v.causality == Causality::Output,
+                Err(e) => return Err(self.access_failed(call, e)),
             }
         }
-        if let Err(reason) = self.model.refresh_outputs() {
-            return Err(self.fail(call, &reason));
+        if outputs && self.mode != Mode::Error {
+            if let Err(reason) = self.model.refresh_outputs(self.start_time, self.stop_time) {
+                return Err(self.fail(call, &reason));
+            }
         }
         Ok(())
     }

@@ -58,8 +58,9 @@ pub trait Model: Send + Sized + 'static {
     /// Back to the start values, keeping what `load_resources` read.
     fn reset(&mut self);
 
-    /// Makes the outputs current (called before outputs are read).
-    fn refresh_outputs(&mut self) -> Result<(), String>;
+    /// Makes the outputs current (called before outputs are read), for the experiment
+    /// from `start_time` to `stop_time`.
+    fn refresh_outputs(&mut self, start_time: f64, stop_time: Option<f64>) -> Result<(), String>;
 
     /// Checks every parameter and builds what the simulation needs (at
     /// fmi2ExitInitializationMode). `stop_time` is the experiment's, if defined.
