@@ -76,6 +76,19 @@ fn instantiate(
     }
 }
 
+/// StickSlipBeam at modal fidelity (fidelity.level, vr 50, = 1), initialised, with no
+/// stop time.
+unsafe fn initialized_modal_beam(functions: &fmi2CallbackFunctions) -> fmi2Component {
+    let c = instantiate("b", &FmuKind::StickSlipBeam.guid(), 1, functions);
+    unsafe {
+        assert_eq!(fmi2SetInteger(c, [50u32].as_ptr(), 1, [1].as_ptr()), OK);
+        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), OK);
+        assert_eq!(fmi2EnterInitializationMode(c), OK);
+        assert_eq!(fmi2ExitInitializationMode(c), OK);
+    }
+    c
+}
+
 fn logged(messages: &Messages, needle: &str) -> bool {
     messages
         .lock()
@@ -166,11 +179,7 @@ fn strings_booleans_and_status_through_pointers() {
     let messages = Messages::default();
     let functions = callbacks(&messages);
     unsafe {
-        let c = instantiate("b", &FmuKind::StickSlipBeam.guid(), 1, &functions);
-        assert_eq!(fmi2SetInteger(c, [50u32].as_ptr(), 1, [1].as_ptr()), OK);
-        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), OK);
-        assert_eq!(fmi2EnterInitializationMode(c), OK);
-        assert_eq!(fmi2ExitInitializationMode(c), OK);
+        let c = initialized_modal_beam(&functions);
         let mut s: fmi2String = null();
         assert_eq!(fmi2GetString(c, [15u32].as_ptr(), 1, &mut s), OK);
         assert_eq!(CStr::from_ptr(s).to_str().unwrap(), "paper-plain.json");
@@ -206,11 +215,7 @@ fn fmu_state_through_pointers_and_bytes() {
     let messages = Messages::default();
     let functions = callbacks(&messages);
     unsafe {
-        let c = instantiate("b", &FmuKind::StickSlipBeam.guid(), 1, &functions);
-        assert_eq!(fmi2SetInteger(c, [50u32].as_ptr(), 1, [1].as_ptr()), OK);
-        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), OK);
-        assert_eq!(fmi2EnterInitializationMode(c), OK);
-        assert_eq!(fmi2ExitInitializationMode(c), OK);
+        let c = initialized_modal_beam(&functions);
         assert_eq!(fmi2DoStep(c, 0.0, 0.45, 1), OK);
         let mut state: fmi2FMUstate = null_mut();
         assert_eq!(fmi2GetFMUstate(c, &mut state), OK);

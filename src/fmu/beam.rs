@@ -10,7 +10,7 @@
 //! The FMU steps at `time.step` and ends each communication step with one shorter step
 //! when the communication point is not on that grid (`Simulator::advance_to`).
 
-use super::networks::{Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
+use super::networks::{weights_name, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use super::variables::{Access, Causality, EnumerationType, Variability, Variable};
 use super::{Model, ModelInfo};
 use crate::contact::ContactState;
@@ -486,10 +486,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         access: Access::String {
             get: |m: &StickSlipBeam| m.settings.weights.clone(),
             set: Some(|m: &mut StickSlipBeam, v: &str| {
-                if v.trim().is_empty() {
-                    return Err("must name a weights file".into());
-                }
-                m.settings.weights = v.to_owned();
+                m.settings.weights = weights_name(v)?;
                 Ok(())
             }),
         },

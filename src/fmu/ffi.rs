@@ -177,11 +177,16 @@ unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize) -> Option<&'a mut [T]> {
     }
 }
 
-fn null_argument(component: &mut Component, call: &str, what: &str) -> Status {
+/// Logs `reason`, puts the instance in the Error mode and returns fmi2Error.
+fn fail(component: &mut Component, call: &str, reason: &str) -> Status {
     each!(&mut component.instance, i => {
-        i.fail(call, &format!("{what} is NULL"));
+        i.fail(call, reason);
     });
     Status::Error
+}
+
+fn null_argument(component: &mut Component, call: &str, what: &str) -> Status {
+    fail(component, call, &format!("{what} is NULL"))
 }
 
 /// The folder named by fmuResourceLocation: a file URI (file:///p, file:/p or
@@ -640,15 +645,14 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
                     std::ptr::copy_nonoverlapping(bytes.as_ptr(), serializedState as *mut u8, size);
                     Status::Ok
                 }
-                Ok(bytes) => {
-                    each!(&mut component.instance, i => {
-                        i.fail(
-                            "fmi2SerializeFMUstate",
-                            &format!("size = {size}, but the state needs {} bytes (see fmi2SerializedFMUstateSize)", bytes.len()),
-                        );
-                    });
-                    Status::Error
-                }
+                Ok(bytes) => fail(
+                    component,
+                    "fmi2SerializeFMUstate",
+                    &format!(
+                        "size = {size}, but the state needs {} bytes (see fmi2SerializedFMUstateSize)",
+                        bytes.len()
+                    ),
+                ),
                 Err(_) => Status::Error,
             }
         })
@@ -683,11 +687,9 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     }
 }
 
+/// A function whose capability flag is false.
 fn unsupported(component: &mut Component, call: &str, why: &str) -> Status {
-    each!(&mut component.instance, i => {
-        i.unsupported(call, why);
-    });
-    Status::Error
+    fail(component, call, &format!("not supported: {why}"))
 }
 
 #[no_mangle]
@@ -789,27 +791,37 @@ fn status_kind(kind: fmi2StatusKind) -> Option<StatusKind> {
 }
 
 fn bad_status_kind(component: &mut Component, call: &str, kind: fmi2StatusKind) -> Status {
-    each!(&mut component.instance, i => {
-        i.fail(call, &format!("status kind {kind} is not an fmi2StatusKind"));
-    });
-    Status::Error
+    fail(
+        component,
+        call,
+        &format!("status kind {kind} is not an fmi2StatusKind"),
+    )
 }
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetStatus(
-    c: fmi2Component,
-    s: fmi2StatusKind,
-    _value: *mut fmi2Status,
-) -> fmi2Status {
-    unsafe {
-        with_component(c, "fmi2GetStatus", |component| match status_kind(s) {
-            Some(kind) => {
-                each!(&mut component.instance, i => i.unavailable_status("fmi2GetStatus", kind))
+/// fmi2Get*Status for the value types no status kind of this FMU has.
+macro_rules! unavailable_status {
+    ($fn_name:ident, $c_type:ty) => {
+        #[no_mangle]
+        pub unsafe extern "C" fn $fn_name(
+            c: fmi2Component,
+            s: fmi2StatusKind,
+            _value: *mut $c_type,
+        ) -> fmi2Status {
+            unsafe {
+                with_component(c, stringify!($fn_name), |component| match status_kind(s) {
+                    Some(kind) => each!(&mut component.instance, i => {
+                        i.unavailable_status(stringify!($fn_name), kind)
+                    }),
+                    None => bad_status_kind(component, stringify!($fn_name), s),
+                })
             }
-            None => bad_status_kind(component, "fmi2GetStatus", s),
-        })
-    }
+        }
+    };
 }
+
+unavailable_status!(fmi2GetStatus, fmi2Status);
+unavailable_status!(fmi2GetIntegerStatus, fmi2Integer);
+unavailable_status!(fmi2GetStringStatus, fmi2String);
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetRealStatus(
@@ -837,24 +849,6 @@ pub unsafe extern "C" fn fmi2GetRealStatus(
 }
 
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetIntegerStatus(
-    c: fmi2Component,
-    s: fmi2StatusKind,
-    _value: *mut fmi2Integer,
-) -> fmi2Status {
-    unsafe {
-        with_component(c, "fmi2GetIntegerStatus", |component| {
-            match status_kind(s) {
-                Some(kind) => {
-                    each!(&mut component.instance, i => i.unavailable_status("fmi2GetIntegerStatus", kind))
-                }
-                None => bad_status_kind(component, "fmi2GetIntegerStatus", s),
-            }
-        })
-    }
-}
-
-#[no_mangle]
 pub unsafe extern "C" fn fmi2GetBooleanStatus(
     c: fmi2Component,
     s: fmi2StatusKind,
@@ -875,22 +869,6 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(
                 }
                 Err(status) => status,
             }
-        })
-    }
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2GetStringStatus(
-    c: fmi2Component,
-    s: fmi2StatusKind,
-    _value: *mut fmi2String,
-) -> fmi2Status {
-    unsafe {
-        with_component(c, "fmi2GetStringStatus", |component| match status_kind(s) {
-            Some(kind) => {
-                each!(&mut component.instance, i => i.unavailable_status("fmi2GetStringStatus", kind))
-            }
-            None => bad_status_kind(component, "fmi2GetStringStatus", s),
         })
     }
 }

@@ -7,7 +7,7 @@
 //! the order the weights file lists them, from `extra_feature[1]` ... `extra_feature[4]`.
 //! Inputs are clamped to the network's training range (see `neural`).
 
-use super::networks::{Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
+use super::networks::{weights_name, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use super::variables::{Access, Causality, EnumerationType, Variability, Variable};
 use super::{Model, ModelInfo};
 use crate::friction::{ExponentialLaw, FrictionLaw};
@@ -259,10 +259,7 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         access: Access::String {
             get: |m: &NeuralFriction| m.settings.weights.clone(),
             set: Some(|m: &mut NeuralFriction, v: &str| {
-                if v.trim().is_empty() {
-                    return Err("must name a weights file".into());
-                }
-                m.settings.weights = v.to_owned();
+                m.settings.weights = weights_name(v)?;
                 Ok(())
             }),
         },

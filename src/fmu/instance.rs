@@ -18,7 +18,7 @@
 //!   off too. The other categories are on only when asked for.
 
 use super::variables::{lookup, AccessError, BaseType, Causality, Variable};
-use super::{FmuKind, Model};
+use super::Model;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -228,11 +228,7 @@ impl<M: Model> Instance<M> {
         categories[ERROR] = true;
         Ok(Self {
             name: name.to_owned(),
-            guid: FmuKind::ALL
-                .into_iter()
-                .find(|k| k.model_identifier() == M::INFO.model_identifier)
-                .map(FmuKind::guid)
-                .unwrap_or_default(),
+            guid: super::model_description::guid::<M>(),
             model,
             mode: Mode::Instantiated,
             logger,
@@ -610,12 +606,7 @@ impl<M: Model> Instance<M> {
         self.check(Call::GetStatus).map_err(|_| Status::Error)?;
         match kind {
             StatusKind::LastSuccessfulTime => Ok(self.time),
-            _ => {
-                self.warn(&format!(
-                    "fmi2GetRealStatus: status kind {kind:?} is not available"
-                ));
-                Err(Status::Discard)
-            }
+            _ => Err(self.unavailable_status("fmi2GetRealStatus", kind)),
         }
     }
 
@@ -623,12 +614,7 @@ impl<M: Model> Instance<M> {
         self.check(Call::GetStatus).map_err(|_| Status::Error)?;
         match kind {
             StatusKind::Terminated => Ok(false),
-            _ => {
-                self.warn(&format!(
-                    "fmi2GetBooleanStatus: status kind {kind:?} is not available"
-                ));
-                Err(Status::Discard)
-            }
+            _ => Err(self.unavailable_status("fmi2GetBooleanStatus", kind)),
         }
     }
 
@@ -698,10 +684,5 @@ impl<M: Model> Instance<M> {
         self.check(Call::SerializeState)?;
         SavedState::from_bytes(bytes)
             .map_err(|reason| self.fail("fmi2DeSerializeFMUstate", &reason))
-    }
-
-    /// A function whose capability flag is false.
-    pub fn unsupported(&mut self, call: &str, why: &str) -> Failed {
-        self.fail(call, &format!("not supported: {why}"))
     }
 }

@@ -12,6 +12,16 @@ pub const WEIGHTS_RESOURCES: &[(&str, &str)] = &[
     ("paper-signed.json", crate::neural::PAPER_SIGNED_JSON),
 ];
 
+/// A weights parameter's value: any non-blank name (whether the file exists is checked
+/// when it is read).
+pub fn weights_name(value: &str) -> Result<String, String> {
+    if value.trim().is_empty() {
+        Err("must name a weights file".into())
+    } else {
+        Ok(value.to_owned())
+    }
+}
+
 /// Networks read so far, by the name they were asked for.
 #[derive(Default)]
 pub struct Networks {
