@@ -73,6 +73,7 @@ from fmu_scene import (  # noqa: E402
     REPO,
     Fmus,
     fmu_paths,
+    report_failures,
 )
 
 FIDELITY_LEVEL = "beam"
@@ -423,12 +424,7 @@ def main(argv: list[str] | None = None) -> int:
     plot(rows, orders, png_path)
     print(f"\nwrote {csv_path}\nwrote {png_path}")
     print(f"total wall time {time.perf_counter() - began:.1f} s")
-    if failures:
-        print("\nFAILED:", file=sys.stderr)
-        for f in failures:
-            print(f"  {f}", file=sys.stderr)
-        return 1
-    return 0
+    return report_failures(failures)
 
 
 if __name__ == "__main__":

@@ -618,12 +618,17 @@ def main(argv: list[str] | None = None) -> int:
     for p in (csv_path, out / "fmu_tip_deflection.png", out / "fmu_friction_law.png"):
         print(f"wrote {p}")
     print(f"total wall time {time.perf_counter() - began:.1f} s")
-    if failures:
-        print("\nFAILED:", file=sys.stderr)
-        for f in failures:
-            print(f"  {f}", file=sys.stderr)
-        return 1
-    return 0
+    return report_failures(failures)
+
+
+def report_failures(failures: list[str]) -> int:
+    """Prints the failed checks to stderr; the script's exit status (1 if any)."""
+    if not failures:
+        return 0
+    print("\nFAILED:", file=sys.stderr)
+    for f in failures:
+        print(f"  {f}", file=sys.stderr)
+    return 1
 
 
 if __name__ == "__main__":

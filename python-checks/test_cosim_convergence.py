@@ -17,32 +17,18 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import cosim_convergence as cc  # noqa: E402
-import fmu_scene  # noqa: E402
+from conftest import need  # noqa: E402
 
 STEPS = [2e-3, 1e-3, 5e-4]
 SCHEMES = ["Jacobi", "Gauss-Seidel"]
 
 
 @pytest.fixture(scope="module")
-def study():
+def study(built):
     """(reference, rows) over STEPS and SCHEMES, or the error that says how to build."""
-    try:
-        paths = fmu_scene.fmu_paths()
-    except FileNotFoundError as error:
-        yield error
-        return
-    fmus = fmu_scene.Fmus(paths)
-    try:
-        yield cc.run_study(fmus, steps=STEPS, schemes=SCHEMES, t_end=cc.T_FIRST_CYCLE)
-    finally:
-        fmus.close()
-
-
-def need(study):
-    """Fails (never skips) the calling test when the FMUs are not built."""
-    if isinstance(study, Exception):
-        pytest.fail(str(study), pytrace=False)
-    return study
+    if isinstance(built, Exception):
+        return built
+    return cc.run_study(built, steps=STEPS, schemes=SCHEMES, t_end=cc.T_FIRST_CYCLE)
 
 
 def rows_of(study, scheme):

@@ -11,8 +11,6 @@ Runs in a few seconds once the FMUs and the binary exist.
 
 from __future__ import annotations
 
-import json
-import os
 import subprocess
 import sys
 import zipfile
@@ -27,31 +25,13 @@ from fmpy.validation import validate_fmu
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import fmu_scene  # noqa: E402
+from conftest import need  # noqa: E402
 from fmu_scene import BEAM, FIDELITY, FRICTION  # noqa: E402
+from sklearn_peer import find_binary  # noqa: E402
 
 FMI2_ERROR = 3
 BELT_SPEED = 0.02  # m/s
 BREAKAWAY = 0.400  # s
-
-
-@pytest.fixture(scope="module")
-def built():
-    """The unpacked FMUs, or the error that says how to build them."""
-    try:
-        paths = fmu_scene.fmu_paths()
-    except FileNotFoundError as error:
-        yield error
-        return
-    fmus = fmu_scene.Fmus(paths)
-    yield fmus
-    fmus.close()
-
-
-def need(built) -> fmu_scene.Fmus:
-    """Fails (never skips) the calling test when the FMUs are not built."""
-    if isinstance(built, Exception):
-        pytest.fail(str(built), pytrace=False)
-    return built
 
 
 _beam_result = {}
@@ -68,24 +48,6 @@ def beam_curve(fmus: fmu_scene.Fmus):
             start_values={"fidelity.level": FIDELITY["beam"]},
         )
     return _beam_result["beam"]
-
-
-def stickslip_binary() -> Path:
-    """$STICKSLIP_BIN, else the release binary built (if needed) by cargo."""
-    if os.environ.get("STICKSLIP_BIN"):
-        return Path(os.environ["STICKSLIP_BIN"])
-    repo = fmu_scene.REPO
-    subprocess.run(
-        ["cargo", "build", "--release", "--quiet", "--bin", "stickslip"], cwd=repo, check=True
-    )
-    metadata = subprocess.run(
-        ["cargo", "metadata", "--format-version", "1", "--no-deps"],
-        cwd=repo,
-        check=True,
-        capture_output=True,
-        text=True,
-    )
-    return Path(json.loads(metadata.stdout)["target_directory"]) / "release" / "stickslip"
 
 
 def initialised(fmus: fmu_scene.Fmus, name: str, instance: str, **integers):
@@ -154,7 +116,7 @@ def test_beam_fidelity_equals_the_command_line(built, tmp_path):
     result = beam_curve(need(built))
     csv_path = tmp_path / "beam.csv"
     command = [
-        str(stickslip_binary()),
+        str(find_binary()),
         "simulate",
         "--fidelity",
         "beam",

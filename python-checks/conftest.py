@@ -1,0 +1,32 @@
+"""Shared pytest fixture for the FMU checks: the unpacked FMUs, once per module."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import fmu_scene  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def built():
+    """The unpacked FMUs, or the error that says how to build them (see `need`)."""
+    try:
+        paths = fmu_scene.fmu_paths()
+    except FileNotFoundError as error:
+        yield error
+        return
+    fmus = fmu_scene.Fmus(paths)
+    yield fmus
+    fmus.close()
+
+
+def need(value):
+    """Fails (never skips) the calling test when `value` is the build error."""
+    if isinstance(value, Exception):
+        pytest.fail(str(value), pytrace=False)
+    return value
