@@ -45,6 +45,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+import slip_metrics
 from fmpy import extract, read_model_description, simulate_fmu
 from fmpy.fmi2 import FMU2Slave
 from fmpy.validation import validate_fmu
@@ -59,6 +61,8 @@ DT = 1e-3  # communication step and output interval (s)
 BELT_SPEED = 0.02  # m/s (paper)
 BREAKAWAY_EXPECTED = 0.400  # s: mu_s F_n = 50 N reached at 8 mm = v_b * 0.4 s
 BREAKAWAY_TOLERANCE = 1e-3  # s
+PRE_SLIP_TOLERANCE = 1e-12  # m
+PLOT_FIDELITY = "plane-stress"  # the paper's mesh
 
 # Enumerations of the model descriptions (FMI enumerations are set as integers).
 FIDELITY = {"modal": 1, "beam": 2, "plane-stress": 3}
@@ -92,7 +96,8 @@ def fmu_paths() -> dict[str, Path]:
 
 @dataclass
 class Run:
-    """One simulation, sampled every DT: time (s), tip deflection (m), stick, transitions."""
+    """One simulation, sampled every DT: time (s), tip deflection (m), force of the belt
+    on the tip (N; holding force in stick, friction force in slip), stick, transitions."""
 
     name: str
     fidelity: str
@@ -100,78 +105,49 @@ class Run:
     coupling: str  # "embedded" (one FMU) or "Gauss-Seidel" (two FMUs)
     time: np.ndarray
     tip_deflection: np.ndarray
+    friction_force: np.ndarray
     stick: np.ndarray
     transitions: np.ndarray
     wall: float
     metrics: dict = field(default_factory=dict)
 
 
-def slip_onsets(time_s: np.ndarray, stick: np.ndarray) -> np.ndarray:
-    """Sample times at which stick turns false (stick -> slip)."""
-    stick = stick.astype(bool)
-    k = np.flatnonzero(stick[:-1] & ~stick[1:]) + 1
-    return time_s[k]
-
-
-def major_slip_onsets(
-    time_s: np.ndarray, u: np.ndarray, stick: np.ndarray, breakaway: float
-) -> list[float]:
-    """Onsets of the sawtooth's drops, as in src/metrics.rs, on the sampled series.
-
-    A major slip is a downward crossing of the corridor's mid-level (min + max) / 2 after
-    the deflection has been above mid + 1/4 of the corridor width since the previous one
-    (hysteresis against ripple). Its onset is the last stick -> slip sample at or before
-    the sawtooth's peak (the largest deflection since the previous crossing).
-    """
-    after = time_s >= breakaway
-    lo, hi = float(u[after].min()), float(u[after].max())
-    mid, rearm = 0.5 * (lo + hi), 0.5 * (lo + hi) + 0.25 * (hi - lo)
-    slips = slip_onsets(time_s, stick)
-    onsets: list[float] = []
-    armed = True
-    peak_u, peak_t = -np.inf, 0.0
-    for k in range(1, len(u)):
-        if u[k] > rearm:
-            armed = True
-        if u[k] > peak_u:
-            peak_u, peak_t = u[k], time_s[k]
-        if armed and u[k - 1] >= mid and u[k] < mid:
-            armed = False
-            before = slips[slips <= peak_t + 1e-12]
-            onsets.append(float(before[-1]) if before.size else breakaway)
-            peak_u, peak_t = -np.inf, 0.0
-    return onsets
-
-
 def summarise(run: Run, reference: Run | None) -> dict:
-    """Breakaway, transitions, corridor, period and deviation from `reference`."""
+    """Breakaway, transitions, corridor, major slips, period, and against `reference`:
+    deviation before its breakaway, RMS and largest deviation, phase shift at the end."""
     t, u, stick = run.time, run.tip_deflection, run.stick.astype(bool)
-    slipping = np.flatnonzero(~stick)
-    breakaway = float(t[slipping[0]]) if slipping.size else None
+    slips = slip_metrics.major_slips(t, u, stick)
     m: dict = {
-        "breakaway": breakaway,
+        "breakaway": slip_metrics.breakaway(t, stick),
         "transitions": int(run.transitions[-1]),
         "corridor_min": None,
         "corridor_max": None,
-        "major_slips": 0,
-        "period": None,
+        "slips": slips,
+        "major_slips": len(slips),
+        "first_slip": slips[0].duration if slips else None,
+        "period": slip_metrics.period(slips),
+        "dev_before_breakaway": None,
         "rms_dev": None,
         "max_dev": None,
+        "phase_shift": None,
+        "phase_shift_deg": None,
     }
-    if breakaway is not None:
-        after = t >= breakaway
+    if m["breakaway"] is not None:
+        after = t >= m["breakaway"]
         m["corridor_min"], m["corridor_max"] = float(u[after].min()), float(u[after].max())
-        onsets = major_slip_onsets(t, u, stick, breakaway)
-        m["major_slips"] = len(onsets)
-        m["onsets"] = onsets
-        if len(onsets) >= 2:
-            m["period"] = (onsets[-1] - onsets[0]) / (len(onsets) - 1)
     if reference is not None:
         if len(reference.time) != len(t) or np.max(np.abs(reference.time - t)) > 1e-9:
             raise ValueError(f"{run.name}: time grid differs from {reference.name}")
         d = u - reference.tip_deflection
         m["rms_dev"] = float(np.sqrt(np.mean(d**2)))
         m["max_dev"] = float(np.max(np.abs(d)))
+        ref = reference.metrics or summarise(reference, None)
+        if ref["breakaway"] is not None:
+            m["dev_before_breakaway"] = float(np.max(np.abs(d[t < ref["breakaway"] - 1e-12])))
+        if ref["period"] is not None:
+            tau = slip_metrics.phase_shift(t, u, reference.tip_deflection, ref["period"])
+            m["phase_shift"] = tau
+            m["phase_shift_deg"] = 360.0 * tau / ref["period"]
     return m
 
 
@@ -217,7 +193,7 @@ def run_embedded(fmus: Fmus, fidelity: str, law: str, weights: str | None = None
         stop_time=T_END,
         output_interval=DT,
         start_values=start,
-        output=["tip_deflection", "stick", "transitions"],
+        output=["tip_deflection", "friction_force", "stick", "transitions"],
     )
     wall = time.perf_counter() - began
     label = "exponential" if law == "exponential" else f"neural {Path(weights or '').stem}"
@@ -228,6 +204,7 @@ def run_embedded(fmus: Fmus, fidelity: str, law: str, weights: str | None = None
         coupling="embedded",
         time=np.asarray(result["time"], float),
         tip_deflection=np.asarray(result["tip_deflection"], float),
+        friction_force=np.asarray(result["friction_force"], float),
         stick=np.asarray(result["stick"], bool),
         transitions=np.asarray(result["transitions"], int),
         wall=wall,
@@ -242,6 +219,7 @@ def run_coupled(fmus: Fmus, fidelity: str, law: str, weights: str = WEIGHTS[0]) 
     n = int(round(T_END / DT))
     times = np.arange(n + 1) * DT
     u = np.empty(n + 1)
+    force = np.empty(n + 1)
     stick = np.empty(n + 1, bool)
     transitions = np.empty(n + 1, int)
     began = time.perf_counter()
@@ -270,7 +248,7 @@ def run_coupled(fmus: Fmus, fidelity: str, law: str, weights: str = WEIGHTS[0]) 
             beam.setReal([vb["external.kinetic_force"], vb["external.static_limit"]], [force, limit])
 
         def record(k):
-            u[k] = beam.getReal([vb["tip_deflection"]])[0]
+            u[k], force[k] = beam.getReal([vb["tip_deflection"], vb["friction_force"]])
             stick[k] = beam.getBoolean([vb["stick"]])[0]
             transitions[k] = beam.getInteger([vb["transitions"]])[0]
 
@@ -306,6 +284,7 @@ def run_coupled(fmus: Fmus, fidelity: str, law: str, weights: str = WEIGHTS[0]) 
         coupling="Gauss-Seidel",
         time=times,
         tip_deflection=u,
+        friction_force=force,
         stick=stick,
         transitions=transitions,
         wall=wall,
@@ -359,9 +338,13 @@ COLUMNS = [
     ("corridor min [mm]", "corridor_min", "{:.3f}", 1e3),
     ("corridor max [mm]", "corridor_max", "{:.3f}", 1e3),
     ("major slips [-]", "major_slips", "{:d}", None),
+    ("1st slip [s]", "first_slip", "{:.3f}", 1.0),
     ("period [s]", "period", "{:.4f}", 1.0),
+    ("pre-slip [mm]", "dev_before_breakaway", "{:.1e}", 1e3),
     ("RMS dev [mm]", "rms_dev", "{:.4f}", 1e3),
     ("max dev [mm]", "max_dev", "{:.4f}", 1e3),
+    ("shift@1.2s [ms]", "phase_shift", "{:+.0f}", 1e3),
+    ("shift@1.2s [deg]", "phase_shift_deg", "{:+.0f}", 1.0),
     ("wall [s]", "wall", "{:.2f}", 1.0),
 ]
 
@@ -382,24 +365,72 @@ def table_rows(runs: list[Run]) -> list[list[str]]:
 
 
 def print_table(runs: list[Run]) -> None:
-    headers = [h for h, *_ in COLUMNS]
-    rows = table_rows(runs)
-    widths = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(headers)]
+    # The coupling is in the run's name; the CSV keeps it as a column of its own.
+    keep = [i for i, (h, *_) in enumerate(COLUMNS) if h != "coupling"]
+    names = [COLUMNS[i][0].split(" [")[0] for i in keep]
+    units = [("[" + COLUMNS[i][0].split(" [")[1]) if " [" in COLUMNS[i][0] else "" for i in keep]
+    rows = [[row[i] for i in keep] for row in table_rows(runs)]
+    widths = [
+        max(len(n), len(u), *(len(r[i]) for r in rows)) for i, (n, u) in enumerate(zip(names, units))
+    ]
 
     def line(values):
         parts = [
-            v.ljust(w) if i < 2 else v.rjust(w) for i, (v, w) in enumerate(zip(values, widths))
+            v.ljust(w) if i == 0 else v.rjust(w) for i, (v, w) in enumerate(zip(values, widths))
         ]
         return "  ".join(parts).rstrip()
 
-    print(line(headers))
+    print(line(names))
+    print(line(units))
     print("  ".join("-" * w for w in widths))
     for row in rows:
         print(line(row))
     print(
-        "deviations: tip deflection against the analytical (exponential) embedded run at the "
-        "same fidelity, over 0 .. 1.2 s at 1 ms"
+        "dev, shift: tip deflection against the analytical (exponential) embedded run at the "
+        "same fidelity, over 0 .. 1.2 s at 1 ms;\n"
+        "pre-slip dev: largest deviation before that run's breakaway; shift@1.2s: lag that "
+        "best aligns the last reference period (positive = behind), in ms and in degrees of "
+        "the reference period"
     )
+
+
+SLIP_HEADERS = [
+    "run", "coupling", "slip", "onset [s]", "duration [s]", "cycle min [mm]",
+    "cycle max [mm]", "cycle complete",
+]
+
+
+def slip_rows(runs: list[Run]) -> list[list]:
+    """One row per major slip of every run (full precision)."""
+    rows = []
+    for r in runs:
+        for i, slip in enumerate(r.metrics["slips"], start=1):
+            rows.append([
+                r.name, r.coupling, i, slip.onset, slip.duration, 1e3 * slip.cycle_min,
+                1e3 * slip.cycle_max, slip.cycle_complete,
+            ])
+    return rows
+
+
+def print_slips(runs: list[Run], fidelity: str) -> None:
+    """Each major slip of the embedded runs at one fidelity, laws side by side."""
+    chosen = [r for r in runs if r.fidelity == fidelity and r.coupling == "embedded"]
+    count = max(len(r.metrics["slips"]) for r in chosen)
+    labels = [r.friction for r in chosen]
+    width = max(26, *(len(label) + 2 for label in labels))
+    print(f"{'':28}" + "".join(label.rjust(width) for label in labels))
+    for i in range(count):
+        for title, text in (
+            ("onset [s]", lambda s: f"{s.onset:.3f}"),
+            ("duration [s]", lambda s: "-" if s.duration is None else f"{s.duration:.3f}"),
+            ("cycle min .. max [mm]", lambda s: f"{1e3 * s.cycle_min:.2f} .. "
+             f"{1e3 * s.cycle_max:.2f}" + ("" if s.cycle_complete else " (to 1.2 s)")),
+        ):
+            cells = []
+            for r in chosen:
+                slips = r.metrics["slips"]
+                cells.append(text(slips[i]) if i < len(slips) else "-")
+            print(f"  slip {i + 1}, {title:20}" + "".join(c.rjust(width) for c in cells))
 
 
 def write_csv(runs: list[Run], path: Path) -> None:
@@ -421,6 +452,59 @@ def write_csv(runs: list[Run], path: Path) -> None:
                 else:
                     row.append(repr(float(value) * (scale or 1.0)))
             writer.writerow(row)
+
+
+def write_slips_csv(runs: list[Run], path: Path) -> None:
+    with path.open("w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(SLIP_HEADERS)
+        for row in slip_rows(runs):
+            writer.writerow(["" if v is None else v for v in row])
+
+
+def plot_friction_force(runs: list[Run], fidelity: str, path: Path) -> None:
+    """Paper Fig. 6b: force of the belt on the tip over time, both laws."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    chosen = [r for r in runs if r.fidelity == fidelity and r.coupling == "embedded"]
+    styles = {
+        "exponential": dict(color="black", lw=1.4),
+        "neural paper-plain": dict(color="tab:blue", lw=1.0),
+        "neural paper-signed": dict(color="tab:orange", lw=1.0, ls="--"),
+    }
+    fig, (ax, ax_z) = plt.subplots(2, 1, figsize=(10, 7.5), gridspec_kw={"height_ratios": [3, 2]})
+    for r in chosen:
+        style = styles.get(r.friction, {})
+        ax.plot(r.time, r.friction_force, label=f"{r.friction} law", **style)
+        first = r.metrics["slips"][0] if r.metrics["slips"] else None
+        window = (r.time >= 0.39) & (r.time <= 0.56)
+        ax_z.plot(1e3 * r.time[window], r.friction_force[window], **style)
+        if first is not None and first.duration is not None:
+            ax_z.axvline(1e3 * (first.onset + first.duration), color=style.get("color"), lw=0.6,
+                         ls=":")
+    for axis in (ax, ax_z):
+        for level in (50.0, 20.0):
+            axis.axhline(level, color="grey", lw=0.7, ls="--")
+        axis.grid(True, alpha=0.3)
+        axis.set_ylabel("friction force on the tip (N)")
+    ax.text(0.01, 51.5, "static limit mu_s F_n = 50 N", fontsize=8, color="grey")
+    ax.text(0.01, 21.5, "kinetic level mu_k F_n = 20 N", fontsize=8, color="grey")
+    ax.set_xlabel("time t (s)")
+    ax.set_title(
+        f"Paper scene through StickSlipBeam.fmu, {fidelity} fidelity: friction force "
+        "(cf. paper Fig. 6b)\nstick: holding force (rises with the deflection); slip: "
+        "kinetic friction law",
+        fontsize=10,
+    )
+    ax.legend(fontsize=9, loc="lower right")
+    ax_z.set_xlabel("time t (ms)")
+    ax_z.set_title("First slip (dotted: its end, the first re-stick)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
 
 
 def plot_tip_deflection(runs: list[Run], fidelity: str, path: Path) -> None:
@@ -575,6 +659,14 @@ def main(argv: list[str] | None = None) -> int:
                 f"{r.name} ({r.coupling}): breakaway {b} s, expected "
                 f"{BREAKAWAY_EXPECTED:.3f} +- {BREAKAWAY_TOLERANCE:g} s"
             )
+        # In stick the kinetic law is never evaluated, so every law must give the same
+        # curve up to the first slip; 1e-12 m leaves room for rounding only.
+        pre = r.metrics["dev_before_breakaway"]
+        if pre is None or pre > PRE_SLIP_TOLERANCE:
+            failures.append(f"{r.name} ({r.coupling}): deviates {pre} m before breakaway")
+    print()
+    print(f"== Major slips, {PLOT_FIDELITY} fidelity (the paper's mesh), both laws")
+    print_slips(runs, PLOT_FIDELITY)
 
     print()
     print("== NeuralFriction.fmu, friction force at F_n = 100 N, -0.35 .. 0.35 m/s")
@@ -609,13 +701,17 @@ def main(argv: list[str] | None = None) -> int:
             f"max {1e3 * np.max(np.abs(d)):.4f} mm"
         )
 
-    csv_path = out / "fmu_validation.csv"
-    write_csv(runs, csv_path)
-    plot_fidelity = "plane-stress"
-    plot_tip_deflection(runs, plot_fidelity, out / "fmu_tip_deflection.png")
-    plot_friction_law(sweeps, zooms, out / "fmu_friction_law.png")
+    written = [out / name for name in (
+        "fmu_validation.csv", "fmu_slips.csv", "fmu_tip_deflection.png",
+        "fmu_friction_force.png", "fmu_friction_law.png",
+    )]
+    write_csv(runs, written[0])
+    write_slips_csv(runs, written[1])
+    plot_tip_deflection(runs, PLOT_FIDELITY, written[2])
+    plot_friction_force(runs, PLOT_FIDELITY, written[3])
+    plot_friction_law(sweeps, zooms, written[4])
     print()
-    for p in (csv_path, out / "fmu_tip_deflection.png", out / "fmu_friction_law.png"):
+    for p in written:
         print(f"wrote {p}")
     print(f"total wall time {time.perf_counter() - began:.1f} s")
     return report_failures(failures)

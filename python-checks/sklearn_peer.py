@@ -71,8 +71,10 @@ def metrics(predicted: np.ndarray, truth: np.ndarray) -> tuple[float, float]:
     return mse, r2
 
 
-def run(iterations: int, seed: int, lam: float, binary: Path, workdir: Path) -> dict:
-    split_dir = workdir / "split"
+def train_rust(iterations: int, seed: int, lam: float, binary: Path, workdir: Path) -> dict:
+    """`stickslip train` into `workdir`: weights.json, report.json, history.csv and the
+    split (split/train.csv, split/test.csv). Returns the report plus its wall time."""
+    workdir.mkdir(parents=True, exist_ok=True)
     report_path = workdir / "report.json"
     command = [
         str(binary),
@@ -87,15 +89,21 @@ def run(iterations: int, seed: int, lam: float, binary: Path, workdir: Path) -> 
         str(workdir / "weights.json"),
         "--report",
         str(report_path),
+        "--history",
+        str(workdir / "history.csv"),
         "--export-data",
-        str(split_dir),
+        str(workdir / "split"),
         "--quiet",
     ]
     started = time.perf_counter()
     subprocess.run(command, check=True, capture_output=True, text=True)
-    ours_wall = time.perf_counter() - started
-    ours = json.loads(report_path.read_text())
+    report = json.loads(report_path.read_text())
+    report["wall_seconds_with_io"] = time.perf_counter() - started
+    return report
 
+
+def fit_sklearn(split_dir: Path, iterations: int, seed: int, lam: float) -> dict:
+    """MLPRegressor with our architecture and penalty on the exported split."""
     x_train, y_train, header = read_split(split_dir / "train.csv")
     x_test, y_test, _ = read_split(split_dir / "test.csv")
     scaler = StandardScaler().fit(x_train)
@@ -115,34 +123,43 @@ def run(iterations: int, seed: int, lam: float, binary: Path, workdir: Path) -> 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # "lbfgs failed to converge" at max_iter
             model.fit(scaler.transform(x_train), y_train)
-    sklearn_seconds = time.perf_counter() - started
+    seconds = time.perf_counter() - started
     mse_train, r2_train = metrics(model.predict(scaler.transform(x_train)), y_train)
     mse_test, r2_test = metrics(model.predict(scaler.transform(x_test)), y_test)
     return {
         "columns": header,
         "train_samples": len(y_train),
         "test_samples": len(y_test),
+        "alpha": alpha,
+        "mse_train": mse_train,
+        "mse_test": mse_test,
+        "r2_train": r2_train,
+        "r2_test": r2_test,
+        "iterations": int(model.n_iter_),
+        "seconds": seconds,
+    }
+
+
+def run(iterations: int, seed: int, lam: float, binary: Path, workdir: Path) -> dict:
+    """Both fits on one split, side by side."""
+    ours = train_rust(iterations, seed, lam, binary, workdir)
+    peer = fit_sklearn(workdir / "split", iterations, seed, lam)
+    return {
+        "columns": peer.pop("columns"),
+        "train_samples": peer.pop("train_samples"),
+        "test_samples": peer.pop("test_samples"),
         "iterations_limit": iterations,
         "lambda": lam,
-        "alpha": alpha,
+        "alpha": peer.pop("alpha"),
         "ours": {
-            "mse_train": ours["mse_train"],
-            "mse_test": ours["mse_test"],
-            "r2_train": ours["r2_train"],
-            "r2_test": ours["r2_test"],
-            "iterations": ours["iterations"],
-            "seconds": ours["seconds"],
-            "wall_seconds_with_io": ours_wall,
+            key: ours[key]
+            for key in (
+                "mse_train", "mse_test", "r2_train", "r2_test", "iterations", "seconds",
+                "wall_seconds_with_io",
+            )
         },
-        "sklearn": {
-            "mse_train": mse_train,
-            "mse_test": mse_test,
-            "r2_train": r2_train,
-            "r2_test": r2_test,
-            "iterations": int(model.n_iter_),
-            "seconds": sklearn_seconds,
-        },
-        "time_ratio_sklearn_over_ours": sklearn_seconds / ours["seconds"],
+        "sklearn": peer,
+        "time_ratio_sklearn_over_ours": peer["seconds"] / ours["seconds"],
     }
 
 

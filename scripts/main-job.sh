@@ -36,7 +36,11 @@ for fidelity in modal beam plane-stress; do
   done
 done
 python="$(bash scripts/python-env.sh)"
+export STICKSLIP_BIN="$bin"
 "$python" python-checks/plot_cli.py "$out"
+echo
+echo "== The network: retraining (paper Sec. 3), NeuralFriction.fmu on the test set, scikit-learn peer"
+"$python" python-checks/training.py "$out"
 echo
 echo "== The paper scene through the FMUs with fmpy (validation, both friction laws, coupling)"
 "$python" python-checks/fmu_scene.py "$out"
