@@ -47,3 +47,6 @@ echo "== The paper scene through the FMUs with fmpy (validation, both friction l
 echo
 echo "== System-level co-simulation: coupling error against the monolithic FMU, Jacobi and Gauss-Seidel"
 "$python" python-checks/cosim_convergence.py "$out"
+echo
+echo "== Stick-slip map: Dask sweep of StickSlipBeam.fmu over belt speed (LocalCluster, 2 workers)"
+"$python" python-checks/sweep.py --out "$out"
