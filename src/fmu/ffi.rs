@@ -110,6 +110,21 @@ struct Component {
     instance: AnyInstance,
     /// Strings returned by fmi2GetString, valid until the next call.
     strings: Vec<CString>,
+    /// FMU states this instance allocated and the importer has not freed yet.
+    /// fmi2FreeInstance frees them: it "frees all the allocated memory and other
+    /// resources that have been allocated by the functions of the FMU interface"
+    /// (FMI 2.0, section 2.1.6).
+    states: Vec<*mut SavedState>,
+}
+
+impl Drop for Component {
+    fn drop(&mut self) {
+        for state in self.states.drain(..) {
+            // SAFETY: allocated by Box::into_raw below and not freed since (freeing
+            // removes it from the list).
+            drop(unsafe { Box::from_raw(state) });
+        }
+    }
 }
 
 fn status(result: CallResult<()>) -> Status {
@@ -318,6 +333,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
             Some(instance) => Box::into_raw(Box::new(Component {
                 instance,
                 strings: Vec::new(),
+                states: Vec::new(),
             })) as fmi2Component,
             None => std::ptr::null_mut(),
         }
@@ -550,7 +566,9 @@ pub unsafe extern "C" fn fmi2GetFMUstate(
                 Ok(saved) => {
                     let existing = *FMUstate as *mut SavedState;
                     if existing.is_null() {
-                        *FMUstate = Box::into_raw(Box::new(saved)) as fmi2FMUstate;
+                        let state = Box::into_raw(Box::new(saved));
+                        component.states.push(state);
+                        *FMUstate = state as fmi2FMUstate;
                     } else {
                         // The standard lets the FMU overwrite a state it returned before.
                         *existing = saved;
@@ -592,6 +610,16 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
             }
             let state = *FMUstate as *mut SavedState;
             if !state.is_null() {
+                // Only a state of this instance: fmi2FreeInstance frees the others' (and
+                // a second free would be a double free).
+                let Some(k) = component.states.iter().position(|&s| s == state) else {
+                    return fail(
+                        component,
+                        "fmi2FreeFMUstate",
+                        "the FMU state was not allocated by this instance, or was freed already",
+                    );
+                };
+                component.states.swap_remove(k);
                 drop(Box::from_raw(state));
                 *FMUstate = std::ptr::null_mut();
             }
@@ -678,7 +706,9 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
                 Ok(saved) => {
                     // Always a new state: unlike fmi2GetFMUstate, the standard does not
                     // promise that a non-NULL *FMUstate is one of ours.
-                    *FMUstate = Box::into_raw(Box::new(saved)) as fmi2FMUstate;
+                    let state = Box::into_raw(Box::new(saved));
+                    component.states.push(state);
+                    *FMUstate = state as fmi2FMUstate;
                     Status::Ok
                 }
                 Err(_) => Status::Error,
