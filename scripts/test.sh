@@ -18,6 +18,9 @@ cargo test --release --workspace --all-targets 2>&1 | tee target/cargo-test.log
 # A summary line that the CI log readers understand, over every test binary.
 awk '/^test result:/ {p += $4; f += $6; i += $8} END {printf "rust: %d passed, %d failed, %d skipped\n", p, f, i}' target/cargo-test.log
 
+echo "== valgrind (memcheck) over an FMI importer loop"
+bash scripts/valgrind.sh
+
 echo "== python-checks (pytest)"
 python="$(bash scripts/python-env.sh)"
 # --workspace: the same feature set as fmu-build's builds, so nothing is rebuilt.

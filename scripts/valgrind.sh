@@ -27,8 +27,8 @@ if ! command -v valgrind >/dev/null 2>&1; then
 fi
 valgrind --version
 
-echo "== building the driver (cargo test --release --no-run --test fmu_threads_resources)"
-bin="$(cargo test --release --no-run --test fmu_threads_resources --message-format=json \
+echo "== building the driver (cargo test --release --workspace --no-run --test fmu_threads_resources)"
+bin="$(cargo test --release --workspace --no-run --test fmu_threads_resources --message-format=json \
   | grep '"name":"fmu_threads_resources"' \
   | sed -n 's/.*"executable":"\([^"]*\)".*/\1/p' | tail -n 1)"
 if [ -z "$bin" ] || [ ! -x "$bin" ]; then
