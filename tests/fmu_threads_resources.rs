@@ -8,60 +8,22 @@
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
-use std::ffi::{c_char, c_void, CStr, CString};
+use std::ffi::{c_char, c_void, CString};
 use std::path::{Path, PathBuf};
 use std::ptr::{null, null_mut};
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Barrier, Mutex};
+use std::sync::Barrier;
 use stickslip::fmu::ffi::*;
 use stickslip::fmu::FmuKind;
+
+mod common;
+use common::{record, Entry, Log};
 
 const OK: fmi2Status = 0;
 const ERROR: fmi2Status = 3;
 
 // ---------------------------------------------------------------------------------------
 // Importer side.
-
-#[derive(Debug)]
-struct Entry {
-    status: fmi2Status,
-    category: String,
-    format: String,
-    message: String,
-}
-
-type Log = Mutex<Vec<Entry>>;
-
-fn owned(p: *const c_char) -> String {
-    if p.is_null() {
-        "<NULL>".into()
-    } else {
-        unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
-    }
-}
-
-/// The logger's six fixed arguments. The FMU always passes exactly one variadic argument
-/// (the message, with format "%s"); a non-variadic function called through the variadic
-/// pointer type receives it in the same register on x86-64 System V and AArch64 Linux.
-extern "C" fn record(
-    environment: fmi2ComponentEnvironment,
-    _instance: fmi2String,
-    status: fmi2Status,
-    category: fmi2String,
-    format: fmi2String,
-    message: *const c_char,
-) {
-    let log = unsafe { &*(environment as *const Log) };
-    let entry = Entry {
-        status,
-        category: owned(category),
-        format: owned(format),
-        message: owned(message),
-    };
-    if let Ok(mut entries) = log.lock() {
-        entries.push(entry);
-    }
-}
 
 fn logger() -> fmi2CallbackLogger {
     type Fixed = extern "C" fn(
