@@ -559,8 +559,10 @@ impl Scene {
         if plane_stress_used {
             let (nx, ny) = plane_stress_divisions(g, fi.element_size);
             // Q8 nodes: (2 nx + 1)(ny + 1) corner-row nodes plus (nx + 1) ny mid-side ones.
-            let nodes = (2 * nx + 1) * (ny + 1) + (nx + 1) * ny;
-            if 2 * nodes > MAX_DOFS {
+            // In f64: with a tiny element on a long beam the count overflows usize.
+            let (nx, ny) = (nx as f64, ny as f64);
+            let nodes = (2.0 * nx + 1.0) * (ny + 1.0) + (nx + 1.0) * ny;
+            if 2.0 * nodes > MAX_DOFS as f64 {
                 return Err(invalid(
                     "fidelity.element_size",
                     fi.element_size,

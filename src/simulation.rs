@@ -237,6 +237,16 @@ impl Simulator {
         if let Some((name, _)) = scalars.iter().find(|(_, v)| !v.is_finite()) {
             return Err(StateMismatch(format!("{name} is not finite")));
         }
+        // No run reaches 2^53 steps (centuries); larger counts would overflow when
+        // stepped on (tests/fuzz_regressions.rs).
+        for (name, count) in [
+            ("step", state.step),
+            ("steps_since_anchor", state.steps_since_anchor),
+        ] {
+            if count > 1 << 53 {
+                return Err(StateMismatch(format!("{name} = {count} is above 2^53")));
+            }
+        }
         if transitions.len() as u64 != state.transition_count {
             return Err(StateMismatch(format!(
                 "{} transitions listed, the count says {}",
