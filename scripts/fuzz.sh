@@ -124,7 +124,7 @@ for t in "${targets[@]}"; do
             echo "   cmin failed, see $log_dir/$t-cmin.log"
     fi
     after=$(find "fuzz/corpus/$t" -type f | wc -l)
-    size=$(du -sk "fuzz/corpus/$t" | cut -f1)
+    size=$(du -sk --apparent-size "fuzz/corpus/$t" | cut -f1)
     summary+=("$(printf '%-13s %6ss %11s %9s %7s %7s  %4s -> %4s files (%s kB)  %s' \
         "$t" "$seconds" "${runs:-?}" "${rate:-?}" "${cov:-?}" "${ft:-?}" "$before" "$after" "$size" "$result")")
 done
