@@ -140,10 +140,9 @@ def fit_sklearn(split_dir: Path, iterations: int, seed: int, lam: float) -> dict
     }
 
 
-def run(iterations: int, seed: int, lam: float, binary: Path, workdir: Path) -> dict:
-    """Both fits on one split, side by side."""
-    ours = train_rust(iterations, seed, lam, binary, workdir)
-    peer = fit_sklearn(workdir / "split", iterations, seed, lam)
+def side_by_side(ours: dict, peer: dict, iterations: int, lam: float) -> dict:
+    """Our training report and the peer's fit as one result (print_table, JSON)."""
+    peer = dict(peer)
     return {
         "columns": peer.pop("columns"),
         "train_samples": peer.pop("train_samples"),
@@ -161,6 +160,13 @@ def run(iterations: int, seed: int, lam: float, binary: Path, workdir: Path) -> 
         "sklearn": peer,
         "time_ratio_sklearn_over_ours": peer["seconds"] / ours["seconds"],
     }
+
+
+def run(iterations: int, seed: int, lam: float, binary: Path, workdir: Path) -> dict:
+    """Both fits on one split, side by side."""
+    ours = train_rust(iterations, seed, lam, binary, workdir)
+    peer = fit_sklearn(workdir / "split", iterations, seed, lam)
+    return side_by_side(ours, peer, iterations, lam)
 
 
 def print_table(result: dict) -> None:

@@ -201,23 +201,9 @@ def main(argv: list[str] | None = None) -> int:
 
     print("\n== scikit-learn peer on the same split")
     peer = sklearn_peer.fit_sklearn(workdir / "split", ITERATIONS, SEED, LAMBDA)
-    result = {
-        "train_samples": len(y_train),
-        "test_samples": len(y_test),
-        "iterations_limit": ITERATIONS,
-        "lambda": LAMBDA,
-        "alpha": peer["alpha"],
-        "ours": report,
-        "sklearn": peer,
-        "time_ratio_sklearn_over_ours": peer["seconds"] / report["seconds"],
-    }
+    result = sklearn_peer.side_by_side(report, peer, ITERATIONS, LAMBDA)
     sklearn_peer.print_table(result)
-    (out / "sklearn_peer.json").write_text(
-        json.dumps({k: v for k, v in result.items() if k != "ours"} | {
-            "ours": {k: report[k] for k in ("mse_train", "mse_test", "r2_train", "r2_test",
-                                            "iterations", "seconds")}
-        }, indent=2) + "\n"
-    )
+    (out / "sklearn_peer.json").write_text(json.dumps(result, indent=2) + "\n")
 
     written = [out / "training_history.png", out / "predicted_vs_true.png",
                out / "friction_curves.png", out / "sklearn_peer.json"]
