@@ -276,6 +276,59 @@ fn fmu_state_through_pointers_and_bytes() {
     }
 }
 
+/// State handles the instance did not hand out are never read or written through:
+/// a freed state, another instance's state and a garbage pointer give fmi2Error and a
+/// reason; fmi2GetFMUstate with a garbage `*FMUstate` allocates a new state instead of
+/// overwriting what the garbage points to.
+#[test]
+fn foreign_freed_and_garbage_state_handles_are_refused() {
+    let messages = Messages::default();
+    let functions = callbacks(&messages);
+    unsafe {
+        let a = initialized_modal_beam(&functions);
+        let b = initialized_modal_beam(&functions);
+        let mut of_b: fmi2FMUstate = null_mut();
+        assert_eq!(fmi2GetFMUstate(b, &mut of_b), OK);
+        let mut freed: fmi2FMUstate = null_mut();
+        assert_eq!(fmi2GetFMUstate(a, &mut freed), OK);
+        let mut good: fmi2FMUstate = null_mut();
+        assert_eq!(fmi2GetFMUstate(a, &mut good), OK);
+        // Freed after `good` exists, so that `good` cannot reuse its address.
+        let dangling = freed;
+        assert_eq!(fmi2FreeFMUstate(a, &mut freed), OK);
+        // Never dereferenced: the check happens before any read.
+        let mut target = [0u64; 8];
+        let garbage = target.as_mut_ptr() as fmi2FMUstate;
+        let mut size = 0usize;
+        let mut bytes = [0 as c_char; 16];
+        for handle in [of_b, dangling, garbage] {
+            messages.lock().unwrap().clear();
+            assert_eq!(fmi2SetFMUstate(a, handle), ERROR);
+            assert_eq!(fmi2SerializedFMUstateSize(a, handle, &mut size), ERROR);
+            assert_eq!(
+                fmi2SerializeFMUstate(a, handle, bytes.as_mut_ptr(), 16),
+                ERROR
+            );
+            assert!(logged(&messages, "was not returned by this instance"));
+        }
+        assert_eq!(target, [0u64; 8]);
+        // Each refusal put `a` in the Error mode; the state saved before leads back.
+        assert_eq!(fmi2DoStep(a, 0.0, 0.01, 1), ERROR);
+        assert_eq!(fmi2SetFMUstate(a, good), OK);
+        assert_eq!(fmi2DoStep(a, 0.0, 0.01, 1), OK);
+        let mut uninitialised = garbage;
+        assert_eq!(fmi2GetFMUstate(a, &mut uninitialised), OK);
+        assert_ne!(uninitialised, garbage);
+        assert_eq!(target, [0u64; 8], "the garbage target was written");
+        assert_eq!(fmi2SetFMUstate(a, uninitialised), OK);
+        assert_eq!(fmi2FreeFMUstate(a, &mut uninitialised), OK);
+        assert_eq!(fmi2FreeFMUstate(a, &mut good), OK);
+        assert_eq!(fmi2FreeFMUstate(b, &mut of_b), OK);
+        fmi2FreeInstance(a);
+        fmi2FreeInstance(b);
+    }
+}
+
 #[test]
 fn unsupported_functions_return_error_with_a_reason() {
     let messages = Messages::default();

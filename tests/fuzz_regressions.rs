@@ -128,3 +128,73 @@ fn fmu_state_with_step_counter_at_u64_max_is_refused() {
     assert!(accepted, "{log:?}");
     assert!(log.is_empty(), "{log:?}");
 }
+
+/// The same two-step state with consistent counters, and its clocks changed.
+fn two_step_state(instance_time: &str, mode: &str, stop_time: &str) -> Vec<u8> {
+    std::str::from_utf8(STEP_AT_U64_MAX)
+        .unwrap()
+        .replace("\"step\":18446744073709551615", "\"step\":2")
+        .replace(
+            "\"time\":0.002,\"start_time\"",
+            &format!("\"time\":{instance_time},\"start_time\""),
+        )
+        .replace(
+            "\"mode\":\"step-complete\"",
+            &format!("\"mode\":\"{mode}\""),
+        )
+        .replace("\"stop_time\":null", &format!("\"stop_time\":{stop_time}"))
+        .into_bytes()
+}
+
+/// Serialized FMU state whose FMU time is far ahead of its simulation (found by review
+/// of the restore path, not by the fuzzer): it was accepted, and the next fmi2DoStep
+/// from the FMU time integrated through the gap, up to 1e9 internal steps for one call.
+/// Now the two clocks must agree to half a time step, and the FMU clock must be one an
+/// instance could have reached.
+#[test]
+fn fmu_state_with_disagreeing_clocks_is_refused() {
+    // The unchanged state restores and steps: the check does not refuse honest states.
+    let (accepted, log) =
+        deserialize_set_and_step(&two_step_state("0.002", "step-complete", "null"));
+    assert!(accepted, "{log:?}");
+    for (bytes, expected) in [
+        (
+            two_step_state("1000000", "step-complete", "null"),
+            "the two clocks must agree",
+        ),
+        (
+            two_step_state("0.0026", "step-complete", "null"),
+            "the two clocks must agree",
+        ),
+        (
+            two_step_state("0.002", "step-complete", "0.001"),
+            "past its stop time",
+        ),
+        (
+            two_step_state("-1", "step-complete", "null"),
+            "before its start time",
+        ),
+        (
+            two_step_state("0.002", "initialization-mode", "null"),
+            "before stepping the time must equal the start time",
+        ),
+    ] {
+        let text = std::str::from_utf8(&bytes)
+            .unwrap()
+            .replace(RECORDED_GUID, &FmuKind::StickSlipBeam.guid());
+        let (mut fmu, log) = beam();
+        // The instance-level checks refuse at deserialisation, the model's at restore.
+        let refused = match fmu.deserialize_state(text.as_bytes()) {
+            Err(_) => true,
+            Ok(state) => fmu.set_state(&state).is_err(),
+        };
+        let log = log.lock().unwrap().clone();
+        assert!(refused, "accepted: {text}");
+        assert!(
+            log.iter().any(|m| m.contains(expected)),
+            "{expected}: {log:?}"
+        );
+        // A refused state leaves the instance usable and where it was.
+        assert_eq!(fmu.time(), 0.0);
+    }
+}

@@ -127,6 +127,29 @@ impl Drop for Component {
     }
 }
 
+impl Component {
+    fn owns(&self, state: *mut SavedState) -> bool {
+        !state.is_null() && self.states.contains(&state)
+    }
+
+    /// A copy of the state behind `handle`, if this instance returned it and it was not
+    /// freed; otherwise fmi2Error is logged. Checking the list keeps a dangling, foreign
+    /// or garbage pointer from being read.
+    fn state(&mut self, handle: fmi2FMUstate, call: &str) -> Option<SavedState> {
+        let state = handle as *mut SavedState;
+        if !self.owns(state) {
+            fail(
+                self,
+                call,
+                "the FMU state was not returned by this instance (fmi2GetFMUstate or fmi2DeSerializeFMUstate), or was freed; to move a state between instances, serialize it",
+            );
+            return None;
+        }
+        // SAFETY: in the list, so allocated by Box::into_raw and not freed since.
+        Some(unsafe { (*state).clone() })
+    }
+}
+
 fn status(result: CallResult<()>) -> Status {
     match result {
         Ok(()) => Status::Ok,
@@ -565,13 +588,15 @@ pub unsafe extern "C" fn fmi2GetFMUstate(
             match each!(&mut component.instance, i => i.get_state()) {
                 Ok(saved) => {
                     let existing = *FMUstate as *mut SavedState;
-                    if existing.is_null() {
+                    if component.owns(existing) {
+                        // The standard lets the FMU overwrite a state it returned before.
+                        *existing = saved;
+                    } else {
+                        // NULL, or a pointer this instance never returned (an importer's
+                        // uninitialised variable): never written through.
                         let state = Box::into_raw(Box::new(saved));
                         component.states.push(state);
                         *FMUstate = state as fmi2FMUstate;
-                    } else {
-                        // The standard lets the FMU overwrite a state it returned before.
-                        *existing = saved;
                     }
                     Status::Ok
                 }
@@ -588,9 +613,10 @@ pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, FMUstate: fmi2FMUstat
             if FMUstate.is_null() {
                 return null_argument(component, "fmi2SetFMUstate", "FMUstate");
             }
-            // SAFETY: a state returned by fmi2GetFMUstate or fmi2DeSerializeFMUstate.
-            let saved = &*(FMUstate as *const SavedState);
-            status(each!(&mut component.instance, i => i.set_state(saved)))
+            let Some(saved) = component.state(FMUstate, "fmi2SetFMUstate") else {
+                return Status::Error;
+            };
+            status(each!(&mut component.instance, i => i.set_state(&saved)))
         })
     }
 }
@@ -639,8 +665,10 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
             if FMUstate.is_null() || size.is_null() {
                 return null_argument(component, "fmi2SerializedFMUstateSize", "FMUstate or size");
             }
-            let saved = &*(FMUstate as *const SavedState);
-            match each!(&mut component.instance, i => i.serialize_state(saved)) {
+            let Some(saved) = component.state(FMUstate, "fmi2SerializedFMUstateSize") else {
+                return Status::Error;
+            };
+            match each!(&mut component.instance, i => i.serialize_state(&saved)) {
                 Ok(bytes) => {
                     *size = bytes.len();
                     Status::Ok
@@ -667,8 +695,10 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
                     "FMUstate or serializedState",
                 );
             }
-            let saved = &*(FMUstate as *const SavedState);
-            match each!(&mut component.instance, i => i.serialize_state(saved)) {
+            let Some(saved) = component.state(FMUstate, "fmi2SerializeFMUstate") else {
+                return Status::Error;
+            };
+            match each!(&mut component.instance, i => i.serialize_state(&saved)) {
                 Ok(bytes) if bytes.len() == size => {
                     std::ptr::copy_nonoverlapping(bytes.as_ptr(), serializedState as *mut u8, size);
                     Status::Ok

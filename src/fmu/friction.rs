@@ -399,7 +399,7 @@ impl Model for NeuralFriction {
         serde_json::to_value(&self.settings).unwrap_or(serde_json::Value::Null)
     }
 
-    fn restore(&mut self, saved: serde_json::Value) -> Result<(), String> {
+    fn restore(&mut self, saved: serde_json::Value, _time: f64) -> Result<(), String> {
         let settings: Settings = serde_json::from_value(saved)
             .map_err(|e| format!("saved NeuralFriction state is malformed: {e}"))?;
         // Plain data: the outputs are evaluated when next read, so a state saved before

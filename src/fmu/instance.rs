@@ -173,7 +173,46 @@ impl SavedState {
         if !state.time.is_finite() || !state.start_time.is_finite() {
             return Err("serialized FMU state has a non-finite time".into());
         }
+        state.check_clock()?;
         Ok(state)
+    }
+
+    /// The instance clock of a state must be one the instance could have reached: no
+    /// time before the start, none past the stop, and no time but the start before
+    /// initialisation ends.
+    fn check_clock(&self) -> Result<(), String> {
+        let (start, time) = (self.start_time, self.time);
+        if !(start.is_finite() && time.is_finite()) {
+            return Err(format!(
+                "the state's time {time} s or start time {start} s is not finite"
+            ));
+        }
+        let slack = 1e-9 * time.abs().max(start.abs()).max(1.0);
+        if time < start - slack {
+            return Err(format!(
+                "the state's time {time} s is before its start time {start} s"
+            ));
+        }
+        if let Some(stop) = self.stop_time {
+            if !(stop.is_finite() && stop > start) {
+                return Err(format!(
+                    "the state's stop time {stop} s is not after its start time {start} s"
+                ));
+            }
+            if time > stop + slack {
+                return Err(format!(
+                    "the state's time {time} s is past its stop time {stop} s"
+                ));
+            }
+        }
+        let before_steps = matches!(self.mode, Mode::Instantiated | Mode::InitializationMode);
+        if before_steps && (time - start).abs() > slack {
+            return Err(format!(
+                "the state was saved in {:?} mode at time {time} s, but before stepping the time must equal the start time {start} s",
+                self.mode
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -660,7 +699,10 @@ impl<M: Model> Instance<M> {
         if state.mode == Mode::Error {
             return Err(self.fail(CALL, "a state saved in the Error mode cannot be restored"));
         }
-        if let Err(reason) = self.model.restore(state.model.clone()) {
+        if let Err(reason) = state.check_clock() {
+            return Err(self.fail(CALL, &reason));
+        }
+        if let Err(reason) = self.model.restore(state.model.clone(), state.time) {
             return Err(self.fail(CALL, &reason));
         }
         self.mode = state.mode;
