@@ -726,3 +726,26 @@ fn non_finite_outputs_are_errors_not_values() {
     assert_eq!(b.mode(), Mode::Error);
     assert!(logged(&log, "non-finite"), "{:?}", log.lock().unwrap());
 }
+
+/// Parts a scene does not use cost nothing: a StickSlipBeam with an analytical law
+/// never reads a network, not at instantiation, not when stepping; the neural law reads
+/// exactly one, once, however often the simulation is rebuilt.
+#[test]
+fn the_beam_reads_a_network_only_for_the_neural_law() {
+    let (mut b, _) = initialized_beam(LEVEL_MODAL);
+    run(&mut b, 0.0, 0.5, 1e-2);
+    assert_eq!(b.model().networks_read(), 0);
+    b.reset();
+    assert_eq!(b.model().networks_read(), 0);
+    let law = vr::<StickSlipBeam>("friction.model");
+    let level = vr::<StickSlipBeam>("fidelity.level");
+    for _ in 0..2 {
+        b.reset();
+        b.set_integer(&[level, law], &[LEVEL_MODAL, 3]).unwrap();
+        b.setup_experiment(0.0, Some(1.2)).unwrap();
+        b.enter_initialization_mode().unwrap();
+        b.exit_initialization_mode().unwrap();
+        run(&mut b, 0.0, 0.5, 1e-2);
+        assert_eq!(b.model().networks_read(), 1);
+    }
+}

@@ -186,7 +186,7 @@ fn main() {
     };
 
     let bench_started = Instant::now();
-    // fmi2Instantiate alone (it reads the network weights from resources/).
+    // fmi2Instantiate alone (it checks resources/ but reads no network).
     let instantiate = median(
         (0..11)
             .map(|_| {

@@ -104,6 +104,11 @@ pub struct StickSlipBeam {
 }
 
 impl StickSlipBeam {
+    /// How many networks this instance has read: zero unless a law needed one.
+    pub fn networks_read(&self) -> usize {
+        self.networks.read_count()
+    }
+
     fn checked_scene(
         &self,
         start_time: f64,

@@ -371,7 +371,7 @@ impl Model for NeuralFriction {
     }
 
     fn load_resources(&mut self, resources: &Path) -> Result<(), String> {
-        self.networks.open(resources)
+        self.networks.open_and_read_default(resources)
     }
 
     fn reset(&mut self) {

@@ -30,11 +30,29 @@ pub struct Networks {
 }
 
 impl Networks {
-    /// Remembers the unpacked `resources/` folder and reads the default weights, so
-    /// that a missing or corrupted file fails instantiation.
+    /// Remembers the unpacked `resources/` folder and checks that the default weights
+    /// file is there, so that a missing resources folder fails instantiation. Nothing is
+    /// parsed: a model whose law needs no network never pays for one.
     pub fn open(&mut self, folder: &Path) -> Result<(), String> {
         self.folder = Some(folder.to_path_buf());
+        let default = folder.join(DEFAULT_WEIGHTS);
+        if default.is_file() {
+            Ok(())
+        } else {
+            Err(format!("weights file {} is missing", default.display()))
+        }
+    }
+
+    /// [`Self::open`], then reads the default weights, so that a corrupted file fails
+    /// instantiation: for an FMU whose default law is the network.
+    pub fn open_and_read_default(&mut self, folder: &Path) -> Result<(), String> {
+        self.open(folder)?;
         self.get(DEFAULT_WEIGHTS).map(|_| ())
+    }
+
+    /// How many networks have been read (parsed) so far.
+    pub fn read_count(&self) -> usize {
+        self.loaded.len()
     }
 
     /// Weights `name`: a file in `resources/`, or an absolute path.
