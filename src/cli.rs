@@ -24,14 +24,19 @@ pub enum FidelityArg {
     Modal,
     Beam,
     PlaneStress,
+    /// The cheapest configuration of the measured front that meets `--tolerance` on
+    /// this scene (see the `auto` module).
+    Auto,
 }
 
-impl From<FidelityArg> for FidelityLevel {
-    fn from(f: FidelityArg) -> Self {
-        match f {
-            FidelityArg::Modal => FidelityLevel::Modal,
-            FidelityArg::Beam => FidelityLevel::Beam,
-            FidelityArg::PlaneStress => FidelityLevel::PlaneStress,
+impl FidelityArg {
+    /// The level, or `None` for `auto`.
+    fn level(self) -> Option<FidelityLevel> {
+        match self {
+            FidelityArg::Modal => Some(FidelityLevel::Modal),
+            FidelityArg::Beam => Some(FidelityLevel::Beam),
+            FidelityArg::PlaneStress => Some(FidelityLevel::PlaneStress),
+            FidelityArg::Auto => None,
         }
     }
 }
@@ -57,9 +62,12 @@ pub struct SceneArgs {
     /// Scene file (.toml or .json); missing fields take the paper's values.
     #[arg(long)]
     pub scene: Option<PathBuf>,
-    /// Structural model.
+    /// Structural model; `auto` also picks the time step and integrator.
     #[arg(long, value_enum)]
     pub fidelity: Option<FidelityArg>,
+    /// With `--fidelity auto`: the RMS tip-deflection error allowed over the run (m).
+    #[arg(long, allow_negative_numbers = true)]
+    pub tolerance: Option<f64>,
     /// Number of beam elements (beam, and modal from a beam).
     #[arg(long)]
     pub elements: Option<usize>,
@@ -100,8 +108,8 @@ impl SceneArgs {
             Some(path) => Scene::load(path).map_err(|e| e.to_string())?.into_scene(),
             None => Scene::default(),
         };
-        if let Some(f) = self.fidelity {
-            scene.fidelity.level = f.into();
+        if let Some(level) = self.fidelity.and_then(FidelityArg::level) {
+            scene.fidelity.level = level;
         }
         if let Some(n) = self.elements {
             scene.fidelity.beam_elements = n;
@@ -150,6 +158,36 @@ impl SceneArgs {
             }
             scene.damping =
                 Damping::from_ratio(zeta, 1.8751f64.powi(2) * base, 7.8548f64.powi(2) * base);
+        }
+        let auto = matches!(self.fidelity, Some(FidelityArg::Auto));
+        match (auto, self.tolerance) {
+            (false, None) => {}
+            (false, Some(_)) => return Err("--tolerance applies to --fidelity auto only".into()),
+            (true, None) => {
+                return Err(
+                    "--fidelity auto needs --tolerance M: the RMS tip-deflection error allowed (m)"
+                        .into(),
+                )
+            }
+            (true, Some(tolerance)) => {
+                let chosen_by_auto = [
+                    ("--elements", self.elements.is_some()),
+                    ("--element-size", self.element_size.is_some()),
+                    ("--modes", self.modes.is_some()),
+                    ("--dt", self.dt.is_some()),
+                    ("--integrator", self.integrator.is_some()),
+                ];
+                if let Some((flag, _)) = chosen_by_auto.iter().find(|(_, given)| *given) {
+                    return Err(format!("{flag} is chosen by --fidelity auto; leave it out"));
+                }
+                // Checked first, so that a bad scene is reported as such, not as a
+                // failed calibration run.
+                scene.clone().check().map_err(|e| e.to_string())?;
+                let front = crate::auto::paper_front()?;
+                let choice = crate::auto::choose(&scene, tolerance, &front)?;
+                eprintln!("{}", crate::auto::describe(&choice, tolerance));
+                scene = choice.configuration.apply(&scene);
+            }
         }
         scene.check().map_err(|e| e.to_string())
     }
@@ -373,6 +411,264 @@ pub fn static_check(args: &StaticArgs) -> Result<(), String> {
     println!(
         "relative error          {:.5} %",
         100.0 * (d - eb).abs() / eb.abs()
+    );
+    Ok(())
+}
+
+/// Arguments of `stickslip study`.
+#[derive(Args, Debug, Clone)]
+pub struct StudyArgs {
+    /// Scene file (.toml or .json); its fidelity, time step and integrator are replaced
+    /// by each configuration of the grid. Default: the paper's scene.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// End time (s) of every run.
+    #[arg(long, allow_negative_numbers = true)]
+    pub t_end: Option<f64>,
+    /// Modal levels: numbers of modes (comma-separated; empty for none).
+    #[arg(long, value_delimiter = ',', num_args = 0..)]
+    pub modes: Option<Vec<usize>>,
+    /// Beam levels: numbers of elements.
+    #[arg(long, value_delimiter = ',', num_args = 0..)]
+    pub elements: Option<Vec<usize>>,
+    /// Plane-stress levels: element sizes (m).
+    #[arg(long, value_delimiter = ',', num_args = 0..)]
+    pub element_sizes: Option<Vec<f64>>,
+    /// Time steps (s); each must divide 1 ms.
+    #[arg(long, value_delimiter = ',')]
+    pub dts: Option<Vec<f64>>,
+    /// Integrators.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub integrators: Option<Vec<SchemeArg>>,
+    /// Output folder: study.csv (every run) and front.json (the Pareto front).
+    #[arg(long, default_value = "out/study")]
+    pub out: PathBuf,
+    /// Also write the front to this file (the `auto` fidelity reads
+    /// data/pareto_front.json).
+    #[arg(long)]
+    pub write_front: Option<PathBuf>,
+    /// After the study, check `fidelity = auto` (with the shipped front) at these
+    /// tolerances (m) on four scenes, each against its own reference run.
+    #[arg(long, value_delimiter = ',')]
+    pub verify_auto: Option<Vec<f64>>,
+}
+
+impl From<SchemeArg> for Scheme {
+    fn from(s: SchemeArg) -> Self {
+        match s {
+            SchemeArg::GeneralizedAlpha => Scheme::GeneralizedAlpha,
+            SchemeArg::MoreauJean => Scheme::MoreauJean,
+        }
+    }
+}
+
+/// `stickslip study`: the grid, the reference, the CSV and the front.
+pub fn study(args: &StudyArgs) -> Result<(), String> {
+    use crate::study::{
+        csv_line, front, front_points, mark_pareto_front, measure, Errors, Grid, Row, CSV_HEADER,
+    };
+    let mut scene = match &args.scene {
+        Some(path) => Scene::load(path).map_err(|e| e.to_string())?.into_scene(),
+        None => Scene::default(),
+    };
+    if let Some(t) = args.t_end {
+        scene.time.end = t;
+    }
+    let full = Grid::full();
+    let grid = Grid {
+        modes: args.modes.clone().unwrap_or(full.modes),
+        beam_elements: args.elements.clone().unwrap_or(full.beam_elements),
+        element_sizes: args.element_sizes.clone().unwrap_or(full.element_sizes),
+        time_steps: args.dts.clone().unwrap_or(full.time_steps),
+        schemes: match &args.integrators {
+            Some(list) => list.iter().map(|&s| s.into()).collect(),
+            None => full.schemes,
+        },
+    };
+    let reference_configuration = grid
+        .finest()
+        .ok_or("the grid is empty: give at least one resolution and one time step")?;
+    let configurations = grid.configurations();
+    std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    eprintln!(
+        "study: {} configurations, end time {} s; reference {reference_configuration}",
+        configurations.len(),
+        scene.time.end
+    );
+    let reference = measure(&scene, reference_configuration)
+        .map_err(|f| format!("the reference {} failed: {}", f.configuration, f.reason))?;
+    let mut rows = Vec::new();
+    let mut failures = Vec::new();
+    for (k, configuration) in configurations.iter().enumerate() {
+        let measured = if *configuration == reference_configuration {
+            Ok(reference.clone())
+        } else {
+            measure(&scene, *configuration)
+        };
+        match measured {
+            Ok(measured) => {
+                let errors = Errors::between(&measured, &reference);
+                eprintln!(
+                    "[{}/{}] {configuration}: {:.3} s, RMS error {:.3e} m",
+                    k + 1,
+                    configurations.len(),
+                    measured.seconds,
+                    errors.rms
+                );
+                rows.push(Row {
+                    measured,
+                    errors,
+                    on_front: false,
+                });
+            }
+            Err(failed) => {
+                eprintln!(
+                    "[{}/{}] {configuration}: failed: {}",
+                    k + 1,
+                    configurations.len(),
+                    failed.reason
+                );
+                failures.push(failed);
+            }
+        }
+    }
+    // The reference is exact by definition; it stays off the front, whose last point is
+    // then the best run that can be compared with something better.
+    rows.retain(|r| r.measured.configuration != reference_configuration);
+    mark_pareto_front(&mut rows);
+    let csv_path = args.out.join("study.csv");
+    let mut csv = String::from(CSV_HEADER);
+    csv.push('\n');
+    for row in &rows {
+        csv += &csv_line(row, scene.time.end);
+        csv.push('\n');
+    }
+    std::fs::write(&csv_path, csv).map_err(|e| format!("{}: {e}", csv_path.display()))?;
+    let points = front_points(&rows);
+    let json = serde_json::to_string_pretty(&points).map_err(|e| e.to_string())?;
+    let front_path = args.out.join("front.json");
+    for path in std::iter::once(&front_path).chain(args.write_front.as_ref()) {
+        std::fs::write(path, &json).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+
+    println!(
+        "reference: {reference_configuration}: {} dofs, {:.2} s",
+        reference.dofs, reference.seconds
+    );
+    println!();
+    println!("Pareto front (RMS tip-deflection error against wall time), cheapest first:");
+    println!();
+    println!("| configuration | dofs | wall (s) | x real time | breakaway (ms) | 1st slip (ms) | period (ms) | corridor (mm) | RMS (mm) |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    let ms = |v: Option<f64>| v.map_or("-".into(), |v| format!("{:.2}", v * 1e3));
+    for row in front(&rows) {
+        let e = &row.errors;
+        println!(
+            "| {} | {} | {:.4} | {:.0} | {} | {} | {} | {} | {:.4} |",
+            row.measured.configuration,
+            row.measured.dofs,
+            row.measured.seconds,
+            scene.time.end / row.measured.seconds,
+            ms(e.breakaway),
+            ms(e.first_slip_duration),
+            ms(e.period),
+            ms(e.corridor),
+            e.rms * 1e3
+        );
+    }
+    println!();
+    println!(
+        "{} runs in {}, {} on the front, {} failed; front in {}",
+        rows.len() + 1,
+        csv_path.display(),
+        points.len(),
+        failures.len(),
+        front_path.display()
+    );
+    for f in &failures {
+        println!("failed: {}: {}", f.configuration, f.reason);
+    }
+    if let Some(tolerances) = &args.verify_auto {
+        verify_auto(&scene, tolerances, reference_configuration, &args.out)?;
+    }
+    Ok(())
+}
+
+/// `study --verify-auto`: on each verification scene and tolerance, the `auto` choice
+/// must meet the tolerance against the scene's reference, and the next cheaper point
+/// of the front must not.
+fn verify_auto(
+    base: &Scene,
+    tolerances: &[f64],
+    reference_configuration: crate::study::Configuration,
+    out: &std::path::Path,
+) -> Result<(), String> {
+    use crate::auto::{paper_front, verification_scenes, verify};
+    let front = paper_front()?;
+    println!();
+    println!(
+        "fidelity = auto on four scenes (shipped front, {} points); true error against each scene's {reference_configuration}, end time {} s:",
+        front.len(),
+        base.time.end
+    );
+    println!();
+    println!("| scene | tolerance (mm) | choice | estimated (mm) | true (mm) | next cheaper | its true error (mm) | calibration (s) | holds |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    let mut csv = String::from(
+        "scene,tolerance_m,choice,estimated_m,true_m,cheaper,cheaper_true_m,calibration_s,holds\n",
+    );
+    let mut failures = 0;
+    for (name, mut scene) in verification_scenes() {
+        scene.time.end = base.time.end;
+        let reference = crate::study::measure(&scene, reference_configuration)
+            .map_err(|f| format!("{name}: the reference failed: {}", f.reason))?;
+        for &tolerance in tolerances {
+            match verify(&scene, tolerance, &front, &reference) {
+                Ok(v) => {
+                    let holds = v.holds(tolerance);
+                    failures += usize::from(!holds);
+                    let (cheaper, cheaper_error) = match v.cheaper {
+                        Some((c, e)) => (c.to_string(), format!("{:.4}", e * 1e3)),
+                        None => ("(none: the cheapest point)".into(), "-".into()),
+                    };
+                    println!(
+                        "| {name} | {:.4} | {} | {:.4} | {:.4} | {cheaper} | {cheaper_error} | {:.2} | {} |",
+                        tolerance * 1e3,
+                        v.choice.configuration,
+                        v.choice.estimated_error * 1e3,
+                        v.true_error * 1e3,
+                        v.choice.calibration_seconds,
+                        if holds { "yes" } else { "NO" }
+                    );
+                    csv += &format!(
+                        "{name},{tolerance:e},{},{:e},{:e},{cheaper},{},{:.3},{}\n",
+                        v.choice.configuration,
+                        v.choice.estimated_error,
+                        v.true_error,
+                        v.cheaper.map_or(String::new(), |(_, e)| format!("{e:e}")),
+                        v.choice.calibration_seconds,
+                        holds as u8
+                    );
+                }
+                Err(reason) => {
+                    failures += 1;
+                    println!(
+                        "| {name} | {:.4} | refused: {reason} | | | | | | NO |",
+                        tolerance * 1e3
+                    );
+                    csv += &format!("{name},{tolerance:e},refused,,,,,,0\n");
+                }
+            }
+        }
+    }
+    let path = out.join("auto_verification.csv");
+    std::fs::write(&path, csv.replace(", dt", " dt").replace(", ", " "))
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    println!();
+    println!(
+        "{failures} of {} cases fail; written to {}",
+        tolerances.len() * 4,
+        path.display()
     );
     Ok(())
 }

@@ -3,6 +3,7 @@
 //! The physics (scene, structural models, integrator, contact, friction laws) is plain
 //! Rust; the FMI 2.0 layer is a thin adapter over it.
 
+pub mod auto;
 pub mod banded;
 pub mod cli;
 pub mod contact;
@@ -17,3 +18,4 @@ pub mod neural;
 pub mod scene;
 pub mod simulation;
 pub mod structure;
+pub mod study;

@@ -22,6 +22,10 @@ enum Command {
     Static(stickslip::cli::StaticArgs),
     /// Train the neural friction law (paper data by default) and write its weights file.
     Train(stickslip::neural::cli::TrainArgs),
+    /// Speed against accuracy: the paper scene over a grid of fidelity levels, time
+    /// steps and integrators, with errors against a converged reference and the Pareto
+    /// front.
+    Study(stickslip::cli::StudyArgs),
     /// Hyperparameter grid search with k-fold cross-validation for the neural law.
     Search(stickslip::neural::cli::SearchArgs),
 }
@@ -31,6 +35,7 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Simulate(args) => stickslip::cli::simulate(args),
         Command::Static(args) => stickslip::cli::static_check(args),
+        Command::Study(args) => stickslip::cli::study(args),
         Command::Train(args) => stickslip::neural::cli::run_train(args)
             .map(|_| ())
             .map_err(|e| e.to_string()),

@@ -16,6 +16,7 @@ use super::{Model, ModelInfo};
 use crate::contact::ContactState;
 use crate::scene::{CheckedScene, FrictionLawKind, Scene};
 use crate::simulation::{ExternalFriction, SimulationState, Simulator};
+use crate::study::Configuration;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -47,6 +48,19 @@ struct Settings {
     friction_model: FrictionModel,
     weights: String,
     inputs: BeamInputs,
+    /// fidelity.level = auto: the fidelity, time step and integrator of `scene` are
+    /// replaced by the `auto` choice at fmi2ExitInitializationMode.
+    #[serde(default)]
+    fidelity_auto: bool,
+    /// RMS tip-deflection error that `auto` must meet (m).
+    #[serde(default = "default_fidelity_tolerance")]
+    fidelity_tolerance: f64,
+}
+
+/// Default of fidelity.tolerance (m): 0.1 mm RMS, about 1 % of the paper scene's
+/// deflection corridor.
+fn default_fidelity_tolerance() -> f64 {
+    1e-4
 }
 
 impl Default for Settings {
@@ -64,6 +78,8 @@ impl Default for Settings {
             friction_model: FrictionModel::Exponential,
             weights: DEFAULT_WEIGHTS.into(),
             inputs,
+            fidelity_auto: false,
+            fidelity_tolerance: default_fidelity_tolerance(),
         }
     }
 }
@@ -98,6 +114,10 @@ struct SavedRun {
 pub struct StickSlipBeam {
     settings: Settings,
     networks: Networks,
+    /// The last `auto` choice: (scene, tolerance, configuration).
+    auto_cache: std::sync::Mutex<Option<(Scene, f64, Configuration)>>,
+    /// `auto` choices not yet logged.
+    auto_log: std::sync::Mutex<Vec<String>>,
     running: Option<Running>,
     /// fmi2ExitInitializationMode has built the simulation the steps use.
     initialized: bool,
@@ -127,7 +147,31 @@ impl StickSlipBeam {
         if let Some(stop) = stop_time {
             scene.time.end = (stop - start_time).max(scene.time.step);
         }
+        if self.settings.fidelity_auto {
+            scene.clone().check().map_err(|e| e.to_string())?;
+            scene = self.auto_choice(&scene)?.apply(&scene);
+        }
         scene.check().map_err(|e| e.to_string())
+    }
+
+    /// The `auto` choice for `scene`, computed once per scene and tolerance: the
+    /// calibration runs the scene several times.
+    fn auto_choice(&self, scene: &Scene) -> Result<Configuration, String> {
+        let tolerance = self.settings.fidelity_tolerance;
+        let mut cache = self.auto_cache.lock().map_err(|_| "auto cache poisoned")?;
+        if let Some((cached_scene, cached_tolerance, choice)) = cache.as_ref() {
+            if cached_scene == scene && *cached_tolerance == tolerance {
+                return Ok(*choice);
+            }
+        }
+        let front = crate::auto::paper_front()?;
+        let choice = crate::auto::choose(scene, tolerance, &front)?;
+        self.auto_log
+            .lock()
+            .map_err(|_| "auto log poisoned")?
+            .push(crate::auto::describe(&choice, tolerance));
+        *cache = Some((scene.clone(), tolerance, choice.configuration));
+        Ok(choice.configuration)
     }
 
     /// Builds the simulation unless it is already built from the current settings.
@@ -372,6 +416,10 @@ pub static FIDELITY_LEVEL: EnumerationType = EnumerationType {
             "plane-stress",
             "2D plane-stress mesh of 8-node quadrilaterals",
         ),
+        (
+            "auto",
+            "the cheapest measured configuration that meets fidelity.tolerance on this scene",
+        ),
     ],
 };
 
@@ -538,13 +586,50 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         "Internal time step (the FMU sub-steps each communication step)",
         |s| s.time.step
     ),
-    enum_parameter!(
-        50,
-        "fidelity.level",
-        &FIDELITY_LEVEL,
-        "Structural model",
-        |s| s.fidelity.level
-    ),
+    Variable {
+        name: "fidelity.level",
+        value_reference: 50,
+        causality: Causality::Parameter,
+        variability: Variability::Fixed,
+        description: "Structural model; auto also picks the time step and integrator",
+        access: Access::Enumeration {
+            kind: &FIDELITY_LEVEL,
+            get: |m: &StickSlipBeam| {
+                if m.settings.fidelity_auto {
+                    FIDELITY_LEVEL.items.len() as i32
+                } else {
+                    FIDELITY_LEVEL.value_of(&m.settings.scene.fidelity.level)
+                }
+            },
+            set: Some(|m: &mut StickSlipBeam, v: i32| {
+                if FIDELITY_LEVEL.item(v)? == "auto" {
+                    m.settings.fidelity_auto = true;
+                } else {
+                    m.settings.scene.fidelity.level = FIDELITY_LEVEL.parse(v)?;
+                    m.settings.fidelity_auto = false;
+                }
+                Ok(())
+            }),
+        },
+    },
+    Variable {
+        name: "fidelity.tolerance",
+        value_reference: 57,
+        causality: Causality::Parameter,
+        variability: Variability::Fixed,
+        description: "fidelity.level = auto: RMS tip-deflection error allowed over the run",
+        access: Access::Real {
+            unit: Some("m"),
+            get: |m: &StickSlipBeam| m.settings.fidelity_tolerance,
+            set: Some(|m: &mut StickSlipBeam, v: f64| {
+                if !(v.is_finite() && v > 0.0) {
+                    return Err(format!("{v} must be finite and > 0"));
+                }
+                m.settings.fidelity_tolerance = v;
+                Ok(())
+            }),
+        },
+    },
     count_parameter!(
         51,
         "fidelity.beam_elements",
@@ -717,6 +802,8 @@ impl Model for StickSlipBeam {
         Self {
             settings: Settings::default(),
             networks: Networks::default(),
+            auto_cache: Default::default(),
+            auto_log: Default::default(),
             running: None,
             initialized: false,
         }
@@ -768,6 +855,13 @@ impl Model for StickSlipBeam {
         }
         running.transitions_reported = transitions.len();
         result.map_err(|e| e.to_string())
+    }
+
+    fn take_notes(&mut self) -> Vec<String> {
+        self.auto_log
+            .lock()
+            .map(|mut log| std::mem::take(&mut *log))
+            .unwrap_or_default()
     }
 
     fn save(&self) -> serde_json::Value {

@@ -31,7 +31,7 @@ pub const LOG_CATEGORIES: [(&str, &str); 4] = [
     ("logStatusWarning", "Why a call returned fmi2Warning"),
     (
         "logEvents",
-        "Stick/slip transitions and the communication steps that contain them",
+        "Stick/slip transitions, the communication steps that contain them, and the fidelity = auto choice",
     ),
     ("logCalls", "Every FMI function call with its arguments"),
 ];
@@ -387,7 +387,11 @@ impl<M: Model> Instance<M> {
     /// messages.
     pub fn exit_initialization_mode(&mut self) -> CallResult<()> {
         self.check(Call::ExitInitializationMode)?;
-        if let Err(reason) = self.model.initialize(self.start_time, self.stop_time) {
+        let result = self.model.initialize(self.start_time, self.stop_time);
+        for note in self.model.take_notes() {
+            self.log(EVENTS, Status::Ok, &note);
+        }
+        if let Err(reason) = result {
             return Err(self.fail("fmi2ExitInitializationMode", &reason));
         }
         self.mode = Mode::StepComplete;

@@ -70,6 +70,12 @@ pub trait Model: Send + Sized + 'static {
     /// logEvents category.
     fn do_step(&mut self, from: f64, to: f64, events: &mut Vec<String>) -> Result<(), String>;
 
+    /// Messages for the `logEvents` category produced outside a step (for example the
+    /// `fidelity = auto` choice at initialisation); taken once.
+    fn take_notes(&mut self) -> Vec<String> {
+        Vec::new()
+    }
+
     /// Everything that `restore` needs, as plain data.
     fn save(&self) -> serde_json::Value;
 
