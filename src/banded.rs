@@ -112,22 +112,29 @@ impl SymBandMatrix {
     }
 
     /// y = A x, overwriting y.
+    ///
+    /// Row by row, y_i = a_ii x_i + sum_{j<i} a_ij x_j + sum_{j>i} a_ji x_j with each
+    /// sum in ascending j: a gather per row, with no scatter into earlier rows (whose
+    /// store-to-load chains made the former scatter form slow). [`BandPairProduct`]
+    /// keeps this order exactly.
     pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
         assert_eq!(x.len(), self.n);
         assert_eq!(y.len(), self.n);
+        let n = self.n;
         let b = self.half_bandwidth;
-        y.fill(0.0);
-        for i in 0..self.n {
+        let w = b + 1;
+        for i in 0..n {
             let j0 = i.saturating_sub(b);
-            let row = &self.lower[i * (b + 1) + j0 + b - i..(i + 1) * (b + 1)];
+            let row = &self.lower[i * w + j0 + b - i..(i + 1) * w];
             let (off, diag) = row.split_at(row.len() - 1);
             let mut acc = diag[0] * x[i];
-            for (k, &a) in off.iter().enumerate() {
-                let j = j0 + k;
-                acc += a * x[j];
-                y[j] += a * x[i];
+            for (a, xj) in off.iter().zip(&x[j0..i]) {
+                acc += a * xj;
             }
-            y[i] += acc;
+            for k in 1..=b.min(n - 1 - i) {
+                acc += self.lower[(i + k) * w + b - k] * x[i + k];
+            }
+            y[i] = acc;
         }
     }
 
@@ -148,13 +155,19 @@ impl SymBandMatrix {
     }
 }
 
-/// The Cholesky factor L of a symmetric positive definite banded matrix, stored in the
-/// same lower-band layout.
+/// The Cholesky factor L of a symmetric positive definite banded matrix (A = L L^T),
+/// stored twice for the two sweeps of a solve: by rows of L for the forward sweep, by
+/// rows of L^T (columns of L) for the backward one, so that both read contiguously.
 #[derive(Clone, Debug)]
 pub struct BandCholesky {
     n: usize,
     half_bandwidth: usize,
-    lower: Vec<f64>,
+    /// Row i holds L_{i, i-b} ... L_{i, i-1} (b entries, zero before column 0).
+    forward: Vec<f64>,
+    /// Row j holds L_{j+1, j} ... L_{j+b, j} (b entries, zero past row n - 1).
+    backward: Vec<f64>,
+    /// L_ii.
+    diagonal: Vec<f64>,
 }
 
 impl BandCholesky {
@@ -182,10 +195,20 @@ impl BandCholesky {
                 }
             }
         }
+        let mut forward = vec![0.0; n * b];
+        let mut backward = vec![0.0; n * b];
+        for i in 0..n {
+            for j in i.saturating_sub(b)..i {
+                forward[i * b + j + b - i] = l[i * w + j + b - i];
+                backward[j * b + i - j - 1] = l[i * w + j + b - i];
+            }
+        }
         Ok(Self {
             n,
             half_bandwidth: b,
-            lower: l,
+            forward,
+            backward,
+            diagonal: (0..n).map(|i| l[i * w + b]).collect(),
         })
     }
 
@@ -194,29 +217,178 @@ impl BandCholesky {
     }
 
     /// Solves A x = rhs in place (rhs becomes x). No allocation.
+    ///
+    /// Forward L y = rhs: y_i = (rhs_i - sum_{j<i} L_ij y_j) / L_ii, j ascending.
+    /// Backward L^T x = y: x_j = (y_j - sum_{i>j} L_ij x_i) / L_jj, i descending.
+    /// Both sweeps gather along a stored row and carry the unknown just computed in a
+    /// register, so the chain from one unknown to the next is its multiply, subtract and
+    /// divide, with no store-to-load round trip. The operations and their order are
+    /// those of the textbook sweeps, so the result does not depend on this layout.
     pub fn solve_in_place(&self, x: &mut [f64]) {
         assert_eq!(x.len(), self.n);
+        let n = self.n;
         let b = self.half_bandwidth;
-        let w = b + 1;
-        // Forward: L y = rhs.
-        for i in 0..self.n {
-            let j0 = i.saturating_sub(b);
-            let row = &self.lower[i * w + j0 + b - i..i * w + b];
-            let mut s = x[i];
-            for (k, &lik) in row.iter().enumerate() {
-                s -= lik * x[j0 + k];
+        if b == 0 {
+            for (xi, d) in x.iter_mut().zip(&self.diagonal) {
+                *xi = *xi / d / d;
             }
-            x[i] = s / self.lower[i * w + b];
+            return;
         }
-        // Backward: L^T x = y, sweeping rows of L so that memory access stays contiguous.
-        for i in (0..self.n).rev() {
-            let xi = x[i] / self.lower[i * w + b];
-            x[i] = xi;
+        let mut prev = 0.0;
+        for i in 0..n {
             let j0 = i.saturating_sub(b);
-            let row = &self.lower[i * w + j0 + b - i..i * w + b];
-            for (k, &lik) in row.iter().enumerate() {
-                x[j0 + k] -= lik * xi;
+            let row = &self.forward[(i + 1) * b - (i - j0)..(i + 1) * b];
+            let mut s = x[i];
+            if let Some((&latest, older)) = row.split_last() {
+                for (l, y) in older.iter().zip(&x[j0..i - 1]) {
+                    s -= l * y;
+                }
+                s -= latest * prev;
             }
+            s /= self.diagonal[i];
+            x[i] = s;
+            prev = s;
+        }
+        let mut next = 0.0;
+        for j in (0..n).rev() {
+            let count = b.min(n - 1 - j);
+            let row = &self.backward[j * b..j * b + count];
+            let mut s = x[j];
+            if let Some((&latest, older)) = row.split_first() {
+                for (l, y) in older.iter().rev().zip(x[j + 2..j + 1 + count].iter().rev()) {
+                    s -= l * y;
+                }
+                s -= latest * next;
+            }
+            s /= self.diagonal[j];
+            x[j] = s;
+            next = s;
+        }
+    }
+}
+
+/// Rows per block of [`BandPairProduct`]: one AVX-512 or two AVX2 registers.
+const BLOCK: usize = 8;
+
+/// y = A x + B z for two symmetric band matrices of equal size and bandwidth (the mass
+/// and stiffness products of a time step), fused in one pass.
+///
+/// The matrices are stored diagonal by diagonal, so that one block of rows takes each
+/// term with the same operations and vectorises across rows; every row still sums its
+/// terms in the order of [`SymBandMatrix::mul_vec`], so the result is bit for bit that
+/// of two `mul_vec` calls and an addition, whatever the vector width. The inputs live in
+/// zero-padded buffers (see [`Self::inputs`]) so that no row needs a bounds branch.
+#[derive(Clone, Debug)]
+pub struct BandPairProduct {
+    n: usize,
+    half_bandwidth: usize,
+    /// Length of one stored diagonal: n rounded up to whole blocks, plus b.
+    stride: usize,
+    /// Diagonal k of A at [k stride, (k + 1) stride): entry i is a_{i, i-k}, zero where
+    /// that lies outside the matrix.
+    a: Vec<f64>,
+    b: Vec<f64>,
+    /// x and z with b zeros before and (rounded n - n + b) zeros after.
+    x: Vec<f64>,
+    z: Vec<f64>,
+    /// Whether the CPU runs the AVX2 build of the kernel (same results, twice the width).
+    wide: bool,
+}
+
+impl BandPairProduct {
+    pub fn new(a: &SymBandMatrix, b: &SymBandMatrix) -> Self {
+        assert_eq!(a.n, b.n);
+        assert_eq!(a.half_bandwidth, b.half_bandwidth);
+        let n = a.n;
+        let hb = a.half_bandwidth;
+        let rows = n.div_ceil(BLOCK) * BLOCK;
+        let stride = rows + hb;
+        let diagonals = |m: &SymBandMatrix| {
+            let mut d = vec![0.0; (hb + 1) * stride];
+            for k in 0..=hb {
+                for i in k..n {
+                    d[k * stride + i] = m.lower[m.index(i, i - k)];
+                }
+            }
+            d
+        };
+        #[cfg(target_arch = "x86_64")]
+        let wide = std::arch::is_x86_feature_detected!("avx2");
+        #[cfg(not(target_arch = "x86_64"))]
+        let wide = false;
+        Self {
+            n,
+            half_bandwidth: hb,
+            stride,
+            a: diagonals(a),
+            b: diagonals(b),
+            x: vec![0.0; stride + hb],
+            z: vec![0.0; stride + hb],
+            wide,
+        }
+    }
+
+    /// The inputs x and z (n entries each) to fill before [`Self::apply`].
+    pub fn inputs(&mut self) -> (&mut [f64], &mut [f64]) {
+        let (hb, n) = (self.half_bandwidth, self.n);
+        (&mut self.x[hb..hb + n], &mut self.z[hb..hb + n])
+    }
+
+    /// y = A x + B z, overwriting y (n entries).
+    pub fn apply(&self, y: &mut [f64]) {
+        assert_eq!(y.len(), self.n);
+        #[cfg(target_arch = "x86_64")]
+        if self.wide {
+            // SAFETY: `wide` is set only when the CPU reports AVX2.
+            unsafe { pair_product_avx2(self, y) };
+            return;
+        }
+        pair_product(self, y);
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn pair_product_avx2(p: &BandPairProduct, y: &mut [f64]) {
+    pair_product(p, y);
+}
+
+#[inline(always)]
+fn pair_product(p: &BandPairProduct, y: &mut [f64]) {
+    let (hb, stride) = (p.half_bandwidth, p.stride);
+    let block = |v: &[f64], at: usize| -> [f64; BLOCK] { v[at..at + BLOCK].try_into().unwrap() };
+    for (c, out) in (0..p.n).step_by(BLOCK).zip(y.chunks_mut(BLOCK)) {
+        let (da, db) = (block(&p.a, c), block(&p.b, c));
+        let (xa, xb) = (block(&p.x, c + hb), block(&p.z, c + hb));
+        let mut sa = [0.0; BLOCK];
+        let mut sb = [0.0; BLOCK];
+        for t in 0..BLOCK {
+            sa[t] = da[t] * xa[t];
+            sb[t] = db[t] * xb[t];
+        }
+        // Lower part, a_ij x_j for j = i - b ... i - 1.
+        for k in (1..=hb).rev() {
+            let (da, db) = (block(&p.a, k * stride + c), block(&p.b, k * stride + c));
+            let (xa, xb) = (block(&p.x, c + hb - k), block(&p.z, c + hb - k));
+            for t in 0..BLOCK {
+                sa[t] += da[t] * xa[t];
+                sb[t] += db[t] * xb[t];
+            }
+        }
+        // Upper part, a_ji x_j for j = i + 1 ... i + b.
+        for k in 1..=hb {
+            let (da, db) = (
+                block(&p.a, k * stride + c + k),
+                block(&p.b, k * stride + c + k),
+            );
+            let (xa, xb) = (block(&p.x, c + hb + k), block(&p.z, c + hb + k));
+            for t in 0..BLOCK {
+                sa[t] += da[t] * xa[t];
+                sb[t] += db[t] * xb[t];
+            }
+        }
+        for (o, (a, b)) in out.iter_mut().zip(sa.iter().zip(&sb)) {
+            *o = a + b;
         }
     }
 }
@@ -225,6 +397,33 @@ impl BandCholesky {
 #[inline]
 pub fn dot(x: &[f64], y: &[f64]) -> f64 {
     x.iter().zip(y).map(|(a, b)| a * b).sum()
+}
+
+/// The dot products of `x` with each of `ys`, each bit for bit equal to [`dot`]. Four
+/// products advance together, one per vector lane: a single running sum is bound by the
+/// latency of its additions, four independent ones are not, and each lane still adds
+/// its terms in the same order.
+pub fn dots(x: &[f64], ys: &[Vec<f64>]) -> Vec<f64> {
+    let mut out = Vec::with_capacity(ys.len());
+    let mut groups = ys.chunks_exact(4);
+    for g in &mut groups {
+        let (y0, y1, y2, y3) = (
+            &g[0][..x.len()],
+            &g[1][..x.len()],
+            &g[2][..x.len()],
+            &g[3][..x.len()],
+        );
+        let mut acc = [0.0; 4];
+        for k in 0..x.len() {
+            let terms = [x[k] * y0[k], x[k] * y1[k], x[k] * y2[k], x[k] * y3[k]];
+            for t in 0..4 {
+                acc[t] += terms[t];
+            }
+        }
+        out.extend_from_slice(&acc);
+    }
+    out.extend(groups.remainder().iter().map(|y| dot(x, y)));
+    out
 }
 
 #[cfg(test)]

@@ -20,7 +20,7 @@
 //!   M (v_{n+1} - v_n) = h (f - C v - K u)_{n+theta} + c P,
 //!   u_{n+1} = u_n + h v_{n+theta}; the tip force acts as an impulse P = h F.
 
-use crate::banded::{BandCholesky, SymBandMatrix};
+use crate::banded::{BandCholesky, BandPairProduct, SymBandMatrix};
 use crate::scene::{CheckedScene, Scheme};
 use crate::structure::{singular, ModelError, StructuralModel};
 
@@ -95,8 +95,8 @@ pub struct Integrator {
     tip_response: Vec<f64>,
     /// c . z: the tip's unknown (displacement or velocity) per unit tip force.
     tip_compliance: f64,
-    scratch_m: Vec<f64>,
-    scratch_k: Vec<f64>,
+    /// M p + K q in one fused pass; p and q are written straight into its inputs.
+    product: BandPairProduct,
     free: Vec<f64>,
 }
 
@@ -166,8 +166,7 @@ impl Integrator {
             factor,
             tip_response,
             tip_compliance,
-            scratch_m: vec![0.0; n],
-            scratch_k: vec![0.0; n],
+            product: BandPairProduct::new(&model.mass, &model.stiffness),
             free: vec![0.0; n],
         })
     }
@@ -186,6 +185,7 @@ impl Integrator {
         let dt = self.dt;
         let (a, b) = (self.mass_damping, self.stiffness_damping);
         let (u, v, acc) = (&state.displacement, &state.velocity, &state.acceleration);
+        let (p, q) = self.product.inputs();
         match self.coefficients {
             Coefficients::GeneralizedAlpha {
                 alpha_m,
@@ -202,27 +202,25 @@ impl Integrator {
                 let c0 = (1.0 - alpha_f) * gamma / (beta * dt);
                 let c1 = (1.0 - alpha_f) * (1.0 - gamma / beta) + alpha_f;
                 let c2 = (1.0 - alpha_f) * dt * (1.0 - gamma / (2.0 * beta));
-                for i in 0..u.len() {
-                    let c_tilde = c0 * u[i] - c1 * v[i] - c2 * acc[i];
-                    self.free[i] = m1 * (u[i] + dt * v[i]) + m2 * acc[i] + a * c_tilde;
-                    self.scratch_k[i] = b * c_tilde - alpha_f * u[i];
+                for ((pi, qi), ((ui, vi), ai)) in
+                    p.iter_mut().zip(q.iter_mut()).zip(u.iter().zip(v).zip(acc))
+                {
+                    let c_tilde = c0 * ui - c1 * vi - c2 * ai;
+                    *pi = m1 * (ui + dt * vi) + m2 * ai + a * c_tilde;
+                    *qi = b * c_tilde - alpha_f * ui;
                 }
             }
             Coefficients::MoreauJean { theta } => {
                 // r = M v (1 - h (1-theta) a) + K (-h u - (h (1-theta) b + h^2 theta (1-theta)) v)
                 let mv = 1.0 - dt * (1.0 - theta) * a;
                 let kv = dt * (1.0 - theta) * b + dt * dt * theta * (1.0 - theta);
-                for i in 0..u.len() {
-                    self.free[i] = mv * v[i];
-                    self.scratch_k[i] = -dt * u[i] - kv * v[i];
+                for ((pi, qi), (ui, vi)) in p.iter_mut().zip(q.iter_mut()).zip(u.iter().zip(v)) {
+                    *pi = mv * vi;
+                    *qi = -dt * ui - kv * vi;
                 }
             }
         }
-        model.mass.mul_vec(&self.free, &mut self.scratch_m);
-        model.stiffness.mul_vec(&self.scratch_k, &mut self.free);
-        for (r, m) in self.free.iter_mut().zip(&self.scratch_m) {
-            *r += m;
-        }
+        self.product.apply(&mut self.free);
         self.factor.solve_in_place(&mut self.free);
         let tip_free = model.tip_value(&self.free);
         let tip_u = model.tip_value(u);
@@ -265,26 +263,32 @@ impl Integrator {
         for (x, z) in self.free.iter_mut().zip(&self.tip_response) {
             *x += impulse_scale * z;
         }
+        let k = state;
         match self.coefficients {
             Coefficients::GeneralizedAlpha { gamma, beta, .. } => {
-                for i in 0..self.free.len() {
-                    let u_new = self.free[i];
-                    let a_new = (u_new - state.displacement[i] - dt * state.velocity[i])
-                        / (beta * dt * dt)
-                        - (0.5 - beta) / beta * state.acceleration[i];
-                    state.velocity[i] +=
-                        dt * ((1.0 - gamma) * state.acceleration[i] + gamma * a_new);
-                    state.acceleration[i] = a_new;
-                    state.displacement[i] = u_new;
+                for (&u_new, ((u, v), a)) in self.free.iter().zip(
+                    k.displacement
+                        .iter_mut()
+                        .zip(k.velocity.iter_mut())
+                        .zip(k.acceleration.iter_mut()),
+                ) {
+                    let a_new =
+                        (u_new - *u - dt * *v) / (beta * dt * dt) - (0.5 - beta) / beta * *a;
+                    *v += dt * ((1.0 - gamma) * *a + gamma * a_new);
+                    *a = a_new;
+                    *u = u_new;
                 }
             }
             Coefficients::MoreauJean { theta } => {
-                for i in 0..self.free.len() {
-                    let v_new = self.free[i];
-                    state.displacement[i] +=
-                        dt * ((1.0 - theta) * state.velocity[i] + theta * v_new);
-                    state.acceleration[i] = (v_new - state.velocity[i]) / dt;
-                    state.velocity[i] = v_new;
+                for (&v_new, ((u, v), a)) in self.free.iter().zip(
+                    k.displacement
+                        .iter_mut()
+                        .zip(k.velocity.iter_mut())
+                        .zip(k.acceleration.iter_mut()),
+                ) {
+                    *u += dt * ((1.0 - theta) * *v + theta * v_new);
+                    *a = (v_new - *v) / dt;
+                    *v = v_new;
                 }
             }
         }

@@ -12,7 +12,7 @@
 //! A final Rayleigh-Ritz step on the basis makes the reduced M = I and
 //! K = diag(omega_i^2), so its matrices are diagonal.
 
-use crate::banded::{dot, SymBandMatrix};
+use crate::banded::{dots, SymBandMatrix};
 use crate::scene::FidelityLevel;
 use crate::structure::{ModelError, StructuralModel};
 use nalgebra::{DMatrix, SymmetricEigen};
@@ -49,8 +49,8 @@ fn gram(a: &SymBandMatrix, x: &[Vec<f64>], y: &[Vec<f64>]) -> DMatrix<f64> {
     let mut g = DMatrix::zeros(x.len(), y.len());
     for (j, yj) in y.iter().enumerate() {
         a.mul_vec(yj, &mut ay);
-        for (i, xi) in x.iter().enumerate() {
-            g[(i, j)] = dot(xi, &ay);
+        for (i, d) in dots(&ay, x).into_iter().enumerate() {
+            g[(i, j)] = d;
         }
     }
     g
@@ -125,7 +125,9 @@ pub fn lowest_modes(model: &StructuralModel, count: usize) -> Result<Modes, Mode
             mx.push(m_x);
             y.push(v);
         }
-        let kr = DMatrix::from_fn(p, p, |i, j| 0.5 * (dot(&y[i], &mx[j]) + dot(&y[j], &mx[i])));
+        let rows: Vec<Vec<f64>> = y.iter().map(|yi| dots(yi, &mx)).collect();
+        let cross = DMatrix::from_fn(p, p, |i, j| rows[i][j]);
+        let kr = DMatrix::from_fn(p, p, |i, j| 0.5 * (cross[(i, j)] + cross[(j, i)]));
         let mr = gram(&model.mass, &y, &y);
         let (values, q) = dense_generalized(&kr, &mr).ok_or(ModelError::Singular {
             matrix: "reduced mass",
