@@ -50,3 +50,7 @@ echo "== System-level co-simulation: coupling error against the monolithic FMU, 
 echo
 echo "== Stick-slip map: Dask sweep of StickSlipBeam.fmu over belt speed (LocalCluster, 2 workers)"
 "$python" python-checks/sweep.py --out "$out"
+echo
+echo "== Speed against accuracy: the study grid, its Pareto front and fidelity = auto on four scenes"
+"$bin" study --out "$out/study" --verify-auto 1e-4,1e-5,1e-6
+"$python" python-checks/study_plot.py "$out/study"

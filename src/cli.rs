@@ -558,13 +558,13 @@ pub fn study(args: &StudyArgs) -> Result<(), String> {
     println!();
     println!("Pareto front (RMS tip-deflection error against wall time), cheapest first:");
     println!();
-    println!("| configuration | dofs | wall (s) | x real time | breakaway (ms) | 1st slip (ms) | period (ms) | corridor (mm) | RMS (mm) |");
+    println!("| configuration | dofs | wall (s) | x real time | breakaway (ms) | 1st slip (ms) | period (ms) | corridor (um) | RMS (um) |");
     println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
-    let ms = |v: Option<f64>| v.map_or("-".into(), |v| format!("{:.2}", v * 1e3));
+    let ms = |v: Option<f64>| v.map_or("-".into(), |v| format!("{:.3}", v * 1e3));
     for row in front(&rows) {
         let e = &row.errors;
         println!(
-            "| {} | {} | {:.4} | {:.0} | {} | {} | {} | {} | {:.4} |",
+            "| {} | {} | {:.4} | {:.0} | {} | {} | {} | {} | {:.3} |",
             row.measured.configuration,
             row.measured.dofs,
             row.measured.seconds,
@@ -572,8 +572,8 @@ pub fn study(args: &StudyArgs) -> Result<(), String> {
             ms(e.breakaway),
             ms(e.first_slip_duration),
             ms(e.period),
-            ms(e.corridor),
-            e.rms * 1e3
+            e.corridor.map_or("-".into(), |v| format!("{:.3}", v * 1e6)),
+            e.rms * 1e6
         );
     }
     println!();
@@ -612,7 +612,7 @@ fn verify_auto(
         base.time.end
     );
     println!();
-    println!("| scene | tolerance (mm) | choice | estimated (mm) | true (mm) | next cheaper | its true error (mm) | calibration (s) | holds |");
+    println!("| scene | tolerance (um) | choice | estimated (um) | true (um) | next cheaper | its true error (um) | calibration (s) | holds |");
     println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     let mut csv = String::from(
         "scene,tolerance_m,choice,estimated_m,true_m,cheaper,cheaper_true_m,calibration_s,holds\n",
@@ -628,15 +628,15 @@ fn verify_auto(
                     let holds = v.holds(tolerance);
                     failures += usize::from(!holds);
                     let (cheaper, cheaper_error) = match v.cheaper {
-                        Some((c, e)) => (c.to_string(), format!("{:.4}", e * 1e3)),
+                        Some((c, e)) => (c.to_string(), format!("{:.3}", e * 1e6)),
                         None => ("(none: the cheapest point)".into(), "-".into()),
                     };
                     println!(
-                        "| {name} | {:.4} | {} | {:.4} | {:.4} | {cheaper} | {cheaper_error} | {:.2} | {} |",
-                        tolerance * 1e3,
+                        "| {name} | {:.3} | {} | {:.3} | {:.3} | {cheaper} | {cheaper_error} | {:.2} | {} |",
+                        tolerance * 1e6,
                         v.choice.configuration,
-                        v.choice.estimated_error * 1e3,
-                        v.true_error * 1e3,
+                        v.choice.estimated_error * 1e6,
+                        v.true_error * 1e6,
                         v.choice.calibration_seconds,
                         if holds { "yes" } else { "NO" }
                     );
@@ -653,8 +653,8 @@ fn verify_auto(
                 Err(reason) => {
                     failures += 1;
                     println!(
-                        "| {name} | {:.4} | refused: {reason} | | | | | | NO |",
-                        tolerance * 1e3
+                        "| {name} | {:.3} | refused: {reason} | | | | | | NO |",
+                        tolerance * 1e6
                     );
                     csv += &format!("{name},{tolerance:e},refused,,,,,,0\n");
                 }
