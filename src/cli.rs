@@ -223,6 +223,8 @@ pub struct Run {
     pub summary: Summary,
     pub seconds: f64,
     pub label: String,
+    /// Degrees of freedom of the structural model.
+    pub dofs: usize,
 }
 
 /// Runs a checked scene to its end time.
@@ -239,6 +241,7 @@ pub fn run_scene(scene: CheckedScene, every: usize) -> Result<Run, String> {
         summary,
         seconds,
         label: format!("{}, {} friction", sim.model().label, sim.law_name()),
+        dofs: sim.model().dofs(),
     })
 }
 

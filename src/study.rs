@@ -217,9 +217,6 @@ pub fn measure(scene: &Scene, configuration: Configuration) -> Result<Measured, 
         )));
     }
     let every = every.round() as usize;
-    let dofs = crate::structure::StructuralModel::build(&checked)
-        .map_err(|e| failed(e.to_string()))?
-        .dofs();
     // Every step is kept so that the summary (corridor, slip detection) does not depend
     // on the time step through its sampling.
     let run = run_scene(checked, 1).map_err(failed)?;
@@ -231,7 +228,7 @@ pub fn measure(scene: &Scene, configuration: Configuration) -> Result<Measured, 
         .collect();
     Ok(Measured {
         configuration,
-        dofs,
+        dofs: run.dofs,
         seconds: run.seconds,
         summary: run.summary,
         tip,

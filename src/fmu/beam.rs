@@ -115,9 +115,9 @@ pub struct StickSlipBeam {
     settings: Settings,
     networks: Networks,
     /// The last `auto` choice: (scene, tolerance, configuration).
-    auto_cache: std::sync::Mutex<Option<(Scene, f64, Configuration)>>,
+    auto_cache: Option<(Scene, f64, Configuration)>,
     /// `auto` choices not yet logged.
-    auto_log: std::sync::Mutex<Vec<String>>,
+    auto_log: Vec<String>,
     running: Option<Running>,
     /// fmi2ExitInitializationMode has built the simulation the steps use.
     initialized: bool,
@@ -130,7 +130,7 @@ impl StickSlipBeam {
     }
 
     fn checked_scene(
-        &self,
+        &mut self,
         start_time: f64,
         stop_time: Option<f64>,
     ) -> Result<CheckedScene, String> {
@@ -156,10 +156,9 @@ impl StickSlipBeam {
 
     /// The `auto` choice for `scene`, computed once per scene and tolerance: the
     /// calibration runs the scene several times.
-    fn auto_choice(&self, scene: &Scene) -> Result<Configuration, String> {
+    fn auto_choice(&mut self, scene: &Scene) -> Result<Configuration, String> {
         let tolerance = self.settings.fidelity_tolerance;
-        let mut cache = self.auto_cache.lock().map_err(|_| "auto cache poisoned")?;
-        if let Some((cached_scene, cached_tolerance, choice)) = cache.as_ref() {
+        if let Some((cached_scene, cached_tolerance, choice)) = &self.auto_cache {
             if cached_scene == scene && *cached_tolerance == tolerance {
                 return Ok(*choice);
             }
@@ -167,10 +166,8 @@ impl StickSlipBeam {
         let front = crate::auto::paper_front()?;
         let choice = crate::auto::choose(scene, tolerance, &front)?;
         self.auto_log
-            .lock()
-            .map_err(|_| "auto log poisoned")?
             .push(crate::auto::describe(&choice, tolerance));
-        *cache = Some((scene.clone(), tolerance, choice.configuration));
+        self.auto_cache = Some((scene.clone(), tolerance, choice.configuration));
         Ok(choice.configuration)
     }
 
@@ -802,8 +799,8 @@ impl Model for StickSlipBeam {
         Self {
             settings: Settings::default(),
             networks: Networks::default(),
-            auto_cache: Default::default(),
-            auto_log: Default::default(),
+            auto_cache: None,
+            auto_log: Vec::new(),
             running: None,
             initialized: false,
         }
@@ -858,10 +855,7 @@ impl Model for StickSlipBeam {
     }
 
     fn take_notes(&mut self) -> Vec<String> {
-        self.auto_log
-            .lock()
-            .map(|mut log| std::mem::take(&mut *log))
-            .unwrap_or_default()
+        std::mem::take(&mut self.auto_log)
     }
 
     fn save(&self) -> serde_json::Value {
