@@ -749,3 +749,31 @@ fn the_beam_reads_a_network_only_for_the_neural_law() {
         assert_eq!(b.model().networks_read(), 1);
     }
 }
+
+/// fidelity.level = auto in the FMU: the choice is made at initialisation, logged in
+/// logEvents, and the instance steps; the parameter reads back as auto (item 4); a
+/// non-positive tolerance is refused when set.
+#[test]
+fn fidelity_auto_chooses_at_initialisation_and_logs_the_choice() {
+    let (mut b, log) = beam(true);
+    let level = vr::<StickSlipBeam>("fidelity.level");
+    let tolerance = vr::<StickSlipBeam>("fidelity.tolerance");
+    assert!(b.set_real(&[tolerance], &[0.0]).is_err());
+    b.reset();
+    b.set_integer(&[level], &[4]).unwrap();
+    b.set_real(&[tolerance], &[1e-4]).unwrap();
+    b.setup_experiment(0.0, Some(0.6)).unwrap();
+    b.enter_initialization_mode().unwrap();
+    b.exit_initialization_mode().unwrap();
+    assert!(
+        logged(&log, "fidelity = auto (tolerance 1e-4 m"),
+        "{:?}",
+        log.lock().unwrap()
+    );
+    let mut read = [0];
+    b.get_integer(&[level], &mut read).unwrap();
+    assert_eq!(read[0], 4);
+    run(&mut b, 0.0, 0.6, 1e-2);
+    // Past breakaway at 0.4 s the tip has slipped back below its 8 mm peak.
+    assert!(tip(&mut b) > 0.0 && tip(&mut b) < 8.1e-3);
+}
