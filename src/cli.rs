@@ -597,6 +597,11 @@ pub fn study(args: &StudyArgs) -> Result<(), String> {
     Ok(())
 }
 
+/// A configuration label as one CSV field (its commas become spaces).
+fn csv_field(label: &str) -> String {
+    label.replace(", ", " ")
+}
+
 /// `study --verify-auto`: on each verification scene and tolerance, the `auto` choice
 /// must meet the tolerance against the scene's reference, and the next cheaper point
 /// of the front must not.
@@ -644,10 +649,11 @@ fn verify_auto(
                         if holds { "yes" } else { "NO" }
                     );
                     csv += &format!(
-                        "{name},{tolerance:e},{},{:e},{:e},{cheaper},{},{:.3},{}\n",
-                        v.choice.configuration,
+                        "{name},{tolerance:e},{},{:e},{:e},{},{},{:.3},{}\n",
+                        csv_field(&v.choice.configuration.to_string()),
                         v.choice.estimated_error,
                         v.true_error,
+                        csv_field(&cheaper),
                         v.cheaper.map_or(String::new(), |(_, e)| format!("{e:e}")),
                         v.choice.calibration_seconds,
                         holds as u8
@@ -665,8 +671,7 @@ fn verify_auto(
         }
     }
     let path = out.join("auto_verification.csv");
-    std::fs::write(&path, csv.replace(", dt", " dt").replace(", ", " "))
-        .map_err(|e| format!("{}: {e}", path.display()))?;
+    std::fs::write(&path, csv).map_err(|e| format!("{}: {e}", path.display()))?;
     println!();
     println!(
         "{failures} of {} cases fail; written to {}",
