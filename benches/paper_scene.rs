@@ -5,7 +5,7 @@
 //! Run: `cargo bench --bench paper_scene`.
 
 use std::time::Instant;
-use stickslip::cli::run_scene;
+use stickslip::run::run_scene;
 use stickslip::scene::{FidelityLevel, Scene};
 use stickslip::structure::StructuralModel;
 

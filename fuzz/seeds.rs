@@ -9,11 +9,11 @@
 //! same files.
 
 use std::path::{Path, PathBuf};
-use stickslip::fmu::beam::StickSlipBeam;
-use stickslip::fmu::friction::NeuralFriction;
-use stickslip::fmu::instance::{Instance, Mode, SavedState};
-use stickslip::fmu::Model;
-use stickslip::neural::csv::{read_csv_file, ColumnSelection};
+use stickslip_fmi::beam::StickSlipBeam;
+use stickslip_fmi::friction::NeuralFriction;
+use stickslip_fmi::instance::{Instance, Mode, SavedState};
+use stickslip_fmi::Model;
+use stickslip_train::csv::{read_csv_file, ColumnSelection};
 use stickslip::neural::weights::LayerWeights;
 use stickslip::neural::{
     Activation, FeatureRole, NeuralLaw, NeuralModel, SyntheticSpec, PAPER_PLAIN_JSON,

@@ -2,7 +2,7 @@
 # Runs an FMI importer loop under valgrind (memcheck) and fails on any invalid read or
 # write, use of uninitialised memory, or definitely lost block.
 #
-# The loop is the ignored test `valgrind_driver_loop` in tests/fmu_threads_resources.rs:
+# The loop is the ignored test `valgrind_driver_loop` in tests/fmu/threads_resources.rs:
 # both FMUs through the C ABI, instantiate -> parameters -> initialise -> steps with
 # reads and writes -> FMU state get/serialize/deserialize/set/free -> an error and the
 # recovery from it -> reset -> free, with a logger, with a NULL logger, and with
@@ -27,9 +27,9 @@ if ! command -v valgrind >/dev/null 2>&1; then
 fi
 valgrind --version
 
-echo "== building the driver (cargo test --release --workspace --no-run --test fmu_threads_resources)"
-bin="$(cargo test --release --workspace --no-run --test fmu_threads_resources --message-format=json \
-  | grep '"name":"fmu_threads_resources"' \
+echo "== building the driver (cargo test --release --workspace --no-run --test fmu)"
+bin="$(cargo test --release --workspace --no-run --test fmu --message-format=json \
+  | grep '"name":"fmu"' \
   | sed -n 's/.*"executable":"\([^"]*\)".*/\1/p' | tail -n 1)"
 if [ -z "$bin" ] || [ ! -x "$bin" ]; then
   echo "could not find the test binary" >&2
@@ -43,7 +43,7 @@ echo "== valgrind $bin (log: $log)"
 set +e
 valgrind --leak-check=full --errors-for-leak-kinds=definite --error-exitcode=1 \
   --log-file="$log" \
-  "$bin" --ignored --exact valgrind_driver_loop --test-threads=1 --nocapture
+  "$bin" --ignored --exact threads_resources::valgrind_driver_loop --test-threads=1 --nocapture
 status=$?
 set -e
 

@@ -19,9 +19,9 @@ use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common};
 use fmi::traits::FmiImport;
 use std::time::{Duration, Instant};
-use stickslip::fmu::FmuKind;
 use stickslip::scene::{CheckedScene, FidelityLevel};
 use stickslip::simulation::Simulator;
+use stickslip_fmi::FmuKind;
 
 const STOP: f64 = 1.2;
 /// Internal step of the paper scene (s).

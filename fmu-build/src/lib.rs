@@ -1,5 +1,5 @@
 //! Packages the FMUs: `modelDescription.xml` (generated from the Rust variable tables),
-//! `binaries/linux64/<modelIdentifier>.so` (the one stickslip cdylib under each
+//! `binaries/linux64/<modelIdentifier>.so` (the one stickslip-fmi cdylib under each
 //! model's name) and `resources/` (the network weights).
 //!
 //! Archives are reproducible: entries in a fixed order with a fixed timestamp.
@@ -8,7 +8,7 @@ use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use stickslip::fmu::FmuKind;
+use stickslip_fmi::FmuKind;
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, DateTime, ZipWriter};
 
@@ -55,24 +55,16 @@ pub fn checked_in_description(kind: FmuKind) -> PathBuf {
 pub fn build_library() -> Result<PathBuf, String> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let status = Command::new(cargo)
-        .args([
-            "build",
-            "--release",
-            "--lib",
-            "-p",
-            "stickslip",
-            "-p",
-            "fmu-build",
-        ])
+        .args(["build", "--release", "--lib", "-p", "stickslip-fmi"])
         .current_dir(workspace_root())
         .status()
         .map_err(|e| format!("cannot run cargo: {e}"))?;
     if !status.success() {
         return Err(format!(
-            "cargo build of the stickslip library failed ({status})"
+            "cargo build of the stickslip-fmi library failed ({status})"
         ));
     }
-    let library = target_dir().join("release").join("libstickslip.so");
+    let library = target_dir().join("release").join("libstickslip_fmi.so");
     if !library.is_file() {
         return Err(format!("{} was not built", library.display()));
     }

@@ -5,7 +5,7 @@
 //! the Rust tables (after an interface change); without it, a drifted copy is an error.
 
 use std::process::ExitCode;
-use stickslip::fmu::FmuKind;
+use stickslip_fmi::FmuKind;
 
 fn run() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();

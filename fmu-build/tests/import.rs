@@ -17,9 +17,9 @@ use fmi::traits::{FmiImport, FmiStatus};
 use std::path::PathBuf;
 use std::sync::{Mutex, Once};
 use stickslip::contact::ContactState;
-use stickslip::fmu::FmuKind;
 use stickslip::scene::{CheckedScene, FidelityLevel};
 use stickslip::simulation::Simulator;
+use stickslip_fmi::FmuKind;
 
 /// Communication step (s).
 const H: f64 = 1e-3;

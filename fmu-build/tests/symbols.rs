@@ -3,7 +3,7 @@
 
 use std::collections::BTreeSet;
 use std::io::Read;
-use stickslip::fmu::FmuKind;
+use stickslip_fmi::FmuKind;
 
 const FMI2_FUNCTIONS: [&str; 34] = [
     "fmi2GetTypesPlatform",
@@ -115,7 +115,7 @@ fn binaries_export_exactly_the_fmi2_functions() {
 fn packaging_is_reproducible() {
     let library = fmu_build::target_dir()
         .join("release")
-        .join("libstickslip.so");
+        .join("libstickslip_fmi.so");
     let dir = std::env::temp_dir().join(format!("stickslip-repro-{}", std::process::id()));
     let first = fmu_build::package(FmuKind::NeuralFriction, &library, &dir.join("a")).unwrap();
     let second = fmu_build::package(FmuKind::NeuralFriction, &library, &dir.join("b")).unwrap();

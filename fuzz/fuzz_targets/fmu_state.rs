@@ -20,11 +20,11 @@
 use libfuzzer_sys::fuzz_target;
 use serde_json::Value;
 use std::cell::RefCell;
-use stickslip::fmu::beam::StickSlipBeam;
-use stickslip::fmu::friction::NeuralFriction;
-use stickslip::fmu::instance::{Instance, Mode, SavedState};
-use stickslip::fmu::variables::BaseType;
-use stickslip::fmu::Model;
+use stickslip_fmi::beam::StickSlipBeam;
+use stickslip_fmi::friction::NeuralFriction;
+use stickslip_fmi::instance::{Instance, Mode, SavedState};
+use stickslip_fmi::variables::BaseType;
+use stickslip_fmi::Model;
 use stickslip::scene::Scene;
 use stickslip_fuzz::{fmu_scene_is_cheap, resources, weights_name_stays_in_resources};
 
@@ -66,7 +66,7 @@ fn exercise(fmus: &mut Fmus, data: &[u8]) {
     if !affordable(&state.model) {
         return;
     }
-    let friction_guid = stickslip::fmu::FmuKind::NeuralFriction.guid();
+    let friction_guid = stickslip_fmi::FmuKind::NeuralFriction.guid();
     if state.guid == friction_guid {
         drive(&mut fmus.friction, &state);
     } else {

@@ -16,7 +16,8 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use stickslip::cli::{friction_law, SceneArgs};
+use stickslip::run::friction_law;
+use stickslip_cli::simulate::SceneArgs;
 use stickslip::scene::Scene;
 use stickslip::simulation::Simulator;
 use stickslip_fuzz::{cheap_to_build, scratch_file};

@@ -17,9 +17,9 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use stickslip::neural::cli::{load_split, DataArgs};
-use stickslip::neural::csv::{read_csv_file, ColumnSelection};
-use stickslip::neural::train::DataSource;
+use stickslip_cli::train::{load_split, DataArgs};
+use stickslip_train::csv::{read_csv_file, ColumnSelection};
+use stickslip_train::train::DataSource;
 use stickslip::neural::{train, Dataset, FeatureRole, TrainConfig, Variant};
 use stickslip_fuzz::scratch_file;
 

@@ -1,0 +1,53 @@
+//! `stickslip`: the command line of the stick-slip beam simulator.
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "stickslip",
+    version,
+    about = "Stick-slip cantilever beam with analytical or neural friction"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a stick-slip scene (default: the paper's) and print its summary.
+    Simulate(stickslip_cli::simulate::SimulateArgs),
+    /// Static tip-load check against Euler-Bernoulli, or the mesh-convergence table.
+    Static(stickslip_cli::simulate::StaticArgs),
+    /// Train the neural friction law (paper data by default) and write its weights file.
+    Train(stickslip_cli::train::TrainArgs),
+    /// Speed against accuracy: the paper scene over a grid of fidelity levels, time
+    /// steps and integrators, with errors against a converged reference and the Pareto
+    /// front.
+    Study(stickslip_cli::simulate::StudyArgs),
+    /// Hyperparameter grid search with k-fold cross-validation for the neural law.
+    Search(stickslip_cli::train::SearchArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Simulate(args) => stickslip_cli::simulate::simulate(args),
+        Command::Static(args) => stickslip_cli::simulate::static_check(args),
+        Command::Study(args) => stickslip_cli::simulate::study(args),
+        Command::Train(args) => stickslip_cli::train::run_train(args)
+            .map(|_| ())
+            .map_err(|e| e.to_string()),
+        Command::Search(args) => stickslip_cli::train::run_search(args)
+            .map(|_| ())
+            .map_err(|e| e.to_string()),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}

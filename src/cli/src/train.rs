@@ -1,0 +1,333 @@
+//! The `stickslip train` and `stickslip search` commands (argument structs and handlers
+//! live here so that the binary only dispatches).
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+
+use stickslip::choice::Choice;
+use stickslip::neural::{Activation, NeuralError, SyntheticSpec, Variant};
+use stickslip_train::csv::{read_csv_file, ColumnSelection};
+use stickslip_train::data::{Split, Synthetic, NORMAL_FORCE, SLIDING_VELOCITY};
+use stickslip_train::search::{format_table, grid_search, SearchConfig, SearchRow};
+use stickslip_train::train::{
+    train, DataSource, HistoryRecord, TrainConfig, TrainReport, DEFAULT_ITERATIONS, DEFAULT_LAMBDA,
+    DEFAULT_SEED,
+};
+
+/// Where the training data come from (shared by `train` and `search`).
+#[derive(clap::Args, Debug, Clone, PartialEq)]
+pub struct DataArgs {
+    /// Measured data: CSV with a header of names, optionally `name[unit]`. Without it
+    /// the paper's synthetic data set is generated.
+    #[arg(long, value_name = "FILE.csv")]
+    pub data: Option<PathBuf>,
+    /// Feature columns of --data, comma-separated, in the order the network sees them.
+    #[arg(long, value_delimiter = ',', value_name = "A,B,...")]
+    pub features: Vec<String>,
+    /// Target column of --data.
+    #[arg(long, value_name = "NAME")]
+    pub target: Option<String>,
+    /// Feature holding the signed sliding velocity (default: `sliding_velocity` if it is
+    /// a feature). Needed by the signed variant and the beam.
+    #[arg(long, value_name = "NAME")]
+    pub velocity_feature: Option<String>,
+    /// Feature holding the normal force (default: `normal_force` if it is a feature).
+    #[arg(long, value_name = "NAME")]
+    pub normal_force_feature: Option<String>,
+    /// Share of the samples held out as the test set.
+    #[arg(long, default_value_t = 0.3)]
+    pub test_fraction: f64,
+    /// Synthetic data: number of samples N (paper: 5000).
+    #[arg(long, default_value_t = 5000)]
+    pub samples: usize,
+    /// Seed of data generation, split, folds and initial weights.
+    #[arg(long, default_value_t = DEFAULT_SEED)]
+    pub seed: u64,
+}
+
+/// `stickslip train`.
+#[derive(clap::Args, Debug, Clone, PartialEq)]
+pub struct TrainArgs {
+    #[command(flatten)]
+    pub data: DataArgs,
+    /// L-BFGS iteration limit.
+    #[arg(long, default_value_t = DEFAULT_ITERATIONS)]
+    pub iterations: usize,
+    /// L2 penalty lambda on the weights: loss = MSE + lambda/2 ||W||^2 (see neural::train).
+    #[arg(long, default_value_t = DEFAULT_LAMBDA)]
+    pub lambda: f64,
+    /// plain: the paper's network F(v, F_n); signed: F = sign(v) g(|v|, F_n).
+    #[arg(long, value_parser = crate::choice::parser::<Variant>(), default_value = "plain")]
+    pub variant: Variant,
+    /// Hidden-layer activation.
+    #[arg(long, value_parser = crate::choice::parser::<Activation>(), default_value = "tanh")]
+    pub activation: Activation,
+    /// Hidden layer widths, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "100,100,100")]
+    pub layers: Vec<usize>,
+    /// Batch blocks (threads). Part of the reproducibility: a different value changes
+    /// rounding and so the weights.
+    #[arg(long, default_value_t = 2)]
+    pub threads: usize,
+    /// Output weights file (JSON).
+    #[arg(long, value_name = "FILE.json")]
+    pub out: PathBuf,
+    /// Training report (JSON): metrics, iterations, seconds and the history.
+    #[arg(long, value_name = "FILE.json")]
+    pub report: Option<PathBuf>,
+    /// Training history (CSV): loss per iteration.
+    #[arg(long, value_name = "FILE.csv")]
+    pub history: Option<PathBuf>,
+    /// Write the exact train/test split as DIR/train.csv and DIR/test.csv.
+    #[arg(long, value_name = "DIR")]
+    pub export_data: Option<PathBuf>,
+    /// No progress line even on a terminal.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `stickslip search`.
+#[derive(clap::Args, Debug, Clone, PartialEq)]
+pub struct SearchArgs {
+    #[command(flatten)]
+    pub data: DataArgs,
+    /// Numbers of hidden layers to try.
+    #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
+    pub depths: Vec<usize>,
+    /// Hidden layer widths to try.
+    #[arg(long, value_delimiter = ',', default_value = "10,50,100")]
+    pub widths: Vec<usize>,
+    /// lambda values to try.
+    #[arg(long, value_delimiter = ',', default_value = "0.0004,0.004,0.04")]
+    pub lambdas: Vec<f64>,
+    /// k of k-fold cross-validation.
+    #[arg(long, default_value_t = 5)]
+    pub folds: usize,
+    /// L-BFGS iterations per fit (reduced: this is a study).
+    #[arg(long, default_value_t = 60)]
+    pub iterations: usize,
+    #[arg(long, value_parser = crate::choice::parser::<Variant>(), default_value = "plain")]
+    pub variant: Variant,
+    #[arg(long, value_parser = crate::choice::parser::<Activation>(), default_value = "tanh")]
+    pub activation: Activation,
+    /// Folds trained in parallel.
+    #[arg(long, default_value_t = 2)]
+    pub threads: usize,
+    /// Also write the table as JSON.
+    #[arg(long, value_name = "FILE.json")]
+    pub out: Option<PathBuf>,
+}
+
+/// Loads or generates the data and splits it.
+pub fn load_split(args: &DataArgs) -> Result<(Split, DataSource), NeuralError> {
+    match &args.data {
+        None => {
+            if !args.features.is_empty() || args.target.is_some() {
+                return Err(NeuralError::InvalidInput(
+                    "--features and --target select columns of --data; give --data FILE.csv".into(),
+                ));
+            }
+            let spec = SyntheticSpec {
+                samples: args.samples,
+                test_fraction: args.test_fraction,
+                ..SyntheticSpec::default()
+            };
+            let split = spec.generate_split(args.seed)?;
+            Ok((
+                split,
+                DataSource {
+                    description: "synthetic (Vater et al. 2023, Sec. 3.1)".into(),
+                    synthetic: Some(spec),
+                    seed: args.seed,
+                    test_fraction: args.test_fraction,
+                },
+            ))
+        }
+        Some(path) => {
+            let target = args.target.clone().ok_or_else(|| {
+                NeuralError::InvalidInput("--data needs --target NAME (the force column)".into())
+            })?;
+            if args.features.is_empty() {
+                return Err(NeuralError::InvalidInput(
+                    "--data needs --features A,B,... (the input columns)".into(),
+                ));
+            }
+            let default_role = |given: &Option<String>, name: &str| {
+                given.clone().or_else(|| {
+                    args.features
+                        .iter()
+                        .any(|f| f == name)
+                        .then(|| name.to_string())
+                })
+            };
+            let selection = ColumnSelection {
+                features: args.features.clone(),
+                target,
+                sliding_velocity: default_role(&args.velocity_feature, SLIDING_VELOCITY),
+                normal_force: default_role(&args.normal_force_feature, NORMAL_FORCE),
+            };
+            let data = read_csv_file(path, &selection)?;
+            let split = data.split(args.test_fraction, args.seed)?;
+            Ok((
+                split,
+                DataSource {
+                    description: path.file_name().map_or_else(
+                        || path.display().to_string(),
+                        |n| n.to_string_lossy().into_owned(),
+                    ),
+                    synthetic: None,
+                    seed: args.seed,
+                    test_fraction: args.test_fraction,
+                },
+            ))
+        }
+    }
+}
+
+fn write_file(path: &Path, text: &str) -> Result<(), NeuralError> {
+    std::fs::write(path, text).map_err(|e| NeuralError::io("cannot write", path, e))
+}
+
+/// Fails early (before minutes of training) if an output file's directory is missing.
+fn check_output_directory(path: &Path) -> Result<(), NeuralError> {
+    match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() && !dir.is_dir() => Err(NeuralError::io(
+            "cannot write",
+            path,
+            std::io::Error::new(std::io::ErrorKind::NotFound, "its directory does not exist"),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// Runs `stickslip train`; returns the report.
+pub fn run_train(args: &TrainArgs) -> Result<TrainReport, NeuralError> {
+    for path in [Some(&args.out), args.report.as_ref(), args.history.as_ref()]
+        .into_iter()
+        .flatten()
+    {
+        check_output_directory(path)?;
+    }
+    let (split, source) = load_split(&args.data)?;
+    if let Some(dir) = &args.export_data {
+        std::fs::create_dir_all(dir).map_err(|e| NeuralError::io("cannot create", dir, e))?;
+        split.train.write_csv(&dir.join("train.csv"))?;
+        split.test.write_csv(&dir.join("test.csv"))?;
+    }
+    let config = TrainConfig {
+        hidden_layers: args.layers.clone(),
+        activation: args.activation,
+        variant: args.variant,
+        lambda: args.lambda,
+        max_iterations: args.iterations,
+        seed: args.data.seed,
+        blocks: args.threads.max(1),
+        ..TrainConfig::default()
+    };
+    let progress = !args.quiet && std::io::stderr().is_terminal();
+    let max_iterations = args.iterations;
+    let (model, report) = train(&split, &config, &source, |h: &HistoryRecord| {
+        if progress {
+            eprint!(
+                "\r  iteration {:>5}/{max_iterations}  objective {:.6e}  MSE train {:>10.4}  MSE test {:>10.4}",
+                h.iteration, h.objective, h.mse_train, h.mse_test
+            );
+            let _ = std::io::stderr().flush();
+        }
+    })?;
+    if progress {
+        eprintln!();
+    }
+    model.save(&args.out)?;
+    if let Some(path) = &args.report {
+        let text = serde_json::to_string_pretty(&report).map_err(|e| NeuralError::Json {
+            source_name: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        write_file(path, &(text + "\n"))?;
+    }
+    if let Some(path) = &args.history {
+        write_file(path, &report.history_csv())?;
+    }
+    let unit = if model.target.unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {}^2", model.target.unit)
+    };
+    let sizes: Vec<String> = report.layer_sizes.iter().map(usize::to_string).collect();
+    println!(
+        "trained {:?} {} {} (lambda {}, seed {}) on {}: {} iterations ({:?}), {} evaluations, {:.1} s",
+        report.variant,
+        sizes.join("-"),
+        args.activation.name(),
+        report.lambda,
+        report.seed,
+        source.description,
+        report.iterations,
+        report.stop_reason,
+        report.evaluations,
+        report.seconds
+    );
+    println!(
+        "  train ({:>5} samples): MSE {:.4}{unit}  R2 {:.5}",
+        report.train_samples, report.mse_train, report.r2_train
+    );
+    println!(
+        "  test  ({:>5} samples): MSE {:.4}{unit}  R2 {:.5}",
+        report.test_samples, report.mse_test, report.r2_test
+    );
+    println!("  wrote {}", args.out.display());
+    Ok(report)
+}
+
+/// Runs `stickslip search`; prints the table and returns its rows.
+pub fn run_search(args: &SearchArgs) -> Result<Vec<SearchRow>, NeuralError> {
+    let (split, source) = load_split(&args.data)?;
+    let config = SearchConfig {
+        depths: args.depths.clone(),
+        widths: args.widths.clone(),
+        lambdas: args.lambdas.clone(),
+        folds: args.folds,
+        base: TrainConfig {
+            activation: args.activation,
+            variant: args.variant,
+            max_iterations: args.iterations,
+            seed: args.data.seed,
+            blocks: 1,
+            ..TrainConfig::default()
+        },
+        threads: args.threads,
+    };
+    println!(
+        "grid search, {}-fold CV on the {} training samples of {} ({} iterations per fit)",
+        args.folds,
+        split.train.len(),
+        source.description,
+        args.iterations
+    );
+    let progress = std::io::stderr().is_terminal();
+    let total = config.depths.len() * config.widths.len() * config.lambdas.len();
+    let mut done = 0;
+    let rows = grid_search(&split.train, &config, |row| {
+        done += 1;
+        if progress {
+            eprint!(
+                "\r  {done}/{total}: depth {} width {} lambda {} -> CV MSE {:.4}   ",
+                row.depth, row.width, row.lambda, row.mse_mean
+            );
+            let _ = std::io::stderr().flush();
+        }
+    })?;
+    if progress {
+        eprintln!();
+    }
+    print!("{}", format_table(&rows, &split.train.target.unit));
+    if let Some(path) = &args.out {
+        let text = serde_json::to_string_pretty(&rows).map_err(|e| NeuralError::Json {
+            source_name: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        write_file(path, &(text + "\n"))?;
+    }
+    Ok(rows)
+}

@@ -1,0 +1,411 @@
+//! NeuralFriction: the friction law alone, as an FMU to couple with StickSlipBeam (or
+//! anything else that needs a friction force).
+//!
+//! The outputs follow the inputs directly (no state): they are evaluated when read. A
+//! network's features are filled by role: the one with role sliding_velocity from
+//! `sliding_velocity`, normal_force from `normal_force`, and any further features, in
+//! the order the weights file lists them, from `extra_feature[1]` ... `extra_feature[4]`.
+//! Inputs are clamped to the network's training range (see `neural`).
+
+use crate::networks::{weights_name, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
+use crate::variables::{Access, Causality, EnumerationType, Variability, Variable};
+use crate::{Model, ModelInfo};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use stickslip::friction::{ExponentialLaw, FrictionLaw};
+use stickslip::scene::Scene;
+
+/// How many features beyond velocity and normal force a network may have.
+pub const EXTRA_FEATURES: usize = 4;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum LawChoice {
+    Neural,
+    Exponential,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Settings {
+    law: LawChoice,
+    static_coefficient: f64,
+    kinetic_coefficient: f64,
+    decay: f64,
+    weights: String,
+    sliding_velocity: f64,
+    normal_force: f64,
+    extra_features: [f64; EXTRA_FEATURES],
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        let scene = Scene::default();
+        Self {
+            law: LawChoice::Neural,
+            static_coefficient: scene.friction.static_coefficient,
+            kinetic_coefficient: scene.friction.kinetic_coefficient,
+            decay: scene.friction.decay,
+            weights: DEFAULT_WEIGHTS.into(),
+            sliding_velocity: 0.0,
+            normal_force: scene.loading.normal_force,
+            extra_features: [0.0; EXTRA_FEATURES],
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Outputs {
+    force: f64,
+    coefficient: f64,
+    static_limit: f64,
+}
+
+pub struct NeuralFriction {
+    settings: Settings,
+    networks: Networks,
+    outputs: Outputs,
+    scratch: Vec<f64>,
+}
+
+impl NeuralFriction {
+    /// Checks the analytical parameters with the scene's rules and messages.
+    fn check(&self) -> Result<(), String> {
+        let mut scene = Scene::default();
+        let s = &self.settings;
+        scene.friction.static_coefficient = s.static_coefficient;
+        scene.friction.kinetic_coefficient = s.kinetic_coefficient;
+        scene.friction.decay = s.decay;
+        scene.loading.normal_force = s.normal_force;
+        scene.check().map(|_| ()).map_err(|e| e.to_string())
+    }
+
+    fn evaluate(&mut self) -> Result<Outputs, String> {
+        let s = self.settings.clone();
+        let force = match s.law {
+            LawChoice::Exponential => ExponentialLaw {
+                static_coefficient: s.static_coefficient,
+                kinetic_coefficient: s.kinetic_coefficient,
+                decay: s.decay,
+            }
+            .sliding_force(s.sliding_velocity, s.normal_force),
+            LawChoice::Neural => {
+                let mut features = std::mem::take(&mut self.scratch);
+                let network = self.networks.get(&s.weights)?;
+                let model = network.model();
+                let velocity =
+                    model.feature_with_role(stickslip::neural::FeatureRole::SlidingVelocity);
+                let normal = model.feature_with_role(stickslip::neural::FeatureRole::NormalForce);
+                features.clear();
+                let mut extra = 0;
+                for k in 0..model.features.len() {
+                    if Some(k) == velocity {
+                        features.push(s.sliding_velocity);
+                    } else if Some(k) == normal {
+                        features.push(s.normal_force);
+                    } else if extra < EXTRA_FEATURES {
+                        features.push(s.extra_features[extra]);
+                        extra += 1;
+                    } else {
+                        return Err(format!(
+                            "weights {} have more than {EXTRA_FEATURES} features besides sliding velocity and normal force",
+                            s.weights
+                        ));
+                    }
+                }
+                let force = network
+                    .evaluate(&features)
+                    .map_err(|e| format!("weights {}: {e}", s.weights));
+                self.scratch = features;
+                force?
+            }
+        };
+        let outputs = Outputs {
+            force,
+            coefficient: if s.normal_force > 0.0 {
+                force.abs() / s.normal_force
+            } else {
+                0.0
+            },
+            static_limit: s.static_coefficient * s.normal_force,
+        };
+        if ![outputs.force, outputs.coefficient, outputs.static_limit]
+            .iter()
+            .all(|x| x.is_finite())
+        {
+            return Err(format!(
+                "the outputs are not finite at sliding_velocity = {} m/s, normal_force = {} N (force {}, coefficient {}, static limit {})",
+                s.sliding_velocity, s.normal_force, outputs.force, outputs.coefficient, outputs.static_limit
+            ));
+        }
+        Ok(outputs)
+    }
+}
+
+pub static LAW_CHOICE: EnumerationType = EnumerationType {
+    name: "FrictionLaw",
+    description: "Which law gives the friction force",
+    items: &[
+        ("neural", "the network in weights"),
+        (
+            "exponential",
+            "mu(v) = mu_k + (mu_s - mu_k) exp(-alpha |v|) (paper, Eq. 6)",
+        ),
+    ],
+};
+
+macro_rules! parameter {
+    ($vr:expr, $name:expr, $unit:expr, $description:expr, $field:ident) => {
+        Variable {
+            name: $name,
+            value_reference: $vr,
+            causality: Causality::Parameter,
+            variability: Variability::Fixed,
+            description: $description,
+            access: Access::Real {
+                unit: $unit,
+                get: |m: &NeuralFriction| m.settings.$field,
+                set: Some(|m: &mut NeuralFriction, v: f64| {
+                    m.settings.$field = v;
+                    Ok(())
+                }),
+            },
+        }
+    };
+}
+
+macro_rules! input {
+    ($vr:expr, $name:expr, $unit:expr, $description:expr, |$m:ident| $field:expr) => {
+        Variable {
+            name: $name,
+            value_reference: $vr,
+            causality: Causality::Input,
+            variability: Variability::Continuous,
+            description: $description,
+            access: Access::Real {
+                unit: $unit,
+                get: |$m: &NeuralFriction| $field,
+                set: Some(|$m: &mut NeuralFriction, v: f64| {
+                    $field = v;
+                    Ok(())
+                }),
+            },
+        }
+    };
+}
+
+macro_rules! output {
+    ($vr:expr, $name:expr, $unit:expr, $description:expr, |$o:ident| $value:expr) => {
+        Variable {
+            name: $name,
+            value_reference: $vr,
+            causality: Causality::Output,
+            variability: Variability::Continuous,
+            description: $description,
+            access: Access::Real {
+                unit: $unit,
+                get: |m: &NeuralFriction| {
+                    let $o = &m.outputs;
+                    $value
+                },
+                set: None,
+            },
+        }
+    };
+}
+
+static VARIABLES: &[Variable<NeuralFriction>] = &[
+    Variable {
+        name: "law",
+        value_reference: 1,
+        causality: Causality::Parameter,
+        variability: Variability::Fixed,
+        description: "Friction law: the network, or the analytical law for comparison",
+        access: Access::Enumeration {
+            kind: &LAW_CHOICE,
+            get: |m: &NeuralFriction| LAW_CHOICE.value_of(&m.settings.law),
+            set: Some(|m: &mut NeuralFriction, v: i32| {
+                m.settings.law = LAW_CHOICE.parse(v)?;
+                Ok(())
+            }),
+        },
+    },
+    parameter!(
+        2,
+        "static_coefficient",
+        None,
+        "Static coefficient mu_s (static limit; exponential law)",
+        static_coefficient
+    ),
+    parameter!(
+        3,
+        "kinetic_coefficient",
+        None,
+        "Kinetic coefficient mu_k (exponential law)",
+        kinetic_coefficient
+    ),
+    parameter!(
+        4,
+        "decay",
+        Some("s/m"),
+        "Decay alpha (exponential law)",
+        decay
+    ),
+    Variable {
+        name: "weights",
+        value_reference: 5,
+        causality: Causality::Parameter,
+        variability: Variability::Fixed,
+        description: "Network weights: a file in resources/ or an absolute path",
+        access: Access::String {
+            get: |m: &NeuralFriction| m.settings.weights.clone(),
+            set: Some(|m: &mut NeuralFriction, v: &str| {
+                m.settings.weights = weights_name(v)?;
+                Ok(())
+            }),
+        },
+    },
+    input!(
+        10,
+        "sliding_velocity",
+        Some("m/s"),
+        "Sliding velocity v_rel = v_b - v_tip",
+        |m| m.settings.sliding_velocity
+    ),
+    Variable {
+        name: "normal_force",
+        value_reference: 11,
+        causality: Causality::Input,
+        variability: Variability::Continuous,
+        description: "Normal force F_n",
+        access: Access::Real {
+            unit: Some("N"),
+            get: |m: &NeuralFriction| m.settings.normal_force,
+            set: Some(|m: &mut NeuralFriction, v: f64| {
+                if v < 0.0 {
+                    return Err(format!("{v} must be >= 0"));
+                }
+                m.settings.normal_force = v;
+                Ok(())
+            }),
+        },
+    },
+    input!(
+        12,
+        "extra_feature[1]",
+        None,
+        "First network feature besides velocity and normal force, if any",
+        |m| m.settings.extra_features[0]
+    ),
+    input!(
+        13,
+        "extra_feature[2]",
+        None,
+        "Second further network feature, if any",
+        |m| m.settings.extra_features[1]
+    ),
+    input!(
+        14,
+        "extra_feature[3]",
+        None,
+        "Third further network feature, if any",
+        |m| m.settings.extra_features[2]
+    ),
+    input!(
+        15,
+        "extra_feature[4]",
+        None,
+        "Fourth further network feature, if any",
+        |m| m.settings.extra_features[3]
+    ),
+    output!(
+        20,
+        "friction_force",
+        Some("N"),
+        "Kinetic friction force, signed: positive for positive sliding velocity",
+        |o| o.force
+    ),
+    output!(
+        21,
+        "friction_force_magnitude",
+        Some("N"),
+        "Magnitude of the kinetic friction force",
+        |o| o.force.abs()
+    ),
+    output!(
+        22,
+        "friction_coefficient",
+        None,
+        "|friction_force| / normal_force (0 when normal_force = 0)",
+        |o| o.coefficient
+    ),
+    output!(
+        23,
+        "static_limit",
+        Some("N"),
+        "Static limit mu_s F_n",
+        |o| o.static_limit
+    ),
+];
+
+impl Model for NeuralFriction {
+    const INFO: ModelInfo = ModelInfo {
+        model_identifier: "NeuralFriction",
+        description: "Kinetic friction force from a trained neural network (or the analytical law), for coupling with StickSlipBeam",
+        start_time: 0.0,
+        stop_time: 1.2,
+        step_size: 1e-3,
+        resources: WEIGHTS_RESOURCES,
+    };
+
+    fn variables() -> &'static [Variable<Self>] {
+        VARIABLES
+    }
+
+    fn with_defaults() -> Self {
+        Self {
+            settings: Settings::default(),
+            networks: Networks::default(),
+            outputs: Outputs::default(),
+            scratch: Vec::new(),
+        }
+    }
+
+    fn load_resources(&mut self, resources: &Path) -> Result<(), String> {
+        self.networks.open_and_read_default(resources)
+    }
+
+    fn reset(&mut self) {
+        self.settings = Settings::default();
+        self.outputs = Outputs::default();
+    }
+
+    fn refresh_outputs(&mut self, _start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
+        self.outputs = self.evaluate()?;
+        Ok(())
+    }
+
+    fn initialize(&mut self, _start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
+        self.check()?;
+        self.outputs = self.evaluate()?;
+        Ok(())
+    }
+
+    fn do_step(&mut self, _from: f64, _to: f64, _events: &mut Vec<String>) -> Result<(), String> {
+        self.outputs = self.evaluate()?;
+        Ok(())
+    }
+
+    fn save(&self) -> serde_json::Value {
+        serde_json::to_value(&self.settings).unwrap_or(serde_json::Value::Null)
+    }
+
+    fn restore(&mut self, saved: serde_json::Value, _time: f64) -> Result<(), String> {
+        let settings: Settings = serde_json::from_value(saved)
+            .map_err(|e| format!("saved NeuralFriction state is malformed: {e}"))?;
+        // Plain data: the outputs are evaluated when next read, so a state saved before
+        // its parameters were checked restores too.
+        self.settings = settings;
+        Ok(())
+    }
+}

@@ -1,0 +1,285 @@
+//! modelDescription.xml, generated from a model's variable table (FMI 2.0 standard,
+//! section 2.2). The copies in `modelDescription/` are checked in and a test keeps them
+//! equal to what this writes.
+//!
+//! - Start values are read from `Model::with_defaults()`, so they are the defaults the
+//!   Rust code uses.
+//! - Outputs are `initial="calculated"`; ModelStructure lists every output under
+//!   `Outputs` and under `InitialUnknowns` (no calculated parameters, no states).
+//! - No generation date, so that the file is reproducible byte for byte.
+
+use crate::variables::{Access, Causality, EnumerationType, Variability, UNITS};
+use crate::Model;
+use std::fmt::Write;
+
+/// The log categories every FMU declares, in modelDescription order.
+pub const LOG_CATEGORIES: [(&str, &str); 4] = [
+    (
+        "logStatusError",
+        "Why a call returned fmi2Error (on unless logging is switched off)",
+    ),
+    ("logStatusWarning", "Why a call returned fmi2Warning"),
+    (
+        "logEvents",
+        "Stick/slip transitions, the communication steps that contain them, and the fidelity = auto choice",
+    ),
+    ("logCalls", "Every FMI function call with its arguments"),
+];
+
+/// Escapes text for an XML attribute.
+fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            _ => out.push(c),
+        }
+    }
+    out
+}
+
+/// A Real as xs:double: Rust's shortest representation that reads back exactly.
+fn real(value: f64) -> String {
+    format!("{value:?}")
+}
+
+/// The enumeration types the table uses, in first-use order.
+fn enumeration_types<M: Model>() -> Vec<&'static EnumerationType> {
+    let mut types: Vec<&'static EnumerationType> = Vec::new();
+    for v in M::variables() {
+        if let Access::Enumeration { kind, .. } = &v.access {
+            if !types.iter().any(|t| t.name == kind.name) {
+                types.push(kind);
+            }
+        }
+    }
+    types
+}
+
+fn body<M: Model>(guid: &str) -> String {
+    let info = &M::INFO;
+    let defaults = M::with_defaults();
+    let variables = M::variables();
+    let mut x = String::new();
+    let w = &mut x;
+    // Writing to a String cannot fail.
+    let _ = writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+    let _ = writeln!(
+        w,
+        r#"<fmiModelDescription fmiVersion="2.0" modelName="{}" guid="{}" description="{}" generationTool="stickslip {}" variableNamingConvention="structured" numberOfEventIndicators="0">"#,
+        info.model_identifier,
+        guid,
+        escape(info.description),
+        env!("CARGO_PKG_VERSION")
+    );
+    let _ = writeln!(
+        w,
+        r#"  <CoSimulation modelIdentifier="{}" needsExecutionTool="false" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" providesDirectionalDerivative="false"/>"#,
+        info.model_identifier
+    );
+
+    let _ = writeln!(w, "  <UnitDefinitions>");
+    for unit in UNITS.iter().filter(|u| {
+        variables
+            .iter()
+            .any(|v| matches!(v.access, Access::Real { unit: Some(name), .. } if name == u.name))
+    }) {
+        let mut exponents = String::new();
+        for (base, exponent) in [("kg", unit.kg), ("m", unit.m), ("s", unit.s)] {
+            if exponent != 0 {
+                let _ = write!(exponents, r#" {base}="{exponent}""#);
+            }
+        }
+        let _ = writeln!(
+            w,
+            r#"    <Unit name="{}"><BaseUnit{exponents}/></Unit>"#,
+            escape(unit.name)
+        );
+    }
+    let _ = writeln!(w, "  </UnitDefinitions>");
+
+    let types = enumeration_types::<M>();
+    if !types.is_empty() {
+        let _ = writeln!(w, "  <TypeDefinitions>");
+        for t in &types {
+            let _ = writeln!(
+                w,
+                r#"    <SimpleType name="{}" description="{}">"#,
+                t.name,
+                escape(t.description)
+            );
+            let _ = writeln!(w, "      <Enumeration>");
+            for (k, (name, description)) in t.items.iter().enumerate() {
+                let _ = writeln!(
+                    w,
+                    r#"        <Item name="{}" value="{}" description="{}"/>"#,
+                    escape(name),
+                    k + 1,
+                    escape(description)
+                );
+            }
+            let _ = writeln!(w, "      </Enumeration>");
+            let _ = writeln!(w, "    </SimpleType>");
+        }
+        let _ = writeln!(w, "  </TypeDefinitions>");
+    }
+
+    let _ = writeln!(w, "  <LogCategories>");
+    for (name, description) in LOG_CATEGORIES {
+        let _ = writeln!(
+            w,
+            r#"    <Category name="{name}" description="{}"/>"#,
+            escape(description)
+        );
+    }
+    let _ = writeln!(w, "  </LogCategories>");
+    let _ = writeln!(
+        w,
+        r#"  <DefaultExperiment startTime="{}" stopTime="{}" stepSize="{}"/>"#,
+        real(info.start_time),
+        real(info.stop_time),
+        real(info.step_size)
+    );
+
+    let _ = writeln!(w, "  <ModelVariables>");
+    for v in variables {
+        let initial = match v.causality {
+            Causality::Parameter => r#" initial="exact""#,
+            Causality::Input => "",
+            Causality::Output => r#" initial="calculated""#,
+        };
+        let _ = writeln!(
+            w,
+            r#"    <ScalarVariable name="{}" valueReference="{}" description="{}" causality="{}" variability="{}"{initial}>"#,
+            escape(v.name),
+            v.value_reference,
+            escape(v.description),
+            v.causality.as_str(),
+            v.variability.as_str()
+        );
+        let with_start = v.causality != Causality::Output;
+        let element = match &v.access {
+            Access::Real { unit, get, .. } => {
+                let unit = unit
+                    .map(|u| format!(r#" unit="{}""#, escape(u)))
+                    .unwrap_or_default();
+                let start = if with_start {
+                    format!(r#" start="{}""#, real(get(&defaults)))
+                } else {
+                    String::new()
+                };
+                format!("<Real{unit}{start}/>")
+            }
+            Access::Integer { min, max, get, .. } => {
+                let start = if with_start {
+                    format!(r#" start="{}""#, get(&defaults))
+                } else {
+                    String::new()
+                };
+                format!(r#"<Integer min="{min}" max="{max}"{start}/>"#)
+            }
+            Access::Boolean { get, .. } => {
+                let start = if with_start {
+                    format!(r#" start="{}""#, get(&defaults))
+                } else {
+                    String::new()
+                };
+                format!("<Boolean{start}/>")
+            }
+            Access::Enumeration { kind, get, .. } => {
+                let start = if with_start {
+                    format!(r#" start="{}""#, get(&defaults))
+                } else {
+                    String::new()
+                };
+                format!(r#"<Enumeration declaredType="{}"{start}/>"#, kind.name)
+            }
+            Access::String { get, .. } => {
+                let start = if with_start {
+                    format!(r#" start="{}""#, escape(&get(&defaults)))
+                } else {
+                    String::new()
+                };
+                format!("<String{start}/>")
+            }
+        };
+        let _ = writeln!(w, "      {element}");
+        let _ = writeln!(w, "    </ScalarVariable>");
+    }
+    let _ = writeln!(w, "  </ModelVariables>");
+
+    let outputs: Vec<usize> = variables
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.causality == Causality::Output)
+        .map(|(k, _)| k + 1)
+        .collect();
+    let _ = writeln!(w, "  <ModelStructure>");
+    let _ = writeln!(w, "    <Outputs>");
+    for k in &outputs {
+        let _ = writeln!(w, r#"      <Unknown index="{k}"/>"#);
+    }
+    let _ = writeln!(w, "    </Outputs>");
+    let _ = writeln!(w, "    <InitialUnknowns>");
+    for k in &outputs {
+        let _ = writeln!(w, r#"      <Unknown index="{k}"/>"#);
+    }
+    let _ = writeln!(w, "    </InitialUnknowns>");
+    let _ = writeln!(w, "  </ModelStructure>");
+    let _ = writeln!(w, "</fmiModelDescription>");
+    debug_assert!(variables.iter().all(|v| match v.causality {
+        Causality::Parameter => v.variability == Variability::Fixed,
+        _ => v.variability != Variability::Fixed,
+    }));
+    x
+}
+
+/// 128-bit FNV-1a, written as a GUID.
+fn hash_guid(text: &str) -> String {
+    let mut h: u128 = 0x6c62272e07bb014262b821756295c58d;
+    for byte in text.bytes() {
+        h ^= byte as u128;
+        h = h.wrapping_mul(0x0000000001000000000000000000013B);
+    }
+    let hex = format!("{h:032x}");
+    format!(
+        "{{{}-{}-{}-{}-{}}}",
+        &hex[0..8],
+        &hex[8..12],
+        &hex[12..16],
+        &hex[16..20],
+        &hex[20..32]
+    )
+}
+
+/// The GUID of model `M`: a hash of its description without the GUID.
+pub fn guid<M: Model>() -> String {
+    hash_guid(&body::<M>(""))
+}
+
+/// modelDescription.xml of model `M`.
+pub fn generate<M: Model>() -> String {
+    body::<M>(&guid::<M>())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn escaping_and_reals() {
+        assert_eq!(escape(r#"a<b & "c">"#), "a&lt;b &amp; &quot;c&quot;&gt;");
+        assert_eq!(real(2.0), "2.0");
+        assert_eq!(real(5e-5), "5e-5");
+        assert_eq!(real(0.1).parse::<f64>().unwrap(), 0.1);
+    }
+
+    #[test]
+    fn guid_changes_with_content() {
+        assert_ne!(hash_guid("a"), hash_guid("b"));
+        assert_eq!(hash_guid("a").len(), 38);
+    }
+}

@@ -1,0 +1,86 @@
+//! The network weights an FMU reads from its `resources/` folder, read once per name.
+
+use std::path::{Path, PathBuf};
+use stickslip::neural::NeuralLaw;
+
+/// The weights read at instantiation (the paper's network, see `neural`).
+pub const DEFAULT_WEIGHTS: &str = "paper-plain.json";
+
+/// Network weights shipped in `resources/`, shared by both FMUs.
+pub const WEIGHTS_RESOURCES: &[(&str, &str)] = &[
+    ("paper-plain.json", stickslip::neural::PAPER_PLAIN_JSON),
+    ("paper-signed.json", stickslip::neural::PAPER_SIGNED_JSON),
+];
+
+/// A weights parameter's value: any non-blank name (whether the file exists is checked
+/// when it is read).
+pub fn weights_name(value: &str) -> Result<String, String> {
+    if value.trim().is_empty() {
+        Err("must name a weights file".into())
+    } else {
+        Ok(value.to_owned())
+    }
+}
+
+/// Networks read so far, by the name they were asked for.
+#[derive(Default)]
+pub struct Networks {
+    folder: Option<PathBuf>,
+    loaded: Vec<(String, NeuralLaw)>,
+}
+
+impl Networks {
+    /// Remembers the unpacked `resources/` folder and checks that the default weights
+    /// file is there, so that a missing resources folder fails instantiation. Nothing is
+    /// parsed: a model whose law needs no network never pays for one.
+    pub fn open(&mut self, folder: &Path) -> Result<(), String> {
+        self.folder = Some(folder.to_path_buf());
+        let default = folder.join(DEFAULT_WEIGHTS);
+        if default.is_file() {
+            Ok(())
+        } else {
+            Err(format!("weights file {} is missing", default.display()))
+        }
+    }
+
+    /// [`Self::open`], then reads the default weights, so that a corrupted file fails
+    /// instantiation: for an FMU whose default law is the network.
+    pub fn open_and_read_default(&mut self, folder: &Path) -> Result<(), String> {
+        self.open(folder)?;
+        self.get(DEFAULT_WEIGHTS).map(|_| ())
+    }
+
+    /// How many networks have been read (parsed) so far.
+    pub fn read_count(&self) -> usize {
+        self.loaded.len()
+    }
+
+    /// Weights `name`: a file in `resources/`, or an absolute path.
+    pub fn get(&mut self, name: &str) -> Result<&mut NeuralLaw, String> {
+        let k = match self.loaded.iter().position(|(n, _)| n == name) {
+            Some(k) => k,
+            None => {
+                let law = self.read(name)?;
+                self.loaded.push((name.to_owned(), law));
+                self.loaded.len() - 1
+            }
+        };
+        Ok(&mut self.loaded[k].1)
+    }
+
+    fn read(&self, name: &str) -> Result<NeuralLaw, String> {
+        let path = Path::new(name);
+        let full = if path.is_absolute() {
+            path.to_path_buf()
+        } else {
+            match &self.folder {
+                Some(dir) => dir.join(path),
+                None => return Err(format!("weights \"{name}\": no resources folder is known")),
+            }
+        };
+        if !full.is_file() {
+            return Err(format!("weights file {} is missing", full.display()));
+        }
+        NeuralLaw::from_file(&full).map_err(|e| format!("weights file {}: {e}", full.display()))
+    }
+}

@@ -1,0 +1,24 @@
+//! The structural model a scene's fidelity level asks for: a beam or plane-stress model
+//! (`structure`), or a `modal` reduction of one of them.
+
+use crate::modal::reduce;
+use crate::scene::{CheckedScene, FidelityLevel, ModalBasis};
+use crate::structure::{ModelError, StructuralModel};
+
+impl StructuralModel {
+    /// The model the scene's fidelity asks for.
+    pub fn build(scene: &CheckedScene) -> Result<Self, ModelError> {
+        let fidelity = &scene.fidelity;
+        match fidelity.level {
+            FidelityLevel::Beam => Ok(Self::beam(scene, fidelity.beam_elements)),
+            FidelityLevel::PlaneStress => Ok(Self::plane_stress(scene, fidelity.element_size)),
+            FidelityLevel::Modal => {
+                let full = match fidelity.modal_basis {
+                    ModalBasis::Beam => Self::beam(scene, fidelity.beam_elements),
+                    ModalBasis::PlaneStress => Self::plane_stress(scene, fidelity.element_size),
+                };
+                reduce(&full, fidelity.modes, fidelity.static_correction)
+            }
+        }
+    }
+}

@@ -1,0 +1,131 @@
+//! Kinetic friction laws acting on the beam tip during slip.
+//!
+//! Every law maps a signed sliding velocity v (m/s) and a normal force F_n (N) to the
+//! signed friction force (N) that acts in the direction of v. The contact passes the
+//! belt-relative velocity v = v_b - v_tip, so the force drags the tip toward the belt.
+//! The static limit mu_s F_n is not part of a law: it belongs to the contact.
+
+use crate::scene::{CheckedScene, FrictionLawKind};
+
+/// A kinetic friction law F(v, F_n).
+///
+/// `&mut self` lets a law keep scratch buffers (the neural law evaluates without
+/// allocating); a law carries no history, so the same inputs give the same force.
+pub trait FrictionLaw: Send {
+    /// Short name for summaries ("exponential", "coulomb", "neural").
+    fn name(&self) -> &str;
+
+    /// Signed kinetic friction force (N) in the direction of `sliding_velocity` (m/s),
+    /// under `normal_force` (N).
+    fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64;
+}
+
+/// The paper's exponential law (Eq. 6):
+/// F(v) = sign(v) [mu_k + (mu_s - mu_k) exp(-alpha |v|)] F_n.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExponentialLaw {
+    /// mu_s (1), the limit at v -> 0.
+    pub static_coefficient: f64,
+    /// mu_k (1), the limit at |v| -> infinity.
+    pub kinetic_coefficient: f64,
+    /// alpha (s/m).
+    pub decay: f64,
+}
+
+impl ExponentialLaw {
+    /// Friction coefficient mu(|v|) (1).
+    pub fn coefficient(&self, speed: f64) -> f64 {
+        self.kinetic_coefficient
+            + (self.static_coefficient - self.kinetic_coefficient)
+                * (-self.decay * speed.abs()).exp()
+    }
+}
+
+impl FrictionLaw for ExponentialLaw {
+    fn name(&self) -> &str {
+        "exponential"
+    }
+
+    fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {
+        signum_or_zero(sliding_velocity) * self.coefficient(sliding_velocity) * normal_force
+    }
+}
+
+/// Plain Coulomb friction: F(v) = sign(v) mu_k F_n.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CoulombLaw {
+    /// mu_k (1).
+    pub kinetic_coefficient: f64,
+}
+
+impl FrictionLaw for CoulombLaw {
+    fn name(&self) -> &str {
+        "coulomb"
+    }
+
+    fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {
+        signum_or_zero(sliding_velocity) * self.kinetic_coefficient * normal_force
+    }
+}
+
+/// sign(v) with sign(0) = 0, so that a law at exactly zero speed exerts no force.
+pub fn signum_or_zero(v: f64) -> f64 {
+    if v > 0.0 {
+        1.0
+    } else if v < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// The analytical law a checked scene asks for. `None` for the neural law, which needs
+/// its weights (see `neural`).
+pub fn analytical_law(scene: &CheckedScene) -> Option<Box<dyn FrictionLaw>> {
+    let f = &scene.friction;
+    match f.law {
+        FrictionLawKind::Exponential => Some(Box::new(ExponentialLaw {
+            static_coefficient: f.static_coefficient,
+            kinetic_coefficient: f.kinetic_coefficient,
+            decay: f.decay,
+        })),
+        FrictionLawKind::Coulomb => Some(Box::new(CoulombLaw {
+            kinetic_coefficient: f.kinetic_coefficient,
+        })),
+        FrictionLawKind::Neural => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exponential_law_limits_and_sign() {
+        let mut law = ExponentialLaw {
+            static_coefficient: 0.5,
+            kinetic_coefficient: 0.2,
+            decay: 5.0,
+        };
+        // v -> 0+: mu_s F_n; large v: mu_k F_n; odd in v.
+        assert!((law.sliding_force(1e-12, 100.0) - 50.0).abs() < 1e-9);
+        assert!((law.sliding_force(100.0, 100.0) - 20.0).abs() < 1e-9);
+        assert_eq!(
+            law.sliding_force(-0.1, 100.0),
+            -law.sliding_force(0.1, 100.0)
+        );
+        // Eq. 6 at v = 0.2 m/s: 0.2 + 0.3 e^-1.
+        let expected = (0.2 + 0.3 * (-1.0f64).exp()) * 100.0;
+        assert!((law.sliding_force(0.2, 100.0) - expected).abs() < 1e-12);
+        assert_eq!(law.sliding_force(0.0, 100.0), 0.0);
+    }
+
+    #[test]
+    fn coulomb_law_is_constant_in_speed() {
+        let mut law = CoulombLaw {
+            kinetic_coefficient: 0.2,
+        };
+        assert_eq!(law.sliding_force(0.001, 100.0), 20.0);
+        assert_eq!(law.sliding_force(-7.0, 100.0), -20.0);
+    }
+}

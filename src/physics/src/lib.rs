@@ -1,0 +1,32 @@
+//! The physics of the stick-slip beam: plain Rust, with no C types, no command line and
+//! no training.
+//!
+//! A scene (`scene`) is checked once into a `CheckedScene`. It builds a structural
+//! model (`structure`: Hermite beam or Q8 plane stress from `element` and `mesh`, or a
+//! `modal` reduction of either), which the `integrator` steps and the `contact` switches
+//! between stick and slip under a `friction` law (analytical, or a trained network from
+//! `neural`). `simulation` ties these together step by step; `run` runs a scene to its
+//! end; `metrics` reads breakaway, slips and period off a run; `study` measures speed
+//! against accuracy and `auto` picks the cheapest fidelity that meets a tolerance.
+//!
+//! The FMI adapter (`stickslip-fmi`), the command line (`stickslip-cli`) and the trainer
+//! (`stickslip-train`) depend on this crate, never the reverse.
+
+pub mod auto;
+pub mod banded;
+pub mod choice;
+pub mod contact;
+pub mod element;
+pub mod fidelity;
+pub mod friction;
+pub mod integrator;
+pub mod mesh;
+pub mod metrics;
+pub mod modal;
+pub mod neural;
+pub mod run;
+pub mod scene;
+pub mod simulation;
+pub mod statics;
+pub mod structure;
+pub mod study;

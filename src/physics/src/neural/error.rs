@@ -1,0 +1,95 @@
+//! The one error type of the neural friction law: data, training, weights files, inference.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong in `neural`. Every variant names what was being read or
+/// checked, so the message alone tells the user what to fix; nothing in `neural` panics
+/// on bad input.
+#[derive(Debug, thiserror::Error)]
+pub enum NeuralError {
+    /// A file could not be read or written.
+    #[error("{action} '{path}': {source}")]
+    Io {
+        action: &'static str,
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+
+    /// A CSV file is malformed; `line` is 1-based as shown by an editor.
+    #[error("{source_name}, line {line}: {message}")]
+    Csv {
+        source_name: String,
+        line: usize,
+        message: String,
+    },
+
+    /// A weights file is not valid JSON or does not have the expected fields
+    /// (truncated files end up here; serde_json reports line and column).
+    #[error("weights file {source_name}: not a valid model description: {message}")]
+    Json {
+        source_name: String,
+        message: String,
+    },
+
+    /// The file is JSON but not one of ours.
+    #[error("weights file {source_name}: format is '{found}', expected '{expected}'")]
+    Format {
+        source_name: String,
+        found: String,
+        expected: &'static str,
+    },
+
+    /// The file is ours but written by an incompatible version.
+    #[error("weights file {source_name}: format version {found} is not supported (this build reads version {supported})")]
+    Version {
+        source_name: String,
+        found: u32,
+        supported: u32,
+    },
+
+    /// Layer sizes, weight matrices, feature lists or statistics disagree.
+    #[error("weights file {source_name}: inconsistent model: {message}")]
+    Shape {
+        source_name: String,
+        message: String,
+    },
+
+    /// A number in the model is NaN or infinite (`field` says which one).
+    #[error("weights file {source_name}: {field} is not a finite number")]
+    NonFinite { source_name: String, field: String },
+
+    /// `evaluate` got a different number of inputs than the model has features.
+    #[error("the model expects {expected} input(s) ({names}), got {got}")]
+    FeatureCount {
+        expected: usize,
+        got: usize,
+        names: String,
+    },
+
+    /// An input to `evaluate` is NaN or infinite.
+    #[error("input '{feature}' is {value}, which is not a finite number")]
+    NonFiniteInput { feature: String, value: f64 },
+
+    /// The model cannot act as a friction law of the beam (`FrictionLaw`).
+    #[error("this model cannot be used as the beam's friction law: {0}")]
+    NotAFrictionLaw(String),
+
+    /// Training data or settings are unusable (too few samples, bad option values...).
+    #[error("{0}")]
+    InvalidInput(String),
+
+    /// The optimiser produced a non-finite loss at its starting point.
+    #[error("training failed: {0}")]
+    Training(String),
+}
+
+impl NeuralError {
+    pub fn io(action: &'static str, path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        NeuralError::Io {
+            action,
+            path: path.into(),
+            source,
+        }
+    }
+}

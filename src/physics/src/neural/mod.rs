@@ -1,0 +1,96 @@
+//! Neural-network friction law (issue 3), after Vater, Stender & Hoffmann, "Towards
+//! neural network-based numerical friction models", PAMM 2023.
+//!
+//! This crate holds what the simulation needs to *use* a trained network:
+//! - `network`: fully connected network, batched forward pass and its parameter
+//!   gradient (backpropagation);
+//! - `weights`: the self-describing JSON weights file; `law`: `NeuralLaw`, the trained
+//!   model as a `crate::friction::FrictionLaw`.
+//!
+//! Training (data, CSV, L-BFGS, the objective, search) lives in the `stickslip-train`
+//! crate, and the `stickslip train` / `stickslip search` commands in `stickslip-cli`.
+//!
+//! # Shipped models
+//! Two models trained on the paper's data with the default seed (2) are embedded:
+//! `NeuralLaw::paper_default()` (plain, the paper's 3 x 100 tanh network, lambda 0.004,
+//! 200 L-BFGS iterations) and `NeuralLaw::paper_signed()`. These commands regenerate
+//! them byte for byte (default `--threads 2`; matrixmultiply picks its kernel by CPU
+//! features at run time, so a CPU without AVX2/FMA may differ in the last bits):
+//!
+//! ```text
+//! stickslip train --out weights/paper-plain.json
+//! stickslip train --variant signed --lambda 1e-5 --iterations 1000 --out weights/paper-signed.json
+//! ```
+//!
+//! The signed model uses a weaker penalty: with no jump to smooth, lambda 0.004 only
+//! biases the smooth magnitude (test MSE 0.0036 N^2 instead of the noise floor 0.0004).
+//!
+//! # Decisions
+//! - Loss: MSE on the raw target plus lambda/2 ||W||^2 of the raw-output network; maps
+//!   to scikit-learn's alpha = n lambda / 2 (see `train` for fitrnet).
+//! - CSV units come from the header, `name[unit]`; a bare `name` has an empty unit.
+//!   Names, units, order and roles of the features travel in the weights file.
+//! - Inputs outside the training range are clamped to it (see `law`).
+//! - A model is the beam's `FrictionLaw` only if it has a sliding-velocity and a
+//!   normal-force feature and every other feature is given a fixed value (see `law`).
+//! - Matrix products: nalgebra's gemm, i.e. `matrixmultiply`, measured at ~50 GFLOP/s
+//!   per core here (100 x 100 by 100 x 1750); products are under a third of a training
+//!   evaluation (tanh and element-wise work dominate), so faer could not be clearly
+//!   faster and was not added.
+
+mod error;
+pub mod law;
+pub mod network;
+pub mod weights;
+
+use std::path::Path;
+
+pub use error::NeuralError;
+pub use law::NeuralLaw;
+pub use network::Activation;
+pub use weights::{FeatureRole, NeuralModel, StopReason, SyntheticSpec, Variant};
+
+use crate::friction::FrictionLaw;
+use crate::scene::CheckedScene;
+
+/// The shipped plain-variant weights (`weights/paper-plain.json`).
+pub const PAPER_PLAIN_JSON: &str = include_str!("../../../../weights/paper-plain.json");
+/// The shipped signed-variant weights (`weights/paper-signed.json`).
+pub const PAPER_SIGNED_JSON: &str = include_str!("../../../../weights/paper-signed.json");
+
+/// The shipped model of `variant` as the beam's friction law.
+pub fn default_friction_law(variant: Variant) -> Result<Box<dyn FrictionLaw>, NeuralError> {
+    match variant {
+        Variant::Plain => NeuralLaw::paper_default()?,
+        Variant::Signed => NeuralLaw::paper_signed()?,
+    }
+    .into_friction_law()
+}
+
+/// A weights file as the beam's friction law; refused (with the reason) if the model's
+/// features are not exactly what the beam supplies (sliding velocity, normal force).
+/// For models with further features use `NeuralLaw::from_file(..)?.with_fixed_feature(..)`.
+pub fn load_friction_law(path: &Path) -> Result<Box<dyn FrictionLaw>, NeuralError> {
+    NeuralLaw::from_file(path)?.into_friction_law()
+}
+
+/// The neural law a checked scene asks for: its weights file (`friction.weights`), or the
+/// shipped plain-variant weights (the paper's model) when none is given.
+pub fn scene_law(scene: &CheckedScene) -> Result<Box<dyn FrictionLaw>, SceneLawError> {
+    match &scene.friction.weights {
+        Some(path) => load_friction_law(Path::new(path)).map_err(|source| SceneLawError::Weights {
+            path: path.clone(),
+            source,
+        }),
+        None => default_friction_law(Variant::Plain).map_err(SceneLawError::Shipped),
+    }
+}
+
+/// Why a scene's neural law could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneLawError {
+    #[error("friction.weights = {path}: {source}")]
+    Weights { path: String, source: NeuralError },
+    #[error("shipped neural weights: {0}")]
+    Shipped(NeuralError),
+}

@@ -1,0 +1,535 @@
+//! The trained model and its self-describing JSON weights file.
+//!
+//! One file holds everything needed to evaluate the law and to know what it is: format
+//! name and version, variant, activation, layer sizes, features (name, unit, role,
+//! standardisation statistics, training range), target (name, unit, statistics, range),
+//! the weights, the training settings and the resulting metrics. Loading checks format,
+//! version, shapes and that every number is finite, and returns a `NeuralError` (never
+//! panics) for anything else.
+//!
+//! Training time is deliberately not stored (it is in the training report), so that
+//! training twice with the same settings writes byte-identical files.
+
+use std::path::Path;
+
+use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
+
+use super::network::{Activation, Network, Workspace};
+use super::NeuralError;
+use crate::friction::signum_or_zero;
+
+/// What a feature means to the beam. The beam's `FrictionLaw` interface passes the
+/// sliding velocity and the normal force; other features need fixed values there.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FeatureRole {
+    /// Signed relative sliding velocity v (m/s); its sign gives the force direction.
+    SlidingVelocity,
+    /// Normal force F_n (N).
+    NormalForce,
+    /// Any other measured quantity (temperature, humidity...).
+    Other,
+}
+
+/// The paper's synthetic friction data (Sec. 3.1), every distribution a parameter.
+///
+/// Each sample draws, in this order from one ChaCha8 stream:
+/// - F_n ~ U[`normal_force_min`, `normal_force_max`) (N);
+/// - v_s ~ N(0, `velocity_std`) (m/s), drawn again while |v_s| > `velocity_limit`;
+/// - F_f = sign(v_s) [mu_k + (mu_s - mu_k) exp(-alpha |v_s|)] F_n + e, e ~ N(0, `noise_std`)
+///   (N), the paper's Eq. 6 made odd in v_s: the force acts in the direction of the
+///   sliding velocity, as in `crate::friction::ExponentialLaw`.
+///
+/// The defaults are the paper's values.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SyntheticSpec {
+    /// N, number of samples (5000).
+    pub samples: usize,
+    /// Lower bound of the normal force (90 N).
+    pub normal_force_min: f64,
+    /// Upper bound of the normal force (110 N).
+    pub normal_force_max: f64,
+    /// Standard deviation of the sliding velocity (0.1 m/s).
+    pub velocity_std: f64,
+    /// Velocities are redrawn outside [-limit, limit] (0.4 m/s).
+    pub velocity_limit: f64,
+    /// mu_s (0.5).
+    pub static_coefficient: f64,
+    /// mu_k (0.2).
+    pub kinetic_coefficient: f64,
+    /// alpha (5 s/m).
+    pub decay: f64,
+    /// Standard deviation of the additive force noise (0.02 N).
+    pub noise_std: f64,
+    /// Share of the samples held out for testing (0.3).
+    pub test_fraction: f64,
+}
+
+impl Default for SyntheticSpec {
+    fn default() -> Self {
+        SyntheticSpec {
+            samples: 5000,
+            normal_force_min: 90.0,
+            normal_force_max: 110.0,
+            velocity_std: 0.1,
+            velocity_limit: 0.4,
+            static_coefficient: 0.5,
+            kinetic_coefficient: 0.2,
+            decay: 5.0,
+            noise_std: 0.02,
+            test_fraction: 0.3,
+        }
+    }
+}
+
+/// Why the trainer's L-BFGS (`stickslip_train::lbfgs::minimize`) stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    MaxIterations,
+    MaxEvaluations,
+    GradientTolerance,
+    LossTolerance,
+    /// No step along the search direction decreased the objective (usually: converged to
+    /// rounding level).
+    LineSearchFailed,
+}
+
+/// Value of the file's `format` field.
+pub const FORMAT_NAME: &str = "stickslip-neural-friction";
+/// Value of the file's `version` field that this build reads and writes.
+pub const FORMAT_VERSION: u32 = 1;
+
+crate::choice! {
+    /// How the network output becomes a friction force.
+    #[choice(name = "Variant", description = "How the network output becomes a friction force")]
+    #[derive(Default)]
+    pub enum Variant {
+        /// The paper's model: the network maps (v, F_n, ...) to the signed force directly,
+        /// so it must smooth the jump of the force at v = 0.
+        #[default]
+        Plain = "plain": "the paper's model: the network gives the signed force",
+        /// Structured model (beyond the paper): the network maps (|v|, F_n, ...) to the
+        /// magnitude g >= 0 and F = sign(v) g, so the jump at v = 0 is exact and the law is
+        /// odd in v by construction. Needs a feature with the `sliding_velocity` role, and
+        /// the target must be the signed force (positive for v > 0, as the paper's data):
+        /// the network is fitted to sign(v) * target.
+        Signed = "signed": "the network gives the magnitude, sign(v) the direction (exact jump at v = 0)",
+    }
+}
+
+/// One input of the network, with the numbers needed to standardise it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FeatureSpec {
+    pub name: String,
+    /// Empty when the data did not give one.
+    pub unit: String,
+    pub role: FeatureRole,
+    /// Mean of the network input over the training set. For the signed variant's
+    /// sliding velocity the network input is |v|, so this is the mean of |v|.
+    pub input_mean: f64,
+    /// Population standard deviation of the network input over the training set (1 for a
+    /// constant feature).
+    pub input_std: f64,
+    /// Smallest raw value in the training set (signed for the sliding velocity).
+    pub min: f64,
+    /// Largest raw value in the training set.
+    pub max: f64,
+}
+
+/// The network output, with the numbers that undo its standardisation.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TargetSpec {
+    pub name: String,
+    pub unit: String,
+    /// Mean of the fitted quantity over the training set: the force (plain) or
+    /// sign(v) * force (signed).
+    pub output_mean: f64,
+    /// Its population standard deviation.
+    pub output_std: f64,
+    /// Smallest raw target in the training set.
+    pub min: f64,
+    /// Largest raw target in the training set.
+    pub max: f64,
+}
+
+/// Weights and biases of one layer; `weights[o][i]` connects input i to output o.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LayerWeights {
+    pub weights: Vec<Vec<f64>>,
+    pub biases: Vec<f64>,
+}
+
+/// How the model was trained.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrainingInfo {
+    /// "synthetic (paper, Sec. 3.1)" or the CSV file name.
+    pub data: String,
+    /// The generator settings when the data were synthetic.
+    pub synthetic: Option<SyntheticSpec>,
+    /// Seed of data generation, split and initial weights.
+    pub seed: u64,
+    pub test_fraction: f64,
+    pub train_samples: usize,
+    pub test_samples: usize,
+    /// lambda of the loss (see `train::TrainConfig::lambda`).
+    pub lambda: f64,
+    /// Words for the minimised objective.
+    pub loss: String,
+    pub max_iterations: usize,
+    /// L-BFGS iterations done.
+    pub iterations: usize,
+    /// Objective evaluations done.
+    pub evaluations: usize,
+    pub stop_reason: StopReason,
+}
+
+/// Accuracy of the model; MSE in target units squared (N^2 for forces), on the raw
+/// target, of the force the law returns (sign and clamping included).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Metrics {
+    pub mse_train: f64,
+    pub mse_test: f64,
+    pub r2_train: f64,
+    pub r2_test: f64,
+}
+
+/// A trained neural friction model, as stored in the weights file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NeuralModel {
+    pub format: String,
+    pub version: u32,
+    pub variant: Variant,
+    pub activation: Activation,
+    /// [inputs, hidden..., 1].
+    pub layer_sizes: Vec<usize>,
+    pub features: Vec<FeatureSpec>,
+    pub target: TargetSpec,
+    pub layers: Vec<LayerWeights>,
+    pub training: TrainingInfo,
+    pub metrics: Metrics,
+}
+
+/// A network input range that clamping maps into: [lo, hi] of the network input.
+pub(crate) fn network_input_range(feature: &FeatureSpec, variant: Variant) -> (f64, f64) {
+    if variant == Variant::Signed && feature.role == FeatureRole::SlidingVelocity {
+        // Range of |v| implied by the signed range [min, max].
+        let (a, b) = (feature.min.abs(), feature.max.abs());
+        if feature.min <= 0.0 && feature.max >= 0.0 {
+            (0.0, a.max(b))
+        } else {
+            (a.min(b), a.max(b))
+        }
+    } else {
+        (feature.min, feature.max)
+    }
+}
+
+impl NeuralModel {
+    /// Feature names in input order.
+    pub fn feature_names(&self) -> Vec<&str> {
+        self.features.iter().map(|f| f.name.as_str()).collect()
+    }
+
+    /// Index of the feature with `role`.
+    pub fn feature_with_role(&self, role: FeatureRole) -> Option<usize> {
+        self.features.iter().position(|f| f.role == role)
+    }
+
+    /// Pretty JSON with a final newline; numbers in shortest round-trip form, so the
+    /// same model always gives the same bytes.
+    pub fn to_json(&self) -> Result<String, NeuralError> {
+        let mut text = serde_json::to_string_pretty(self).map_err(|e| NeuralError::Json {
+            source_name: "(in memory)".into(),
+            message: e.to_string(),
+        })?;
+        text.push('\n');
+        Ok(text)
+    }
+
+    pub fn save(&self, path: &Path) -> Result<(), NeuralError> {
+        self.validate(&path.display().to_string())?;
+        std::fs::write(path, self.to_json()?).map_err(|e| NeuralError::io("cannot write", path, e))
+    }
+
+    pub fn load(path: &Path) -> Result<NeuralModel, NeuralError> {
+        let text =
+            std::fs::read_to_string(path).map_err(|e| NeuralError::io("cannot read", path, e))?;
+        Self::from_json(&text, &path.display().to_string())
+    }
+
+    /// Parses and checks a weights file's text; `source_name` appears in errors.
+    pub fn from_json(text: &str, source_name: &str) -> Result<NeuralModel, NeuralError> {
+        let json_error = |e: serde_json::Error| NeuralError::Json {
+            source_name: source_name.to_string(),
+            message: e.to_string(),
+        };
+        // Format and version first, so that a foreign or newer file gets a precise
+        // message rather than a complaint about some field.
+        let value: serde_json::Value = serde_json::from_str(text).map_err(json_error)?;
+        let format = value.get("format").and_then(|f| f.as_str());
+        if format != Some(FORMAT_NAME) {
+            return Err(NeuralError::Format {
+                source_name: source_name.to_string(),
+                found: format.map_or_else(|| "(missing)".to_string(), str::to_string),
+                expected: FORMAT_NAME,
+            });
+        }
+        let version = value.get("version").and_then(|v| v.as_u64());
+        if version != Some(u64::from(FORMAT_VERSION)) {
+            return Err(NeuralError::Version {
+                source_name: source_name.to_string(),
+                found: version.map_or(0, |v| u32::try_from(v).unwrap_or(u32::MAX)),
+                supported: FORMAT_VERSION,
+            });
+        }
+        // Parse the text again (not the Value) so errors carry line and column.
+        let model: NeuralModel = serde_json::from_str(text).map_err(json_error)?;
+        model.validate(source_name)?;
+        Ok(model)
+    }
+
+    /// Checks shapes, roles and finiteness.
+    pub fn validate(&self, source_name: &str) -> Result<(), NeuralError> {
+        let shape = |message: String| NeuralError::Shape {
+            source_name: source_name.to_string(),
+            message,
+        };
+        let finite = |field: String, value: f64| {
+            if value.is_finite() {
+                Ok(())
+            } else {
+                Err(NeuralError::NonFinite {
+                    source_name: source_name.to_string(),
+                    field,
+                })
+            }
+        };
+        if self.format != FORMAT_NAME || self.version != FORMAT_VERSION {
+            return Err(shape(format!(
+                "format '{}' version {} (expected '{FORMAT_NAME}' version {FORMAT_VERSION})",
+                self.format, self.version
+            )));
+        }
+        let sizes = &self.layer_sizes;
+        if sizes.len() < 2 || sizes.contains(&0) || sizes.last() != Some(&1) {
+            return Err(shape(format!(
+                "layer_sizes {sizes:?} must be positive, at least [inputs, 1], ending in 1"
+            )));
+        }
+        if sizes[0] != self.features.len() {
+            return Err(shape(format!(
+                "layer_sizes starts with {} inputs but {} features are listed",
+                sizes[0],
+                self.features.len()
+            )));
+        }
+        if self.layers.len() != sizes.len() - 1 {
+            return Err(shape(format!(
+                "{} layers of weights for layer_sizes {sizes:?} (expected {})",
+                self.layers.len(),
+                sizes.len() - 1
+            )));
+        }
+        for (l, layer) in self.layers.iter().enumerate() {
+            let (inputs, outputs) = (sizes[l], sizes[l + 1]);
+            if layer.weights.len() != outputs || layer.biases.len() != outputs {
+                return Err(shape(format!(
+                    "layer {}: {} weight rows and {} biases, expected {outputs} each",
+                    l + 1,
+                    layer.weights.len(),
+                    layer.biases.len()
+                )));
+            }
+            for (o, row) in layer.weights.iter().enumerate() {
+                if row.len() != inputs {
+                    return Err(shape(format!(
+                        "layer {} row {}: {} weights, expected {inputs}",
+                        l + 1,
+                        o + 1,
+                        row.len()
+                    )));
+                }
+                for (i, w) in row.iter().enumerate() {
+                    finite(format!("layers[{l}].weights[{o}][{i}]"), *w)?;
+                }
+            }
+            for (o, b) in layer.biases.iter().enumerate() {
+                finite(format!("layers[{l}].biases[{o}]"), *b)?;
+            }
+        }
+        for (k, f) in self.features.iter().enumerate() {
+            for (what, v) in [
+                ("input_mean", f.input_mean),
+                ("input_std", f.input_std),
+                ("min", f.min),
+                ("max", f.max),
+            ] {
+                finite(format!("features[{k}] ('{}').{what}", f.name), v)?;
+            }
+            if f.input_std <= 0.0 || f.min > f.max {
+                return Err(shape(format!(
+                    "feature '{}': input_std must be positive and min <= max",
+                    f.name
+                )));
+            }
+            if self.features[..k].iter().any(|g| g.name == f.name) {
+                return Err(shape(format!("feature '{}' is listed twice", f.name)));
+            }
+        }
+        for role in [FeatureRole::SlidingVelocity, FeatureRole::NormalForce] {
+            if self.features.iter().filter(|f| f.role == role).count() > 1 {
+                return Err(shape(format!(
+                    "more than one feature has the role {role:?}"
+                )));
+            }
+        }
+        if self.variant == Variant::Signed
+            && self
+                .feature_with_role(FeatureRole::SlidingVelocity)
+                .is_none()
+        {
+            return Err(shape(
+                "the signed variant needs a feature with the role sliding_velocity".into(),
+            ));
+        }
+        let t = &self.target;
+        for (what, v) in [
+            ("output_mean", t.output_mean),
+            ("output_std", t.output_std),
+            ("min", t.min),
+            ("max", t.max),
+        ] {
+            finite(format!("target.{what}"), v)?;
+        }
+        if t.output_std <= 0.0 || t.min > t.max {
+            return Err(shape(
+                "target: output_std must be positive and min <= max".into(),
+            ));
+        }
+        finite("training.lambda".into(), self.training.lambda)?;
+        let m = &self.metrics;
+        for (what, v) in [
+            ("mse_train", m.mse_train),
+            ("mse_test", m.mse_test),
+            ("r2_train", m.r2_train),
+            ("r2_test", m.r2_test),
+        ] {
+            finite(format!("metrics.{what}"), v)?;
+        }
+        Ok(())
+    }
+
+    /// The network shape.
+    pub fn network(&self) -> Result<Network, NeuralError> {
+        Network::new(&self.layer_sizes, self.activation)
+    }
+
+    /// Flat parameter vector in `Network`'s layout (per layer: W column-major, then b).
+    pub fn parameters(&self) -> Vec<f64> {
+        let mut params = Vec::new();
+        for layer in &self.layers {
+            let inputs = layer.weights.first().map_or(0, Vec::len);
+            for i in 0..inputs {
+                params.extend(layer.weights.iter().map(|row| row[i]));
+            }
+            params.extend_from_slice(&layer.biases);
+        }
+        params
+    }
+
+    /// Builds the stored layers from a flat parameter vector.
+    pub fn layers_from_parameters(network: &Network, params: &[f64]) -> Vec<LayerWeights> {
+        network
+            .layers()
+            .iter()
+            .map(|shape| {
+                let w = &params[shape.weight_range()];
+                LayerWeights {
+                    weights: (0..shape.outputs)
+                        .map(|o| {
+                            (0..shape.inputs)
+                                .map(|i| w[o + i * shape.outputs])
+                                .collect()
+                        })
+                        .collect(),
+                    biases: params[shape.bias_range()].to_vec(),
+                }
+            })
+            .collect()
+    }
+
+    /// Maps raw features (one column per sample) to standardised network inputs: clamp
+    /// to the training range (|v| for the signed variant's velocity), then
+    /// (x - mean) / std. Returns the inputs and the direction sign(v) of each sample
+    /// (all 1 for the plain variant).
+    pub fn network_inputs(&self, raw: &DMatrix<f64>) -> (Vec<f64>, Vec<f64>) {
+        let samples = raw.ncols();
+        let velocity = match self.variant {
+            Variant::Signed => self.feature_with_role(FeatureRole::SlidingVelocity),
+            Variant::Plain => None,
+        };
+        let mut inputs = Vec::with_capacity(samples * self.features.len());
+        let mut signs = Vec::with_capacity(samples);
+        for column in raw.column_iter() {
+            for (k, f) in self.features.iter().enumerate() {
+                let value = if Some(k) == velocity {
+                    column[k].abs()
+                } else {
+                    column[k]
+                };
+                let (lo, hi) = network_input_range(f, self.variant);
+                inputs.push((value.clamp(lo, hi) - f.input_mean) / f.input_std);
+            }
+            signs.push(velocity.map_or(1.0, |k| signum_or_zero(column[k])));
+        }
+        (inputs, signs)
+    }
+
+    /// Turns a standardised network output into the force: plain y = mean + std z;
+    /// signed y = sign(v) max(0, mean + std z).
+    #[inline]
+    pub fn force_from_output(&self, z: f64, sign: f64) -> f64 {
+        let y = self.target.output_mean + self.target.output_std * z;
+        match self.variant {
+            Variant::Plain => y,
+            Variant::Signed => sign * y.max(0.0),
+        }
+    }
+
+    /// Batch prediction: `features` has one row per feature (in model order) and one
+    /// column per sample, in raw units; returns one force per sample. Same mapping as
+    /// `NeuralLaw::evaluate` (clamping, sign), done with matrix products.
+    pub fn predict_columns(&self, features: &DMatrix<f64>) -> Result<Vec<f64>, NeuralError> {
+        if features.nrows() != self.features.len() {
+            return Err(NeuralError::FeatureCount {
+                expected: self.features.len(),
+                got: features.nrows(),
+                names: self.feature_names().join(", "),
+            });
+        }
+        if let Some((index, value)) = features.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(NeuralError::NonFiniteInput {
+                feature: self.features[index % self.features.len()].name.clone(),
+                value: *value,
+            });
+        }
+        let network = self.network()?;
+        let params = self.parameters();
+        let (inputs, signs) = self.network_inputs(features);
+        let mut workspace = Workspace::default();
+        let outputs = network.forward(&params, &inputs, features.ncols(), &mut workspace);
+        Ok(outputs
+            .iter()
+            .zip(&signs)
+            .map(|(&z, &s)| self.force_from_output(z, s))
+            .collect())
+    }
+}

@@ -1,0 +1,444 @@
+//! The speed-accuracy study: one scene run over a grid of fidelity levels, time steps
+//! and integrators, each run timed and compared with a converged reference.
+//!
+//! For every configuration the study records the wall time (model build plus stepping,
+//! as [`crate::run::run_scene`] measures it, runs one after the other so that no two
+//! compete for a core) and these errors against the reference run:
+//! - breakaway time, first major-slip duration and stick-slip period (s), from
+//!   [`Summary`];
+//! - deflection corridor after breakaway (m): the larger of the differences of its
+//!   minimum and of its maximum;
+//! - RMS of the tip-deflection difference over the whole run (m), on a 1 ms grid
+//!   that every time step of the grid divides.
+//!
+//! The reference is the most expensive configuration of the grid unless given: by
+//! default the finest plane-stress mesh (0.005 m) at the smallest step (1e-5 s) with
+//! generalised-alpha. A configuration is on the Pareto front when no other one is both
+//! faster and more accurate (in RMS).
+
+use crate::metrics::Summary;
+use crate::run::run_scene;
+use crate::scene::{CheckedScene, FidelityLevel, Scene, Scheme};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// The grid of the tip-deflection comparison (s): every time step of a study divides it.
+pub const COMPARISON_INTERVAL: f64 = 1e-3;
+
+/// The structural resolution of one configuration.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "level")]
+pub enum Resolution {
+    /// Modal reduction of the 100-element beam with this many modes (plus the static
+    /// correction).
+    Modal { modes: usize },
+    /// Euler-Bernoulli beam with this many elements.
+    Beam { elements: usize },
+    /// Plane-stress Q8 mesh with this target element size (m).
+    PlaneStress { element_size: f64 },
+}
+
+impl Resolution {
+    pub fn level(&self) -> FidelityLevel {
+        match self {
+            Resolution::Modal { .. } => FidelityLevel::Modal,
+            Resolution::Beam { .. } => FidelityLevel::Beam,
+            Resolution::PlaneStress { .. } => FidelityLevel::PlaneStress,
+        }
+    }
+}
+
+impl fmt::Display for Resolution {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Resolution::Modal { modes } => write!(f, "modal {modes} modes"),
+            Resolution::Beam { elements } => write!(f, "beam {elements} el."),
+            Resolution::PlaneStress { element_size } => {
+                write!(f, "plane stress {element_size} m")
+            }
+        }
+    }
+}
+
+/// One point of the grid: resolution, time step and integrator.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Configuration {
+    pub resolution: Resolution,
+    /// Time step (s).
+    pub dt: f64,
+    pub scheme: Scheme,
+}
+
+impl Configuration {
+    /// `scene` with this configuration's fidelity, time step and integrator; every
+    /// other field (geometry, material, loading, friction, damping, end time) kept.
+    pub fn apply(&self, scene: &Scene) -> Scene {
+        let mut scene = scene.clone();
+        scene.fidelity.level = self.resolution.level();
+        match self.resolution {
+            Resolution::Modal { modes } => scene.fidelity.modes = modes,
+            Resolution::Beam { elements } => scene.fidelity.beam_elements = elements,
+            Resolution::PlaneStress { element_size } => scene.fidelity.element_size = element_size,
+        }
+        scene.time.step = self.dt;
+        scene.integrator.scheme = self.scheme;
+        scene
+    }
+
+    pub fn scheme_name(&self) -> &'static str {
+        match self.scheme {
+            Scheme::GeneralizedAlpha => "generalized-alpha",
+            Scheme::MoreauJean => "moreau-jean",
+        }
+    }
+}
+
+impl fmt::Display for Configuration {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}, dt {:e} s, {}",
+            self.resolution,
+            self.dt,
+            self.scheme_name()
+        )
+    }
+}
+
+/// The axes of a study grid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grid {
+    pub modes: Vec<usize>,
+    pub beam_elements: Vec<usize>,
+    pub element_sizes: Vec<f64>,
+    pub time_steps: Vec<f64>,
+    pub schemes: Vec<Scheme>,
+}
+
+impl Grid {
+    /// The issue's grid: modal 1..20 modes, beam 5..200 elements, plane stress
+    /// 0.08..0.005 m, time steps 1e-3..1e-5 s, both integrators.
+    pub fn full() -> Self {
+        Self {
+            modes: vec![1, 2, 3, 5, 10, 20],
+            beam_elements: vec![5, 10, 20, 50, 100, 200],
+            element_sizes: vec![0.08, 0.04, 0.02, 0.01, 0.005],
+            time_steps: vec![1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5],
+            schemes: vec![Scheme::GeneralizedAlpha, Scheme::MoreauJean],
+        }
+    }
+
+    /// Every configuration, cheapest resolutions first.
+    pub fn configurations(&self) -> Vec<Configuration> {
+        let resolutions = self
+            .modes
+            .iter()
+            .map(|&modes| Resolution::Modal { modes })
+            .chain(
+                self.beam_elements
+                    .iter()
+                    .map(|&elements| Resolution::Beam { elements }),
+            )
+            .chain(
+                self.element_sizes
+                    .iter()
+                    .map(|&element_size| Resolution::PlaneStress { element_size }),
+            );
+        let mut out = Vec::new();
+        for resolution in resolutions {
+            for &dt in &self.time_steps {
+                for &scheme in &self.schemes {
+                    out.push(Configuration {
+                        resolution,
+                        dt,
+                        scheme,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// The default reference: the finest mesh (or, without plane stress, the finest
+    /// beam) at the smallest step, with generalised-alpha.
+    pub fn finest(&self) -> Option<Configuration> {
+        let dt = self.time_steps.iter().copied().fold(f64::NAN, f64::min);
+        let resolution = if let Some(size) = self.element_sizes.iter().copied().reduce(f64::min) {
+            Resolution::PlaneStress { element_size: size }
+        } else if let Some(&elements) = self.beam_elements.iter().max() {
+            Resolution::Beam { elements }
+        } else {
+            Resolution::Modal {
+                modes: *self.modes.iter().max()?,
+            }
+        };
+        dt.is_finite().then_some(Configuration {
+            resolution,
+            dt,
+            scheme: Scheme::GeneralizedAlpha,
+        })
+    }
+}
+
+/// What one run gives the comparison.
+#[derive(Clone, Debug)]
+pub struct Measured {
+    pub configuration: Configuration,
+    pub dofs: usize,
+    /// Wall time of model build and stepping (s).
+    pub seconds: f64,
+    pub summary: Summary,
+    /// Tip deflection at k * [`COMPARISON_INTERVAL`], k = 0, 1, ... (m).
+    pub tip: Vec<f64>,
+}
+
+/// A configuration that could not run, and why.
+#[derive(Clone, Debug)]
+pub struct Failed {
+    pub configuration: Configuration,
+    pub reason: String,
+}
+
+/// Runs `configuration` on `scene` (checked), timing it.
+pub fn measure(scene: &Scene, configuration: Configuration) -> Result<Measured, Failed> {
+    let failed = |reason: String| Failed {
+        configuration,
+        reason,
+    };
+    let checked: CheckedScene = configuration
+        .apply(scene)
+        .check()
+        .map_err(|e| failed(e.to_string()))?;
+    let every = COMPARISON_INTERVAL / configuration.dt;
+    if (every - every.round()).abs() > 1e-9 * every || every.round() < 1.0 {
+        return Err(failed(format!(
+            "time step {} s does not divide the comparison interval {COMPARISON_INTERVAL} s",
+            configuration.dt
+        )));
+    }
+    let every = every.round() as usize;
+    // Every step is kept so that the summary (corridor, slip detection) does not depend
+    // on the time step through its sampling.
+    let run = run_scene(checked, 1).map_err(|e| failed(e.to_string()))?;
+    let tip = run
+        .samples
+        .iter()
+        .step_by(every)
+        .map(|s| s.tip_deflection)
+        .collect();
+    Ok(Measured {
+        configuration,
+        dofs: run.dofs,
+        seconds: run.seconds,
+        summary: run.summary,
+        tip,
+    })
+}
+
+/// Errors of a run against the reference; `None` where either run lacks the metric
+/// (no breakaway, fewer than two major slips ...).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Errors {
+    /// |breakaway - reference| (s).
+    pub breakaway: Option<f64>,
+    /// |first major-slip duration - reference| (s).
+    pub first_slip_duration: Option<f64>,
+    /// |stick-slip period - reference| (s).
+    pub period: Option<f64>,
+    /// max(|min - min_ref|, |max - max_ref|) of the corridor after breakaway (m).
+    pub corridor: Option<f64>,
+    /// RMS of the tip-deflection difference over the run (m).
+    pub rms: f64,
+}
+
+fn difference(a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    Some((a? - b?).abs())
+}
+
+/// RMS of the difference of two tip series on the same grid (m).
+pub fn rms_difference(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    if n == 0 {
+        return f64::NAN;
+    }
+    let sum: f64 = a[..n]
+        .iter()
+        .zip(&b[..n])
+        .map(|(x, y)| (x - y).powi(2))
+        .sum();
+    (sum / n as f64).sqrt()
+}
+
+impl Errors {
+    pub fn between(run: &Measured, reference: &Measured) -> Self {
+        let (s, r) = (&run.summary, &reference.summary);
+        let first_duration = |s: &Summary| s.major_slips.first().and_then(|m| m.duration);
+        let corridor = match (s.corridor, r.corridor) {
+            (Some((lo, hi)), Some((rlo, rhi))) => Some((lo - rlo).abs().max((hi - rhi).abs())),
+            _ => None,
+        };
+        Self {
+            breakaway: difference(s.breakaway, r.breakaway),
+            first_slip_duration: difference(first_duration(s), first_duration(r)),
+            period: difference(s.period, r.period),
+            corridor,
+            rms: rms_difference(&run.tip, &reference.tip),
+        }
+    }
+}
+
+/// One row of the study.
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub measured: Measured,
+    pub errors: Errors,
+    pub on_front: bool,
+}
+
+/// Marks the rows that no other row beats in both wall time and RMS error.
+pub fn mark_pareto_front(rows: &mut [Row]) {
+    let points: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| (r.measured.seconds, r.errors.rms))
+        .collect();
+    for (k, row) in rows.iter_mut().enumerate() {
+        let (t, e) = points[k];
+        row.on_front = e.is_finite()
+            && !points
+                .iter()
+                .enumerate()
+                .any(|(j, &(tj, ej))| j != k && tj <= t && ej <= e && (tj < t || ej < e));
+    }
+}
+
+/// The front, cheapest first (so error decreases along it).
+pub fn front(rows: &[Row]) -> Vec<&Row> {
+    let mut front: Vec<&Row> = rows.iter().filter(|r| r.on_front).collect();
+    front.sort_by(|a, b| a.measured.seconds.total_cmp(&b.measured.seconds));
+    front
+}
+
+/// The CSV header of [`csv_line`].
+pub const CSV_HEADER: &str = "level,modes,beam_elements,element_size_m,dt_s,integrator,dofs,wall_s,realtime_factor,err_breakaway_s,err_first_slip_duration_s,err_period_s,err_corridor_m,err_rms_m,pareto";
+
+/// One CSV line of a row; missing values are empty fields.
+pub fn csv_line(row: &Row, end_time: f64) -> String {
+    let c = &row.measured.configuration;
+    let (level, modes, elements, size) = match c.resolution {
+        Resolution::Modal { modes } => ("modal", modes.to_string(), String::new(), String::new()),
+        Resolution::Beam { elements } => {
+            ("beam", String::new(), elements.to_string(), String::new())
+        }
+        Resolution::PlaneStress { element_size } => (
+            "plane-stress",
+            String::new(),
+            String::new(),
+            element_size.to_string(),
+        ),
+    };
+    let opt = |v: Option<f64>| v.map(|v| format!("{v:.6e}")).unwrap_or_default();
+    let e = &row.errors;
+    format!(
+        "{level},{modes},{elements},{size},{:e},{},{},{:.6e},{:.3},{},{},{},{},{:.6e},{}",
+        c.dt,
+        c.scheme_name(),
+        row.measured.dofs,
+        row.measured.seconds,
+        end_time / row.measured.seconds,
+        opt(e.breakaway),
+        opt(e.first_slip_duration),
+        opt(e.period),
+        opt(e.corridor),
+        e.rms,
+        row.on_front as u8
+    )
+}
+
+/// A point of the measured front as the `auto` fidelity reads it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FrontPoint {
+    pub configuration: Configuration,
+    /// Wall time measured in the study (s).
+    pub seconds: f64,
+    /// RMS tip-deflection error against the study's reference (m).
+    pub rms_error: f64,
+}
+
+pub fn front_points(rows: &[Row]) -> Vec<FrontPoint> {
+    front(rows)
+        .into_iter()
+        .map(|r| FrontPoint {
+            configuration: r.measured.configuration,
+            seconds: r.measured.seconds,
+            rms_error: r.errors.rms,
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(seconds: f64, rms: f64) -> Row {
+        Row {
+            measured: Measured {
+                configuration: Configuration {
+                    resolution: Resolution::Beam { elements: 1 },
+                    dt: 1e-3,
+                    scheme: Scheme::GeneralizedAlpha,
+                },
+                dofs: 2,
+                seconds,
+                summary: Summary::new(&[], &[]),
+                tip: vec![],
+            },
+            errors: Errors {
+                rms,
+                ..Errors::default()
+            },
+            on_front: false,
+        }
+    }
+
+    #[test]
+    fn the_front_keeps_exactly_the_undominated_points() {
+        // (time, error): (1, 9) (2, 5) (3, 6) dominated by (2, 5), (4, 1), (5, 1)
+        // dominated by (4, 1), and a NaN error never on the front.
+        let mut rows: Vec<Row> = [(1.0, 9.0), (2.0, 5.0), (3.0, 6.0), (4.0, 1.0), (5.0, 1.0)]
+            .iter()
+            .map(|&(t, e)| row(t, e))
+            .chain([row(0.5, f64::NAN)])
+            .collect();
+        mark_pareto_front(&mut rows);
+        let marks: Vec<bool> = rows.iter().map(|r| r.on_front).collect();
+        assert_eq!(marks, [true, true, false, true, false, false]);
+        let errors: Vec<f64> = front(&rows).iter().map(|r| r.errors.rms).collect();
+        assert_eq!(errors, [9.0, 5.0, 1.0]);
+    }
+
+    #[test]
+    fn the_full_grid_is_the_issues_grid_and_its_reference_is_the_finest_run() {
+        let grid = Grid::full();
+        assert_eq!(grid.configurations().len(), (6 + 6 + 5) * 7 * 2);
+        let finest = grid.finest().unwrap();
+        assert_eq!(
+            finest.resolution,
+            Resolution::PlaneStress {
+                element_size: 0.005
+            }
+        );
+        assert_eq!(finest.dt, 1e-5);
+        // Every time step divides the comparison grid.
+        for dt in grid.time_steps {
+            let every = COMPARISON_INTERVAL / dt;
+            assert!((every - every.round()).abs() < 1e-9, "{dt}");
+        }
+    }
+
+    #[test]
+    fn rms_difference_of_a_constant_offset_is_the_offset() {
+        let a = [1.0, 2.0, 3.0];
+        let b = [1.5, 2.5, 3.5];
+        assert!((rms_difference(&a, &b) - 0.5).abs() < 1e-15);
+    }
+}

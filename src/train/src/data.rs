@@ -1,0 +1,336 @@
+//! Friction data: the paper's synthetic set (Vater, Stender, Hoffmann, PAMM 2023, Sec. 3.1)
+//! and the common in-memory form of measured data read from CSV.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use nalgebra::DMatrix;
+use rand::seq::SliceRandom;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, Normal, Uniform};
+use serde::{Deserialize, Serialize};
+
+use stickslip::friction::signum_or_zero;
+use stickslip::neural::NeuralError;
+use stickslip::neural::{FeatureRole, SyntheticSpec};
+
+/// Random streams drawn from one seed: ChaCha8 streams are independent, so changing how
+/// many numbers one consumer draws never shifts another consumer's numbers.
+pub(crate) const DATA_STREAM: u64 = 0;
+pub(crate) const INIT_STREAM: u64 = 1;
+pub(crate) const FOLD_STREAM: u64 = 2;
+
+/// A seeded ChaCha8 generator on the given stream. ChaCha8 (rand_chacha 0.3) has a fixed,
+/// documented output, unlike `StdRng`, whose algorithm may change between rand versions.
+pub(crate) fn seeded_rng(seed: u64, stream: u64) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(stream);
+    rng
+}
+
+/// A named physical quantity (a CSV column).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Quantity {
+    pub name: String,
+    /// Unit as written in the CSV header `name[unit]`; empty when none was given.
+    pub unit: String,
+}
+
+impl Quantity {
+    pub fn new(name: &str, unit: &str) -> Self {
+        Quantity {
+            name: name.to_string(),
+            unit: unit.to_string(),
+        }
+    }
+
+    /// The CSV header form: `name[unit]`, or `name` when the unit is empty.
+    pub fn header(&self) -> String {
+        if self.unit.is_empty() {
+            self.name.clone()
+        } else {
+            format!("{}[{}]", self.name, self.unit)
+        }
+    }
+}
+
+/// Samples of features and one target.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Dataset {
+    pub features: Vec<Quantity>,
+    /// One role per feature.
+    pub roles: Vec<FeatureRole>,
+    pub target: Quantity,
+    /// Features, one column per sample (features x samples): the layout the network's
+    /// batch products use, each sample contiguous in memory.
+    pub inputs: DMatrix<f64>,
+    /// Target, one value per sample.
+    pub targets: Vec<f64>,
+}
+
+impl Dataset {
+    pub fn len(&self) -> usize {
+        self.targets.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.targets.is_empty()
+    }
+
+    /// The samples at `indices`, in that order.
+    pub fn subset(&self, indices: &[usize]) -> Dataset {
+        let inputs = DMatrix::from_fn(self.inputs.nrows(), indices.len(), |row, col| {
+            self.inputs[(row, indices[col])]
+        });
+        Dataset {
+            features: self.features.clone(),
+            roles: self.roles.clone(),
+            target: self.target.clone(),
+            inputs,
+            targets: indices.iter().map(|&i| self.targets[i]).collect(),
+        }
+    }
+
+    /// Index of the feature with `role`, if exactly one has it.
+    pub fn feature_with_role(&self, role: FeatureRole) -> Option<usize> {
+        self.roles.iter().position(|&r| r == role)
+    }
+
+    /// Shuffles with `seed` and splits off `test_fraction` of the samples (rounded to the
+    /// nearest integer) as the test set; the rest is the training set.
+    pub fn split(&self, test_fraction: f64, seed: u64) -> Result<Split, NeuralError> {
+        if !(test_fraction > 0.0 && test_fraction < 1.0) {
+            return Err(NeuralError::InvalidInput(format!(
+                "the test fraction must lie strictly between 0 and 1, got {test_fraction}"
+            )));
+        }
+        let n = self.len();
+        let n_test = (n as f64 * test_fraction).round() as usize;
+        if n_test == 0 || n_test >= n {
+            return Err(NeuralError::InvalidInput(format!(
+                "{n} samples cannot be split {:.0}/{:.0} into non-empty training and test sets",
+                100.0 * (1.0 - test_fraction),
+                100.0 * test_fraction
+            )));
+        }
+        let mut order: Vec<usize> = (0..n).collect();
+        // The split draws from its own stream so that it does not depend on how many
+        // numbers the generator consumed.
+        order.shuffle(&mut seeded_rng(seed, FOLD_STREAM + 1));
+        let n_train = n - n_test;
+        Ok(Split {
+            train: self.subset(&order[..n_train]),
+            test: self.subset(&order[n_train..]),
+        })
+    }
+
+    /// Writes the set as CSV: a header of `name[unit]` columns (features, then target)
+    /// and one row per sample, every number in Rust's shortest round-trip form, so that
+    /// another program parses back exactly the same f64 values.
+    pub fn write_csv(&self, path: &Path) -> Result<(), NeuralError> {
+        let mut text = String::new();
+        let header: Vec<String> = self
+            .features
+            .iter()
+            .chain(std::iter::once(&self.target))
+            .map(Quantity::header)
+            .collect();
+        text.push_str(&header.join(","));
+        text.push('\n');
+        for (sample, target) in self.targets.iter().enumerate() {
+            for value in self.inputs.column(sample).iter() {
+                let _ = write!(text, "{value},");
+            }
+            let _ = writeln!(text, "{target}");
+        }
+        std::fs::write(path, text).map_err(|e| NeuralError::io("cannot write", path, e))
+    }
+
+    /// Minimum and maximum of feature `index` over the samples.
+    pub fn feature_range(&self, index: usize) -> (f64, f64) {
+        min_max(self.inputs.row(index).iter().copied())
+    }
+
+    /// Minimum and maximum of the target over the samples.
+    pub fn target_range(&self) -> (f64, f64) {
+        min_max(self.targets.iter().copied())
+    }
+}
+
+pub(crate) fn min_max(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(v), hi.max(v))
+    })
+}
+
+/// A training and a test set.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Split {
+    pub train: Dataset,
+    pub test: Dataset,
+}
+
+/// Name and unit of the synthetic set's columns; `NeuralLaw` finds the beam's inputs by
+/// role, not by these names.
+pub const SLIDING_VELOCITY: &str = "sliding_velocity";
+pub const NORMAL_FORCE: &str = "normal_force";
+pub const FRICTION_FORCE: &str = "friction_force";
+
+/// Generation of the paper's synthetic data set from its settings (which live with the
+/// weights file format in `stickslip::neural::weights`, since every trained model
+/// records them).
+pub trait Synthetic {
+    /// mu(|v|) F_n with the sign of v: the noise-free force of Eq. 6 (N).
+    fn exact_force(&self, sliding_velocity: f64, normal_force: f64) -> f64;
+    /// All samples, features (sliding_velocity [m/s], normal_force [N]) and target
+    /// friction_force [N], reproducible from `seed`.
+    fn generate(&self, seed: u64) -> Result<Dataset, NeuralError>;
+    /// `generate`, split into training and test sets by `test_fraction`.
+    fn generate_split(&self, seed: u64) -> Result<Split, NeuralError>;
+}
+
+/// The settings' ranges, checked before any sample is drawn.
+fn check(spec: &SyntheticSpec) -> Result<(), NeuralError> {
+    let bad = |what: &str| Err(NeuralError::InvalidInput(format!("synthetic data: {what}")));
+    let all_finite = [
+        spec.normal_force_min,
+        spec.normal_force_max,
+        spec.velocity_std,
+        spec.velocity_limit,
+        spec.static_coefficient,
+        spec.kinetic_coefficient,
+        spec.decay,
+        spec.noise_std,
+        spec.test_fraction,
+    ]
+    .iter()
+    .all(|v| v.is_finite());
+    if !all_finite {
+        return bad("every parameter must be a finite number");
+    }
+    if spec.samples < 10 {
+        return bad("at least 10 samples are needed");
+    }
+    if spec.normal_force_min >= spec.normal_force_max {
+        return bad("normal_force_min must be below normal_force_max");
+    }
+    if spec.velocity_std <= 0.0 || spec.velocity_limit <= 0.0 {
+        return bad("velocity_std and velocity_limit must be positive");
+    }
+    // Below 0.05 sigma the rejection loop would need thousands of draws per sample.
+    if spec.velocity_limit < 0.05 * spec.velocity_std {
+        return bad("velocity_limit must be at least 0.05 velocity_std");
+    }
+    if spec.noise_std < 0.0 {
+        return bad("noise_std must not be negative");
+    }
+    Ok(())
+}
+
+impl Synthetic for SyntheticSpec {
+    /// mu(|v|) F_n with the sign of v: the noise-free force of Eq. 6 (N).
+    fn exact_force(&self, sliding_velocity: f64, normal_force: f64) -> f64 {
+        let coefficient = self.kinetic_coefficient
+            + (self.static_coefficient - self.kinetic_coefficient)
+                * (-self.decay * sliding_velocity.abs()).exp();
+        signum_or_zero(sliding_velocity) * coefficient * normal_force
+    }
+
+    /// All samples, features (sliding_velocity [m/s], normal_force [N]) and target
+    /// friction_force [N], reproducible from `seed`.
+    fn generate(&self, seed: u64) -> Result<Dataset, NeuralError> {
+        check(self)?;
+        let mut rng = seeded_rng(seed, DATA_STREAM);
+        let normal_force = Uniform::new(self.normal_force_min, self.normal_force_max);
+        let velocity = Normal::new(0.0, self.velocity_std)
+            .map_err(|e| NeuralError::InvalidInput(format!("velocity distribution: {e}")))?;
+        let noise = Normal::new(0.0, self.noise_std)
+            .map_err(|e| NeuralError::InvalidInput(format!("noise distribution: {e}")))?;
+        let mut inputs = DMatrix::zeros(2, self.samples);
+        let mut targets = Vec::with_capacity(self.samples);
+        for sample in 0..self.samples {
+            let f_n: f64 = normal_force.sample(&mut rng);
+            let v = loop {
+                let candidate: f64 = velocity.sample(&mut rng);
+                if candidate.abs() <= self.velocity_limit {
+                    break candidate;
+                }
+            };
+            // Drawn even when noise_std = 0 (then e = 0), so the velocities and normal
+            // forces do not depend on the noise level.
+            let e: f64 = noise.sample(&mut rng);
+            inputs[(0, sample)] = v;
+            inputs[(1, sample)] = f_n;
+            targets.push(self.exact_force(v, f_n) + e);
+        }
+        Ok(Dataset {
+            features: vec![
+                Quantity::new(SLIDING_VELOCITY, "m/s"),
+                Quantity::new(NORMAL_FORCE, "N"),
+            ],
+            roles: vec![FeatureRole::SlidingVelocity, FeatureRole::NormalForce],
+            target: Quantity::new(FRICTION_FORCE, "N"),
+            inputs,
+            targets,
+        })
+    }
+
+    /// The generated set split `1 - test_fraction` / `test_fraction` (70/30 by default).
+    fn generate_split(&self, seed: u64) -> Result<Split, NeuralError> {
+        self.generate(seed)?.split(self.test_fraction, seed)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn synthetic_data_follows_the_spec_and_is_reproducible() {
+        let spec = SyntheticSpec::default();
+        let a = spec.generate(7).unwrap();
+        let b = spec.generate(7).unwrap();
+        assert_eq!(a, b);
+        assert_ne!(a, spec.generate(8).unwrap());
+        assert_eq!(a.len(), 5000);
+        let (v_min, v_max) = a.feature_range(0);
+        assert!(v_min >= -0.4 && v_max <= 0.4);
+        let (f_min, f_max) = a.feature_range(1);
+        assert!(f_min >= 90.0 && f_max < 110.0);
+        // Residual against Eq. 6 is the noise: mean ~ 0, std ~ 0.02 N.
+        let residuals: Vec<f64> = (0..a.len())
+            .map(|i| a.targets[i] - spec.exact_force(a.inputs[(0, i)], a.inputs[(1, i)]))
+            .collect();
+        let mean = residuals.iter().sum::<f64>() / residuals.len() as f64;
+        let std = (residuals.iter().map(|r| (r - mean).powi(2)).sum::<f64>()
+            / residuals.len() as f64)
+            .sqrt();
+        assert!(mean.abs() < 0.002, "noise mean {mean}");
+        assert!((std - 0.02).abs() < 0.001, "noise std {std}");
+        // Velocity std of N(0, 0.1) truncated at 4 sigma stays ~0.1.
+        let v_std = (a.inputs.row(0).iter().map(|v| v * v).sum::<f64>() / 5000.0).sqrt();
+        assert!((v_std - 0.1).abs() < 0.005, "velocity std {v_std}");
+    }
+
+    #[test]
+    fn split_is_70_30_and_a_partition() {
+        let spec = SyntheticSpec::default();
+        let data = spec.generate(1).unwrap();
+        let split = data.split(0.3, 1).unwrap();
+        assert_eq!(split.train.len(), 3500);
+        assert_eq!(split.test.len(), 1500);
+        let mut all: Vec<f64> = split
+            .train
+            .targets
+            .iter()
+            .chain(split.test.targets.iter())
+            .copied()
+            .collect();
+        let mut original = data.targets.clone();
+        all.sort_by(f64::total_cmp);
+        original.sort_by(f64::total_cmp);
+        assert_eq!(all, original);
+        assert!(data.split(1.0, 1).is_err());
+    }
+}

@@ -1,0 +1,3 @@
+//! The `stickslip` command line contract.
+
+mod contract;

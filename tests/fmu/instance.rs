@@ -1,0 +1,779 @@
+//! The FMI state machine, parameter and input checks, stepping and FMU state of both
+//! models, driven through `Instance` (the plain-Rust side of the C interface).
+
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+use stickslip::friction::analytical_law;
+use stickslip::scene::{CheckedScene, FidelityLevel, Scene};
+use stickslip::simulation::Simulator;
+use stickslip_fmi::beam::StickSlipBeam;
+use stickslip_fmi::friction::NeuralFriction;
+use stickslip_fmi::instance::{Instance, Logger, Mode, SavedState, Status};
+use stickslip_fmi::variables::Causality;
+use stickslip_fmi::{FmuKind, Model};
+
+type Log = Arc<Mutex<Vec<(Status, String, String)>>>;
+
+fn collecting_logger() -> (Logger, Log) {
+    let log: Log = Arc::new(Mutex::new(Vec::new()));
+    let sink = log.clone();
+    let logger: Logger = Box::new(move |status, category, message| {
+        sink.lock()
+            .unwrap()
+            .push((status, category.to_string(), message.to_string()));
+    });
+    (logger, log)
+}
+
+/// The shipped weights folder stands in for the unpacked resources/.
+fn resources() -> PathBuf {
+    stickslip_tests::weights_dir()
+}
+
+fn vr<M: Model>(name: &str) -> u32 {
+    M::variables()
+        .iter()
+        .find(|v| v.name == name)
+        .unwrap_or_else(|| panic!("no variable {name}"))
+        .value_reference
+}
+
+fn beam(logging_on: bool) -> (Instance<StickSlipBeam>, Log) {
+    let (logger, log) = collecting_logger();
+    let instance = Instance::new("beam", Some(&resources()), logging_on, logger).unwrap();
+    (instance, log)
+}
+
+fn logged(log: &Log, needle: &str) -> bool {
+    log.lock()
+        .unwrap()
+        .iter()
+        .any(|(_, _, m)| m.contains(needle))
+}
+
+/// Beam fidelity (fast) and the experiment 0..1.2 s, initialised.
+fn initialized_beam(level: i32) -> (Instance<StickSlipBeam>, Log) {
+    let (mut b, log) = beam(false);
+    b.setup_experiment(0.0, Some(1.2)).unwrap();
+    b.set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[level])
+        .unwrap();
+    b.enter_initialization_mode().unwrap();
+    b.exit_initialization_mode().unwrap();
+    (b, log)
+}
+
+const LEVEL_MODAL: i32 = 1;
+const LEVEL_BEAM: i32 = 2;
+
+fn tip(b: &mut Instance<StickSlipBeam>) -> f64 {
+    let mut out = [0.0];
+    b.get_real(&[vr::<StickSlipBeam>("tip_deflection")], &mut out)
+        .unwrap();
+    out[0]
+}
+
+fn run(b: &mut Instance<StickSlipBeam>, from: f64, to: f64, h: f64) -> Vec<f64> {
+    let mut out = Vec::new();
+    let n = ((to - from) / h).round() as usize;
+    for k in 0..n {
+        b.do_step(from + k as f64 * h, h).unwrap();
+        out.push(tip(b));
+    }
+    out
+}
+
+#[test]
+fn wrong_call_order_is_an_error_and_only_reset_leads_out() {
+    let (mut b, log) = beam(false);
+    assert!(b.do_step(0.0, 1e-3).is_err());
+    assert_eq!(b.mode(), Mode::Error);
+    assert!(logged(&log, "fmi2DoStep: illegal call sequence"));
+    // After an error: no stepping, setting or mode change; reads are allowed (the
+    // standard's table), and report without computing.
+    assert!(b
+        .set_real(&[vr::<StickSlipBeam>("belt_speed")], &[0.01])
+        .is_err());
+    let mut out = [0.0];
+    b.get_real(&[vr::<StickSlipBeam>("geometry.length")], &mut out)
+        .unwrap();
+    assert_eq!(out[0], 2.0);
+    assert!(b.enter_initialization_mode().is_err());
+    assert!(b.setup_experiment(0.0, None).is_err());
+    b.reset();
+    assert_eq!(b.mode(), Mode::Instantiated);
+    b.setup_experiment(0.0, None).unwrap();
+    b.enter_initialization_mode().unwrap();
+    assert!(b.enter_initialization_mode().is_err(), "entered twice");
+}
+
+#[test]
+fn every_call_outside_its_modes_is_refused() {
+    // ExitInitializationMode before Enter; Terminate before initialisation; get before
+    // initialisation; DoStep after Terminate.
+    let (mut b, log) = beam(false);
+    assert!(b.exit_initialization_mode().is_err());
+    b.reset();
+    assert!(b.terminate().is_err());
+    b.reset();
+    let mut out = [0.0];
+    assert!(b
+        .get_real(&[vr::<StickSlipBeam>("tip_deflection")], &mut out)
+        .is_err());
+    let (mut b, _) = initialized_beam(LEVEL_MODAL);
+    b.do_step(0.0, 1e-3).unwrap();
+    b.terminate().unwrap();
+    assert!(b.do_step(1e-3, 1e-3).is_err());
+    assert_eq!(
+        log.lock()
+            .unwrap()
+            .iter()
+            .filter(|(_, _, m)| m.contains("illegal call sequence"))
+            .count(),
+        3
+    );
+}
+
+#[test]
+fn invalid_parameters_fail_initialisation_with_the_scene_message() {
+    let (mut b, log) = beam(false);
+    b.set_real(
+        &[vr::<StickSlipBeam>("material.youngs_modulus")],
+        &[-2.1e11],
+    )
+    .unwrap();
+    b.enter_initialization_mode().unwrap();
+    assert!(b.exit_initialization_mode().is_err());
+    let mut scene = Scene::default();
+    scene.material.youngs_modulus = -2.1e11;
+    let expected = scene.check().err().unwrap().to_string();
+    assert!(
+        logged(&log, &format!("fmi2ExitInitializationMode: {expected}")),
+        "{:?}",
+        log.lock().unwrap()
+    );
+    assert_eq!(b.mode(), Mode::Error);
+}
+
+#[test]
+fn non_finite_and_out_of_range_values_are_refused_when_set() {
+    let (mut b, log) = beam(false);
+    assert!(b
+        .set_real(&[vr::<StickSlipBeam>("belt_speed")], &[f64::NAN])
+        .is_err());
+    assert!(logged(&log, "belt_speed: NaN is not a finite number"));
+    b.reset();
+    assert!(b
+        .set_real(&[vr::<StickSlipBeam>("normal_force")], &[-1.0])
+        .is_err());
+    b.reset();
+    assert!(b
+        .set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[7])
+        .is_err());
+    assert!(logged(&log, "7 is not a FidelityLevel value"));
+    b.reset();
+    assert!(b
+        .set_real(&[vr::<StickSlipBeam>("tip_deflection")], &[1.0])
+        .is_err());
+    assert!(logged(
+        &log,
+        "tip_deflection is an output and cannot be set"
+    ));
+    b.reset();
+    assert!(b.set_real(&[9999], &[1.0]).is_err());
+    assert!(logged(&log, "no variable has value reference 9999"));
+    b.reset();
+    // Accessing an Integer as a Real.
+    assert!(b
+        .set_real(&[vr::<StickSlipBeam>("fidelity.modes")], &[3.0])
+        .is_err());
+}
+
+#[test]
+fn fixed_parameters_cannot_change_after_initialisation_but_inputs_can() {
+    let (mut b, log) = initialized_beam(LEVEL_MODAL);
+    b.set_real(&[vr::<StickSlipBeam>("belt_speed")], &[0.03])
+        .unwrap();
+    assert!(b
+        .set_real(&[vr::<StickSlipBeam>("geometry.length")], &[1.0])
+        .is_err());
+    assert!(logged(&log, "geometry.length is a fixed parameter"));
+}
+
+#[test]
+fn do_step_checks_the_communication_point_step_size_and_stop_time() {
+    for (t, h, needle) in [
+        (0.5, 1e-3, "does not match the FMU's time"),
+        (0.0, 0.0, "must be positive"),
+        (0.0, -1e-3, "must be positive"),
+        (0.0, f64::NAN, "must be positive"),
+        (0.0, 1.3, "passes stopTime"),
+    ] {
+        let (mut b, log) = initialized_beam(LEVEL_MODAL);
+        assert!(b.do_step(t, h).is_err(), "t = {t}, h = {h}");
+        assert!(logged(&log, needle), "{needle}: {:?}", log.lock().unwrap());
+    }
+    // Within the tolerance of the communication point (a master that accumulates t).
+    let (mut b, _) = initialized_beam(LEVEL_MODAL);
+    b.do_step(0.0, 0.1).unwrap();
+    b.do_step(0.1 + 1e-15, 0.1).unwrap();
+    assert_eq!(b.time(), 0.1 + 1e-15 + 0.1);
+}
+
+/// The FMU at a communication step of 1e-3 s gives exactly the library's result.
+#[test]
+fn fmu_steps_equal_the_library_bit_for_bit() {
+    let (mut b, _) = initialized_beam(LEVEL_BEAM);
+    let fmu = run(&mut b, 0.0, 0.6, 1e-3);
+    let mut scene = CheckedScene::paper().into_scene();
+    scene.fidelity.level = FidelityLevel::Beam;
+    scene.time.end = 1.2;
+    let scene = scene.check().unwrap();
+    let law = analytical_law(&scene).unwrap();
+    let mut sim = Simulator::new(scene, law).unwrap();
+    for (k, &u) in fmu.iter().enumerate() {
+        for _ in 0..10 {
+            sim.step().unwrap();
+        }
+        assert_eq!(u, sim.sample().tip_deflection, "communication point {k}");
+    }
+    // Stick phase: the tip follows the belt until 0.4 s.
+    assert!((fmu[199] - 0.02 * 0.2).abs() < 1e-9);
+}
+
+/// Communication steps off the internal grid land exactly on the communication point
+/// and change the result only by the integrator's error over the odd steps.
+#[test]
+fn irregular_communication_steps_land_exactly() {
+    let (mut regular, _) = initialized_beam(LEVEL_BEAM);
+    let reference = run(&mut regular, 0.0, 0.6, 1e-3);
+    let (mut b, _) = initialized_beam(LEVEL_BEAM);
+    let mut t = 0.0;
+    let pattern: [f64; 3] = [2.5e-4, 7e-4, 5e-5];
+    let mut k = 0;
+    while t < 0.6 - 1e-12 {
+        let h = pattern[k % 3].min(0.6 - t);
+        b.do_step(t, h).unwrap();
+        t += h;
+        k += 1;
+    }
+    assert_eq!(b.time(), t);
+    let mut out = [0.0; 2];
+    b.get_real(
+        &[
+            vr::<StickSlipBeam>("tip_deflection"),
+            vr::<StickSlipBeam>("relative_velocity"),
+        ],
+        &mut out,
+    )
+    .unwrap();
+    let end = *reference.last().unwrap();
+    eprintln!("irregular steps: {} m, regular: {end} m", out[0]);
+    // At 0.6 s (mid-slip) the two agree to 1 um (measured: 1.6e-8 m): the steps of
+    // 2.5e-4, 7e-4 and 5e-5 s cut into 1e-4 s steps plus one short landing step carry
+    // only the integrator's O(dt^2) error, far below the 8 mm scale.
+    assert!((out[0] - end).abs() < 1e-6, "{} vs {end} m", out[0]);
+    assert!(out[1].is_finite());
+}
+
+#[test]
+fn state_save_run_restore_run_is_bit_for_bit_and_survives_bytes() {
+    let (mut b, _) = initialized_beam(LEVEL_BEAM);
+    run(&mut b, 0.0, 0.5, 1e-3);
+    let saved = b.get_state().unwrap();
+    let first = run(&mut b, 0.5, 0.8, 1e-3);
+    b.set_state(&saved).unwrap();
+    assert_eq!(b.time(), 0.5);
+    let again = run(&mut b, 0.5, 0.8, 1e-3);
+    assert_eq!(first, again);
+
+    // Through bytes into a fresh instance that was only instantiated.
+    let bytes = b.serialize_state(&saved).unwrap();
+    let (mut fresh, _) = beam(false);
+    let restored = fresh.deserialize_state(&bytes).unwrap();
+    assert_eq!(restored, saved);
+    fresh.set_state(&restored).unwrap();
+    assert_eq!(fresh.mode(), Mode::StepComplete);
+    assert_eq!(run(&mut fresh, 0.5, 0.8, 1e-3), first);
+}
+
+#[test]
+fn malformed_state_bytes_are_refused() {
+    let (mut b, log) = initialized_beam(LEVEL_MODAL);
+    run(&mut b, 0.0, 0.01, 1e-3);
+    let saved = b.get_state().unwrap();
+    let bytes = b.serialize_state(&saved).unwrap();
+    let text = String::from_utf8(bytes.clone()).unwrap();
+    let cases: Vec<(Vec<u8>, &str)> = vec![
+        (bytes[..bytes.len() / 2].to_vec(), "malformed"),
+        (b"\xff\x00garbage".to_vec(), "malformed"),
+        (
+            text.replace("\"version\":1", "\"version\":99").into_bytes(),
+            "version 99",
+        ),
+        (
+            text.replace("stickslip-fmu-state", "other").into_bytes(),
+            "format",
+        ),
+    ];
+    for (bad, needle) in cases {
+        b.reset();
+        assert!(b.deserialize_state(&bad).is_err());
+        assert!(logged(&log, needle), "{needle}");
+    }
+    // Well-formed bytes whose model part does not fit: a wrong number of dofs.
+    b.reset();
+    let mut wrong: SavedState = SavedState::from_bytes(&bytes).unwrap();
+    let kinematics = &mut wrong.model["running"]["state"]["kinematics"]["displacement"];
+    kinematics.as_array_mut().unwrap().pop();
+    assert!(b.set_state(&wrong).is_err());
+    assert!(logged(&log, "degrees of freedom"));
+    // A state of the other FMU.
+    let (mut friction, _) = {
+        let (logger, log) = collecting_logger();
+        (
+            Instance::<NeuralFriction>::new("f", Some(&resources()), false, logger).unwrap(),
+            log,
+        )
+    };
+    let other = friction.get_state().unwrap();
+    b.reset();
+    assert!(b.set_state(&other).is_err());
+    assert!(logged(&log, "belongs to the FMU with GUID"));
+}
+
+#[test]
+fn set_state_is_the_way_back_from_an_error() {
+    let (mut b, _) = initialized_beam(LEVEL_MODAL);
+    let saved = b.get_state().unwrap();
+    assert!(b.do_step(0.0, -1.0).is_err());
+    assert_eq!(b.mode(), Mode::Error);
+    b.set_state(&saved).unwrap();
+    assert_eq!(b.mode(), Mode::StepComplete);
+    b.do_step(0.0, 1e-3).unwrap();
+}
+
+#[test]
+fn reset_then_rerun_reproduces_the_first_run() {
+    let (mut b, _) = initialized_beam(LEVEL_MODAL);
+    let first = run(&mut b, 0.0, 0.7, 1e-3);
+    b.reset();
+    b.setup_experiment(0.0, Some(1.2)).unwrap();
+    b.set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[LEVEL_MODAL])
+        .unwrap();
+    b.enter_initialization_mode().unwrap();
+    b.exit_initialization_mode().unwrap();
+    assert_eq!(run(&mut b, 0.0, 0.7, 1e-3), first);
+}
+
+#[test]
+fn two_instances_in_two_threads_are_independent() {
+    let alone = {
+        let (mut b, _) = initialized_beam(LEVEL_MODAL);
+        run(&mut b, 0.0, 0.6, 1e-3)
+    };
+    let handles: Vec<_> = (0..2)
+        .map(|k| {
+            std::thread::spawn(move || {
+                let (mut b, _) = initialized_beam(LEVEL_MODAL);
+                if k == 1 {
+                    // A different belt speed in the other instance must not leak.
+                    b.set_real(&[vr::<StickSlipBeam>("belt_speed")], &[0.03])
+                        .unwrap();
+                }
+                run(&mut b, 0.0, 0.6, 1e-3)
+            })
+        })
+        .collect();
+    let results: Vec<Vec<f64>> = handles.into_iter().map(|h| h.join().unwrap()).collect();
+    assert_eq!(results[0], alone);
+    assert_ne!(results[1], alone);
+}
+
+#[test]
+fn missing_or_corrupted_weights_fail_instantiation_with_a_reason() {
+    let dir = std::env::temp_dir().join(format!("stickslip-res-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (logger, log) = collecting_logger();
+    assert!(Instance::<StickSlipBeam>::new("b", Some(&dir), false, logger).is_err());
+    assert!(logged(&log, "paper-plain.json is missing"));
+    std::fs::write(dir.join("paper-plain.json"), "{\"format\": 3").unwrap();
+    let (logger, log) = collecting_logger();
+    assert!(Instance::<NeuralFriction>::new("f", Some(&dir), false, logger).is_err());
+    assert!(
+        logged(&log, "paper-plain.json"),
+        "{:?}",
+        log.lock().unwrap()
+    );
+    let (logger, log) = collecting_logger();
+    assert!(Instance::<StickSlipBeam>::new("b", None, false, logger).is_err());
+    assert!(logged(&log, "no resource location"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn logging_honours_categories() {
+    // Off: only errors are logged (logStatusError is on by default).
+    let (mut b, log) = initialized_beam(LEVEL_MODAL);
+    run(&mut b, 0.0, 0.5, 1e-3);
+    assert!(log.lock().unwrap().is_empty());
+    // logEvents on: the breakaway is reported.
+    assert_eq!(b.set_debug_logging(true, &["logEvents"]), Status::Ok);
+    run(&mut b, 0.5, 0.6, 1e-3);
+    assert!(logged(&log, ": stick") || logged(&log, ": slip"));
+    assert!(log
+        .lock()
+        .unwrap()
+        .iter()
+        .all(|(_, category, _)| category == "logEvents"));
+    // An undeclared category is a warning, not an error.
+    assert_eq!(b.set_debug_logging(true, &["logNonsense"]), Status::Warning);
+    // Everything off: even errors are silent.
+    b.set_debug_logging(false, &[]);
+    let before = log.lock().unwrap().len();
+    assert!(b.do_step(7.0, 1e-3).is_err());
+    assert_eq!(log.lock().unwrap().len(), before);
+}
+
+#[test]
+fn breakaway_through_the_fmu_is_at_0_400_s() {
+    let (mut b, _) = initialized_beam(LEVEL_MODAL);
+    let stick = vr::<StickSlipBeam>("stick");
+    let mut t = 0.0;
+    let h = 1e-3;
+    loop {
+        b.do_step(t, h).unwrap();
+        t += h;
+        let mut s = [true];
+        b.get_boolean(&[stick], &mut s).unwrap();
+        if !s[0] {
+            break;
+        }
+        assert!(t < 0.5, "no breakaway by 0.5 s");
+    }
+    // The first step whose end finds the tip slipping: (0.399, 0.400].
+    assert!((t - 0.4).abs() < 0.5 * h, "breakaway at {t} s");
+}
+
+#[test]
+fn external_friction_equal_to_the_law_reproduces_coulomb() {
+    // friction.model = external with inputs mu_k F_n and mu_s F_n is Coulomb friction
+    // with the static limit mu_s F_n: same as friction.model = coulomb.
+    let runs: Vec<Vec<f64>> = [2, 4]
+        .iter()
+        .map(|&model| {
+            let (mut b, _) = beam(false);
+            b.setup_experiment(0.0, Some(1.2)).unwrap();
+            b.set_integer(
+                &[
+                    vr::<StickSlipBeam>("fidelity.level"),
+                    vr::<StickSlipBeam>("friction.model"),
+                ],
+                &[LEVEL_MODAL, model],
+            )
+            .unwrap();
+            b.set_real(
+                &[
+                    vr::<StickSlipBeam>("external.kinetic_force"),
+                    vr::<StickSlipBeam>("external.static_limit"),
+                ],
+                &[20.0, 50.0],
+            )
+            .unwrap();
+            b.enter_initialization_mode().unwrap();
+            b.exit_initialization_mode().unwrap();
+            run(&mut b, 0.0, 1.0, 1e-3)
+        })
+        .collect();
+    assert_eq!(runs[0], runs[1]);
+}
+
+#[test]
+fn neural_friction_outputs_follow_the_inputs() {
+    let (logger, _) = collecting_logger();
+    let mut f = Instance::<NeuralFriction>::new("f", Some(&resources()), false, logger).unwrap();
+    f.set_integer(&[vr::<NeuralFriction>("law")], &[2]).unwrap();
+    f.setup_experiment(0.0, None).unwrap();
+    f.enter_initialization_mode().unwrap();
+    f.exit_initialization_mode().unwrap();
+    let outputs = [
+        vr::<NeuralFriction>("friction_force"),
+        vr::<NeuralFriction>("friction_force_magnitude"),
+        vr::<NeuralFriction>("friction_coefficient"),
+        vr::<NeuralFriction>("static_limit"),
+    ];
+    for v in [-0.2, 0.05, 0.3] {
+        f.set_real(&[vr::<NeuralFriction>("sliding_velocity")], &[v])
+            .unwrap();
+        let mut out = [0.0; 4];
+        f.get_real(&outputs, &mut out).unwrap();
+        let mu = 0.2 + 0.3 * (-5.0 * v.abs()).exp();
+        assert!((out[0] - v.signum() * mu * 100.0).abs() < 1e-12);
+        assert_eq!(out[1], out[0].abs());
+        assert!((out[2] - mu).abs() < 1e-14);
+        assert_eq!(out[3], 50.0);
+    }
+}
+
+#[test]
+fn every_parameter_start_value_is_the_scene_default() {
+    // One source of truth: the XML start values are read from the model defaults,
+    // which come from Scene::default(). Spot-check the chain end to end.
+    let xml = FmuKind::StickSlipBeam.model_description();
+    let scene = Scene::default();
+    for (name, value) in [
+        ("geometry.length", scene.geometry.length),
+        ("material.youngs_modulus", scene.material.youngs_modulus),
+        ("time.step", scene.time.step),
+        ("belt_speed", scene.loading.belt_speed),
+    ] {
+        let at = xml.find(&format!("name=\"{name}\"")).unwrap();
+        let start = &xml[at..];
+        let start = &start[start.find("start=\"").unwrap() + 7..];
+        let text = &start[..start.find('"').unwrap()];
+        assert_eq!(text.parse::<f64>().unwrap(), value, "{name}");
+    }
+    for v in StickSlipBeam::variables() {
+        let with_start = xml.contains(&format!("name=\"{}\"", v.name));
+        assert!(with_start);
+        if v.causality == Causality::Output {
+            assert!(!v.access.is_settable());
+        }
+    }
+}
+
+/// Reading outputs during initialisation must not freeze the inputs or parameters
+/// that shape the start: a belt speed set afterwards still gives its own quasi-static
+/// start (tip at belt speed) and its own breakaway, mu_s F_n / k_tip / v_b later.
+#[test]
+fn outputs_read_in_initialization_mode_do_not_freeze_the_start() {
+    let start = |read_first: bool| {
+        let (mut b, _) = beam(false);
+        b.setup_experiment(0.0, Some(1.2)).unwrap();
+        b.enter_initialization_mode().unwrap();
+        b.set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[LEVEL_BEAM])
+            .unwrap();
+        if read_first {
+            tip(&mut b);
+        }
+        b.set_real(&[vr::<StickSlipBeam>("belt_speed")], &[0.05])
+            .unwrap();
+        let mut v = [0.0];
+        b.get_real(&[vr::<StickSlipBeam>("tip_velocity")], &mut v)
+            .unwrap();
+        assert!((v[0] - 0.05).abs() < 1e-15, "start velocity {} m/s", v[0]);
+        b.exit_initialization_mode().unwrap();
+        run(&mut b, 0.0, 0.3, 1e-3)
+    };
+    assert_eq!(start(true), start(false));
+}
+
+/// A state that does not fit leaves the running simulation as it was.
+#[test]
+fn a_refused_state_leaves_the_instance_running() {
+    let (mut b, _) = initialized_beam(LEVEL_BEAM);
+    run(&mut b, 0.0, 0.2, 1e-3);
+    let mut wrong = b.get_state().unwrap();
+    wrong.model["running"]["state"]["kinematics"]["velocity"][3] =
+        serde_json::Value::String("x".into());
+    assert!(b.set_state(&wrong).is_err());
+    b.reset();
+    let (mut reference, _) = initialized_beam(LEVEL_BEAM);
+    let (mut other, _) = initialized_beam(LEVEL_BEAM);
+    run(&mut reference, 0.0, 0.2, 1e-3);
+    run(&mut other, 0.0, 0.2, 1e-3);
+    let good = other.get_state().unwrap();
+    let mut bad = good.clone();
+    bad.model["running"]["state"]["time"] = serde_json::json!(null);
+    assert!(reference.set_state(&bad).is_err());
+    // Back from the error with the good state: the run continues as the other's.
+    reference.set_state(&good).unwrap();
+    assert_eq!(
+        run(&mut reference, 0.2, 0.3, 1e-3),
+        run(&mut other, 0.2, 0.3, 1e-3)
+    );
+}
+
+/// A communication step just off the grid (10 steps + 1e-8 s) must not leave a 1e-8 s
+/// step: the last full step and the rest become two equal steps. The stick phase then
+/// still follows the belt exactly and the holding force stays that of quasi-static
+/// bending (3 EI u / L^3 = 25 N at u = 4 mm).
+#[test]
+fn slightly_off_grid_steps_do_not_leave_tiny_steps() {
+    for level in [LEVEL_MODAL, LEVEL_BEAM] {
+        let (mut b, _) = initialized_beam(level);
+        let h = 1.00001e-3;
+        let mut t = 0.0;
+        for _ in 0..200 {
+            b.do_step(t, h).unwrap();
+            t += h;
+        }
+        let mut out = [0.0; 3];
+        b.get_real(
+            &[
+                vr::<StickSlipBeam>("tip_deflection"),
+                vr::<StickSlipBeam>("tip_velocity"),
+                vr::<StickSlipBeam>("holding_force"),
+            ],
+            &mut out,
+        )
+        .unwrap();
+        assert!(
+            (out[0] - 0.02 * t).abs() < 1e-9,
+            "tip {} at t = {t}",
+            out[0]
+        );
+        assert!((out[1] - 0.02).abs() < 1e-6, "tip velocity {}", out[1]);
+        assert!(
+            (out[2] - 25.0 * t / 0.2).abs() < 0.5,
+            "holding force {}",
+            out[2]
+        );
+    }
+}
+
+#[test]
+fn a_step_of_more_than_1e9_internal_steps_is_refused_at_once() {
+    let (mut b, _) = beam(false);
+    b.setup_experiment(0.0, None).unwrap();
+    b.set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[LEVEL_MODAL])
+        .unwrap();
+    b.enter_initialization_mode().unwrap();
+    b.exit_initialization_mode().unwrap();
+    let began = std::time::Instant::now();
+    assert!(b.do_step(0.0, 1e12).is_err());
+    assert!(began.elapsed().as_secs_f64() < 1.0);
+}
+
+/// The standard's way back from an error, with the state kept as bytes: deserialize,
+/// then set, in the Error mode.
+#[test]
+fn recovery_from_an_error_through_serialized_bytes() {
+    let (mut b, log) = initialized_beam(LEVEL_MODAL);
+    run(&mut b, 0.0, 0.3, 1e-3);
+    let saved = b.get_state().unwrap();
+    let bytes = b.serialize_state(&saved).unwrap();
+    let expected = run(&mut b, 0.3, 0.5, 1e-3);
+    assert!(b.do_step(5.0, 1e-3).is_err());
+    assert_eq!(b.mode(), Mode::Error);
+    let restored = b.deserialize_state(&bytes).unwrap();
+    b.set_state(&restored).unwrap();
+    assert_eq!(run(&mut b, 0.3, 0.5, 1e-3), expected);
+    assert!(logged(&log, "does not match the FMU's time"));
+}
+
+#[test]
+fn neural_friction_restores_a_state_saved_before_its_parameters_were_checked() {
+    let (logger, _) = collecting_logger();
+    let mut f = Instance::<NeuralFriction>::new("f", Some(&resources()), false, logger).unwrap();
+    f.set_string(&[vr::<NeuralFriction>("weights")], &["missing.json"])
+        .unwrap();
+    let saved = f.get_state().unwrap();
+    f.set_state(&saved).unwrap();
+    assert_eq!(f.mode(), Mode::Instantiated);
+}
+
+/// Reading a parameter during initialisation computes nothing, so parameters that are
+/// inconsistent only until the importer has set them all do not fail the read; the
+/// experiment's stop time counts when outputs are read.
+#[test]
+fn reads_in_initialization_mode_follow_the_experiment() {
+    let (mut b, _) = beam(false);
+    b.setup_experiment(0.0, Some(100.0)).unwrap();
+    b.enter_initialization_mode().unwrap();
+    b.set_real(&[vr::<StickSlipBeam>("geometry.length")], &[0.005])
+        .unwrap();
+    let mut out = [0.0];
+    b.get_real(&[vr::<StickSlipBeam>("geometry.length")], &mut out)
+        .unwrap();
+    b.set_real(&[vr::<StickSlipBeam>("geometry.length")], &[2.0])
+        .unwrap();
+    b.set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[LEVEL_MODAL])
+        .unwrap();
+    // time.step = 1.5 s exceeds the default end of 1.2 s but not the experiment's 100 s.
+    b.set_real(&[vr::<StickSlipBeam>("time.step")], &[1.5])
+        .unwrap();
+    b.get_real(&[vr::<StickSlipBeam>("tip_deflection")], &mut out)
+        .unwrap();
+    b.exit_initialization_mode().unwrap();
+}
+
+#[test]
+fn non_finite_outputs_are_errors_not_values() {
+    let (logger, log) = collecting_logger();
+    let mut f = Instance::<NeuralFriction>::new("f", Some(&resources()), false, logger).unwrap();
+    f.set_integer(&[vr::<NeuralFriction>("law")], &[2]).unwrap();
+    f.set_real(&[vr::<NeuralFriction>("static_coefficient")], &[4.0])
+        .unwrap();
+    f.setup_experiment(0.0, None).unwrap();
+    f.enter_initialization_mode().unwrap();
+    f.exit_initialization_mode().unwrap();
+    f.set_real(&[vr::<NeuralFriction>("normal_force")], &[1e308])
+        .unwrap();
+    let mut out = [0.0];
+    assert!(f
+        .get_real(&[vr::<NeuralFriction>("static_limit")], &mut out)
+        .is_err());
+    assert!(logged(&log, "not finite"));
+    // The beam: a belt speed whose products overflow.
+    let (mut b, log) = initialized_beam(LEVEL_MODAL);
+    b.set_real(&[vr::<StickSlipBeam>("belt_speed")], &[1e307])
+        .unwrap();
+    let steps: Vec<bool> = (0..100)
+        .map(|k| b.do_step(k as f64 * 1e-3, 1e-3).is_ok())
+        .take_while(|&ok| ok)
+        .collect();
+    assert!(steps.len() < 100, "the overflow was never reported");
+    assert_eq!(b.mode(), Mode::Error);
+    assert!(logged(&log, "non-finite"), "{:?}", log.lock().unwrap());
+}
+
+/// Parts a scene does not use cost nothing: a StickSlipBeam with an analytical law
+/// never reads a network, not at instantiation, not when stepping; the neural law reads
+/// exactly one, once, however often the simulation is rebuilt.
+#[test]
+fn the_beam_reads_a_network_only_for_the_neural_law() {
+    let (mut b, _) = initialized_beam(LEVEL_MODAL);
+    run(&mut b, 0.0, 0.5, 1e-2);
+    assert_eq!(b.model().networks_read(), 0);
+    b.reset();
+    assert_eq!(b.model().networks_read(), 0);
+    let law = vr::<StickSlipBeam>("friction.model");
+    let level = vr::<StickSlipBeam>("fidelity.level");
+    for _ in 0..2 {
+        b.reset();
+        b.set_integer(&[level, law], &[LEVEL_MODAL, 3]).unwrap();
+        b.setup_experiment(0.0, Some(1.2)).unwrap();
+        b.enter_initialization_mode().unwrap();
+        b.exit_initialization_mode().unwrap();
+        run(&mut b, 0.0, 0.5, 1e-2);
+        assert_eq!(b.model().networks_read(), 1);
+    }
+}
+
+/// fidelity.level = auto in the FMU: the choice is made at initialisation, logged in
+/// logEvents, and the instance steps; the parameter reads back as auto (item 4); a
+/// non-positive tolerance is refused when set.
+#[test]
+fn fidelity_auto_chooses_at_initialisation_and_logs_the_choice() {
+    let (mut b, log) = beam(true);
+    let level = vr::<StickSlipBeam>("fidelity.level");
+    let tolerance = vr::<StickSlipBeam>("fidelity.tolerance");
+    assert!(b.set_real(&[tolerance], &[0.0]).is_err());
+    b.reset();
+    b.set_integer(&[level], &[4]).unwrap();
+    b.set_real(&[tolerance], &[1e-4]).unwrap();
+    b.setup_experiment(0.0, Some(0.6)).unwrap();
+    b.enter_initialization_mode().unwrap();
+    b.exit_initialization_mode().unwrap();
+    assert!(
+        logged(&log, "fidelity = auto (tolerance 1e-4 m"),
+        "{:?}",
+        log.lock().unwrap()
+    );
+    let mut read = [0];
+    b.get_integer(&[level], &mut read).unwrap();
+    assert_eq!(read[0], 4);
+    run(&mut b, 0.0, 0.6, 1e-2);
+    // Past breakaway at 0.4 s the tip has slipped back below its 8 mm peak.
+    assert!(tip(&mut b) > 0.0 && tip(&mut b) < 8.1e-3);
+}

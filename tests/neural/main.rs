@@ -1,0 +1,3 @@
+//! The neural friction law: inference, weights files, training and search.
+
+mod training;
