@@ -4,7 +4,7 @@
 use std::process::Command;
 
 fn stickslip(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(stickslip_tests::stickslip_binary())
+    let out = Command::new(env!("CARGO_BIN_EXE_stickslip"))
         .args(args)
         .output()
         .expect("run stickslip");
