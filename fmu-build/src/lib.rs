@@ -115,8 +115,11 @@ pub fn package(kind: FmuKind, library: &Path, out_dir: &Path) -> Result<PathBuf,
             binary,
         ),
     ];
-    for (name, contents) in kind.info().resources {
-        entries.push((format!("resources/{name}"), contents.as_bytes().to_vec()));
+    for name in kind.info().resources {
+        let source = workspace_root().join("weights").join(name);
+        let contents =
+            fs::read(&source).map_err(|e| format!("resource {}: {e}", source.display()))?;
+        entries.push((format!("resources/{name}"), contents));
     }
     for (name, bytes) in entries {
         let options = if name.ends_with(".so") {

@@ -77,7 +77,42 @@ fn archives_hold_description_binary_and_weights() {
             .read_to_string(&mut xml)
             .unwrap();
         assert_eq!(xml, kind.model_description(), "{id}: stale FMU; rebuild it");
+        for name in ["paper-plain.json", "paper-signed.json"] {
+            let mut packed = Vec::new();
+            archive
+                .by_name(&format!("resources/{name}"))
+                .unwrap()
+                .read_to_end(&mut packed)
+                .unwrap();
+            let shipped =
+                std::fs::read(fmu_build::workspace_root().join("weights").join(name)).unwrap();
+            assert!(
+                packed == shipped,
+                "{id}: resources/{name} differs from weights/{name}"
+            );
+        }
     }
+}
+
+/// The library reads the networks from `resources/`; it does not carry the signed
+/// network's 0.66 MB of JSON itself. (The plain network stays linked: `fidelity = auto`
+/// calibrates a neural scene with the shipped default law, `stickslip::neural`.)
+#[test]
+fn the_library_does_not_embed_the_signed_network() {
+    let mut archive = open(FmuKind::StickSlipBeam);
+    let mut binary = Vec::new();
+    archive
+        .by_name("binaries/linux64/StickSlipBeam.so")
+        .unwrap()
+        .read_to_end(&mut binary)
+        .unwrap();
+    let weights =
+        std::fs::read(fmu_build::workspace_root().join("weights/paper-signed.json")).unwrap();
+    let probe = &weights[weights.len() / 2..weights.len() / 2 + 64];
+    assert!(
+        !binary.windows(probe.len()).any(|w| w == probe),
+        "the signed network's JSON is linked into the FMU binary"
+    );
 }
 
 #[test]

@@ -37,8 +37,10 @@ pub struct ModelInfo {
     pub stop_time: f64,
     /// Suggested communication step (s).
     pub step_size: f64,
-    /// Files the FMU carries in `resources/`: (name, contents).
-    pub resources: &'static [(&'static str, &'static str)],
+    /// Files the FMU carries in `resources/`, by name in the workspace's `weights/`
+    /// folder. Names, not contents: fmu-build copies the files, so the library itself
+    /// does not carry the networks it reads from `resources/` (1.3 MB).
+    pub resources: &'static [&'static str],
 }
 
 /// A model behind an FMU. Plain Rust: no C types. The `instance` module drives it

@@ -6,11 +6,9 @@ use stickslip::neural::NeuralLaw;
 /// The weights read at instantiation (the paper's network, see `neural`).
 pub const DEFAULT_WEIGHTS: &str = "paper-plain.json";
 
-/// Network weights shipped in `resources/`, shared by both FMUs.
-pub const WEIGHTS_RESOURCES: &[(&str, &str)] = &[
-    ("paper-plain.json", stickslip::neural::PAPER_PLAIN_JSON),
-    ("paper-signed.json", stickslip::neural::PAPER_SIGNED_JSON),
-];
+/// Network weights shipped in `resources/`, shared by both FMUs: the files of the same
+/// name in the workspace's `weights/` folder.
+pub const WEIGHTS_RESOURCES: &[&str] = &["paper-plain.json", "paper-signed.json"];
 
 /// A weights parameter's value: any non-blank name (whether the file exists is checked
 /// when it is read).
