@@ -184,20 +184,22 @@ def _simulate_on_worker(
 
 
 def _check_cluster(client, scheduler: str) -> None:
-    """SweepError unless every worker of an existing cluster can import this package."""
+    """SweepError unless the scheduler (it unpickles the task graph) and every worker of
+    an existing cluster can import this package."""
     package = __package__
 
-    def can_import() -> bool:
-        # A local function travels by value (cloudpickle), so a worker without this
+    def can_import(dask_scheduler=None) -> bool:
+        # A local function travels by value (cloudpickle), so a process without this
         # package can run it.
         return importlib.util.find_spec(package) is not None
 
-    found = client.run(can_import)
-    missing = sorted(worker for worker, ok in found.items() if not ok)
+    found = {f"the scheduler {scheduler}": client.run_on_scheduler(can_import)}
+    found.update((f"the worker {w}", ok) for w, ok in client.run(can_import).items())
+    missing = [where for where, ok in found.items() if not ok]
     if missing:
         raise SweepError(
-            f"the Dask workers {', '.join(missing)} of {scheduler} cannot import "
-            f"{__package__}: install it there (pip install <repo>/python-checks)"
+            f"{' and '.join(missing)} cannot import {package}: install it there "
+            "(pip install <repo>/python-checks), as numpy, fmpy and distributed"
         )
 
 
