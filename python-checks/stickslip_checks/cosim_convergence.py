@@ -64,8 +64,9 @@ from pathlib import Path
 import numpy as np
 
 from . import master, plots
-from .artifacts import BEAM, DEFAULT_OUT, FRICTION, Fmus, fmu_paths
-from .fmu_scene import BREAKAWAY_EXPECTED, report_failures
+from .artifacts import BEAM, FRICTION, Fmus
+from .fmu_scene import BREAKAWAY_EXPECTED
+from .runner import find_fmus, out_dir, report_failures
 
 FIDELITY_LEVEL = "beam"
 INTERNAL_STEP = 1e-4  # s, StickSlipBeam time.step
@@ -259,14 +260,10 @@ def run_study(fmus: Fmus, steps=STEPS, schemes=SCHEMES, t_end: float = T_END):
 
 
 def main(argv: list[str] | None = None) -> int:
-    argv = sys.argv[1:] if argv is None else argv
-    out = Path(argv[0]) if argv else DEFAULT_OUT
-    out.mkdir(parents=True, exist_ok=True)
+    out = out_dir(argv)
     began = time.perf_counter()
-    try:
-        paths = fmu_paths()
-    except FileNotFoundError as error:
-        print(f"cosim_convergence: {error}", file=sys.stderr)
+    paths = find_fmus("cosim_convergence")
+    if paths is None:
         return 2
     fmus = Fmus(paths)
     try:
@@ -319,11 +316,6 @@ def main(argv: list[str] | None = None) -> int:
     print(f"\nwrote {csv_path}\nwrote {png_path}")
     print(f"total wall time {time.perf_counter() - began:.1f} s")
     return report_failures(failures)
-
-
-def cli() -> int:
-    """Console script `stickslip-cosim-convergence`."""
-    return main()
 
 
 if __name__ == "__main__":

@@ -49,7 +49,8 @@ from fmpy import simulate_fmu
 from fmpy.validation import validate_fmu
 
 from . import master, plots, slip_metrics
-from .artifacts import BEAM, DEFAULT_OUT, FIDELITIES, FRICTION, Fmus, fmu_paths
+from .artifacts import BEAM, FIDELITIES, FRICTION, Fmus
+from .runner import find_fmus, out_dir, report_failures
 
 T_END = 1.2
 DT = 1e-3  # communication step and output interval (s)
@@ -403,14 +404,10 @@ def run_all(fmus: Fmus) -> list[Run]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    argv = sys.argv[1:] if argv is None else argv
-    out = Path(argv[0]) if argv else DEFAULT_OUT
-    out.mkdir(parents=True, exist_ok=True)
+    out = out_dir(argv)
     began = time.perf_counter()
-    try:
-        paths = fmu_paths()
-    except FileNotFoundError as error:
-        print(f"fmu_scene: {error}", file=sys.stderr)
+    paths = find_fmus("fmu_scene")
+    if paths is None:
         return 2
     print(f"FMUs: {', '.join(str(p) for p in paths.values())}")
 
@@ -506,21 +503,6 @@ def main(argv: list[str] | None = None) -> int:
         print(f"wrote {p}")
     print(f"total wall time {time.perf_counter() - began:.1f} s")
     return report_failures(failures)
-
-
-def report_failures(failures: list[str]) -> int:
-    """Prints the failed checks to stderr; the script's exit status (1 if any)."""
-    if not failures:
-        return 0
-    print("\nFAILED:", file=sys.stderr)
-    for f in failures:
-        print(f"  {f}", file=sys.stderr)
-    return 1
-
-
-def cli() -> int:
-    """Console script `stickslip-fmu-scene`."""
-    return main()
 
 
 if __name__ == "__main__":

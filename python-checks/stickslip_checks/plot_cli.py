@@ -46,11 +46,5 @@ def main():
             print(f"wrote {target}")
 
 
-def cli() -> int:
-    """Console script `stickslip-plot-cli`."""
-    main()
-    return 0
-
-
 if __name__ == "__main__":
     main()

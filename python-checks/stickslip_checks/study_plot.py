@@ -64,11 +64,5 @@ def main():
         print(f"fidelity = auto: {holding} of {len(cases)} verification cases hold")
 
 
-def cli() -> int:
-    """Console script `stickslip-study-plot`."""
-    main()
-    return 0
-
-
 if __name__ == "__main__":
     main()

@@ -395,10 +395,5 @@ def main(argv: list[str] | None = None) -> int:
     return 0 if not any(r["regime"] == FAILED for r in rows) else 1
 
 
-def cli() -> int:
-    """Console script `stickslip-sweep`."""
-    return main()
-
-
 if __name__ == "__main__":
     sys.exit(main())

@@ -31,8 +31,9 @@ from pathlib import Path
 import numpy as np
 
 from . import plots, sklearn_peer
-from .artifacts import DEFAULT_OUT, REPO, Fmus, find_binary, fmu_paths
-from .fmu_scene import drive_friction, friction_sweep, report_failures
+from .artifacts import REPO, Fmus, find_binary
+from .fmu_scene import drive_friction, friction_sweep
+from .runner import find_fmus, out_dir, report_failures
 
 ITERATIONS, SEED, LAMBDA = 200, 2, 0.004  # the paper's settings (src/neural/train.rs)
 SHIPPED = REPO / "weights" / "paper-plain.json"
@@ -56,14 +57,11 @@ def read_history(path: Path) -> dict[str, np.ndarray]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    argv = sys.argv[1:] if argv is None else argv
-    out = Path(argv[0]) if argv else DEFAULT_OUT
+    out = out_dir(argv, create=False)  # made with its training/ folder below
     workdir = out / "training"
     failures: list[str] = []
-    try:
-        paths = fmu_paths()
-    except FileNotFoundError as error:
-        print(f"training: {error}", file=sys.stderr)
+    paths = find_fmus("training")
+    if paths is None:
         return 2
     binary = find_binary()
 
@@ -115,11 +113,6 @@ def main(argv: list[str] | None = None) -> int:
     for p in written:
         print(f"wrote {p}")
     return report_failures(failures)
-
-
-def cli() -> int:
-    """Console script `stickslip-training`."""
-    return main()
 
 
 if __name__ == "__main__":
