@@ -108,14 +108,15 @@ def run_monolithic(fmus: Fmus, h: float, t_end: float = T_END) -> Series:
     """StickSlipBeam alone, friction.model = exponential, stepped at h with FMU2Slave."""
     _grid(h, t_end)
     began = time.perf_counter()
-    with master.instantiated(fmus, {BEAM: "monolithic"}) as slaves:
-        trace = master.run(
-            master.System({BEAM: fmus.models[BEAM]}, slaves),
-            h,
-            t_end,
-            parameters={BEAM: {"fidelity.level": FIDELITY_LEVEL, "friction.model": "exponential"}},
-            record={BEAM: ["tip_deflection", "stick"]},
-        )
+    trace = master.run_alone(
+        fmus,
+        BEAM,
+        "monolithic",
+        h,
+        t_end,
+        parameters={BEAM: {"fidelity.level": FIDELITY_LEVEL, "friction.model": "exponential"}},
+        record={BEAM: ["tip_deflection", "stick"]},
+    )
     wall = time.perf_counter() - began
     return Series(
         "monolithic", h, trace.time, trace[BEAM, "tip_deflection"], trace[BEAM, "stick"], wall
@@ -129,22 +130,16 @@ def run_cosim(fmus: Fmus, scheme: str, h: float, t_end: float = T_END) -> Series
     _grid(h, t_end)
     method, order = MASTER[scheme]
     began = time.perf_counter()
-    with master.instantiated(fmus, {BEAM: "beam", FRICTION: "friction"}) as slaves:
-        system = master.System(
-            fmus.models, slaves, master.BEAM_FRICTION_LINKS, master.BEAM_FRICTION_ORDER
-        )
-        trace = master.run(
-            system,
-            h,
-            t_end,
-            scheme=method,
-            order=order,
-            parameters={
-                BEAM: {"fidelity.level": FIDELITY_LEVEL, "friction.model": "external"},
-                FRICTION: {"law": "exponential"},
-            },
-            record={BEAM: ["tip_deflection", "stick"]},
-        )
+    trace = master.run_coupled(
+        fmus,
+        h,
+        t_end,
+        beam={"fidelity.level": FIDELITY_LEVEL},
+        friction={"law": "exponential"},
+        record={BEAM: ["tip_deflection", "stick"]},
+        scheme=method,
+        order=order,
+    )
     wall = time.perf_counter() - began
     return Series(
         scheme, h, trace.time, trace[BEAM, "tip_deflection"], trace[BEAM, "stick"], wall

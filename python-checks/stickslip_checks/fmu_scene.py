@@ -171,21 +171,14 @@ def run_coupled(fmus: Fmus, fidelity: str, law: str, weights: str = WEIGHTS[0]) 
     if law == "neural":
         friction["weights"] = weights
     began = time.perf_counter()
-    with master.instantiated(fmus, {BEAM: "beam", FRICTION: "friction"}) as slaves:
-        system = master.System(
-            fmus.models, slaves, master.BEAM_FRICTION_LINKS, master.BEAM_FRICTION_ORDER
-        )
-        trace = master.run(
-            system,
-            DT,
-            T_END,
-            scheme=master.GAUSS_SEIDEL,
-            parameters={
-                BEAM: {"fidelity.level": fidelity, "friction.model": "external"},
-                FRICTION: friction,
-            },
-            record={BEAM: ["tip_deflection", "friction_force", "stick", "transitions"]},
-        )
+    trace = master.run_coupled(
+        fmus,
+        DT,
+        T_END,
+        beam={"fidelity.level": fidelity},
+        friction=friction,
+        record={BEAM: ["tip_deflection", "friction_force", "stick", "transitions"]},
+    )
     wall = time.perf_counter() - began
     label = _label(law, weights)
     return Run(
@@ -212,17 +205,17 @@ def drive_friction(
     if weights is not None:
         parameters["weights"] = weights
     steps = len(next(iter(inputs.values())))
-    with master.instantiated(fmus, {FRICTION: instance}) as slaves:
-        system = master.System({FRICTION: fmus.models[FRICTION]}, slaves)
-        trace = master.run(
-            system,
-            DT,
-            steps * DT,
-            parameters={FRICTION: parameters},
-            signals={FRICTION: inputs},
-            record={FRICTION: ["friction_force"]},
-            stop_time=False,
-        )
+    trace = master.run_alone(
+        fmus,
+        FRICTION,
+        instance,
+        DT,
+        steps * DT,
+        parameters={FRICTION: parameters},
+        signals={FRICTION: inputs},
+        record={FRICTION: ["friction_force"]},
+        stop_time=False,
+    )
     return trace[FRICTION, "friction_force"][1:]
 
 

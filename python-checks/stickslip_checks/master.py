@@ -210,3 +210,37 @@ def run(
     for name in system.order:
         slaves[name].terminate()
     return Trace(times, values)
+
+
+def run_alone(fmus, name: str, instance: str, h: float, t_end: float, **options) -> Trace:
+    """FMU `name` of `fmus` (artifacts.Fmus) by itself, instantiated as `instance` for this
+    run; `options` as for `run`."""
+    with instantiated(fmus, {name: instance}) as slaves:
+        return run(System({name: fmus.models[name]}, slaves), h, t_end, **options)
+
+
+def run_coupled(
+    fmus,
+    h: float,
+    t_end: float,
+    *,
+    beam: dict,
+    friction: dict,
+    record: dict[str, list[str]],
+    scheme: str = GAUSS_SEIDEL,
+    order=BEAM_FRICTION_ORDER,
+) -> Trace:
+    """StickSlipBeam (friction.model = external, parameters `beam`) coupled to
+    NeuralFriction (parameters `friction`) through BEAM_FRICTION_LINKS, both instantiated
+    for this run; the normal force of both stays at its start value."""
+    with instantiated(fmus, {BEAM: "beam", FRICTION: "friction"}) as slaves:
+        system = System(fmus.models, slaves, BEAM_FRICTION_LINKS, BEAM_FRICTION_ORDER)
+        return run(
+            system,
+            h,
+            t_end,
+            scheme=scheme,
+            order=order,
+            parameters={BEAM: {**beam, "friction.model": "external"}, FRICTION: friction},
+            record=record,
+        )
