@@ -37,20 +37,20 @@ for fidelity in modal beam plane-stress; do
 done
 python="$(bash scripts/python-env.sh)"
 export STICKSLIP_BIN="$bin"
-"$python" python-checks/plot_cli.py "$out"
+"$python" -m stickslip_checks.plot_cli "$out"
 echo
 echo "== The network: retraining (paper Sec. 3), NeuralFriction.fmu on the test set, scikit-learn peer"
-"$python" python-checks/training.py "$out"
+"$python" -m stickslip_checks.training "$out"
 echo
 echo "== The paper scene through the FMUs with fmpy (validation, both friction laws, coupling)"
-"$python" python-checks/fmu_scene.py "$out"
+"$python" -m stickslip_checks.fmu_scene "$out"
 echo
 echo "== System-level co-simulation: coupling error against the monolithic FMU, Jacobi and Gauss-Seidel"
-"$python" python-checks/cosim_convergence.py "$out"
+"$python" -m stickslip_checks.cosim_convergence "$out"
 echo
 echo "== Stick-slip map: Dask sweep of StickSlipBeam.fmu over belt speed (LocalCluster, 2 workers)"
-"$python" python-checks/sweep.py --out "$out"
+"$python" -m stickslip_checks.sweep --out "$out"
 echo
 echo "== Speed against accuracy: the study grid, its Pareto front and fidelity = auto on four scenes"
 "$bin" study --out "$out/study" --verify-auto 1e-4,1e-5,1e-6
-"$python" python-checks/study_plot.py "$out/study"
+"$python" -m stickslip_checks.study_plot "$out/study"

@@ -2,17 +2,18 @@
 communication step h, for a Jacobi and a Gauss-Seidel master over fmpy's FMU2Slave.
 
 Set-up
-    StickSlipBeam at beam fidelity (fidelity.level = 2, internal step time.step = 1e-4 s)
-    with friction.model = external (4), coupled to NeuralFriction with law = exponential
-    (2): beam relative_velocity -> friction sliding_velocity; friction
+    StickSlipBeam at beam fidelity (fidelity.level = beam, internal step time.step =
+    1e-4 s) with friction.model = external, coupled to NeuralFriction with law =
+    exponential: beam relative_velocity -> friction sliding_velocity; friction
     friction_force_magnitude -> beam external.kinetic_force and static_limit -> beam
     external.static_limit. The normal force of both FMUs stays at its start value 100 N.
-    The monolithic reference is StickSlipBeam alone with friction.model = exponential (1)
+    The monolithic reference is StickSlipBeam alone with friction.model = exponential
     at the same fidelity, run once at h = 1e-4 s (its internal step) and sampled at the
     coarse communication points. That the monolithic FMU does not depend on h at the
     internal grid is checked by comparing it with a monolithic run at h = 1e-3 s.
 
-Schemes (t_n = n h; inputs are held constant over a step: zero-order hold)
+Schemes (t_n = n h; inputs are held constant over a step: zero-order hold; all run by
+the co-simulation master, master.run)
     Jacobi        At t_n both FMUs read the other's outputs at t_n, then both step
                   t_n -> t_{n+1}. The friction FMU's output at t_n is the law evaluated
                   at the input it held over the previous step, v_rel(t_{n-1}); so over
@@ -48,7 +49,8 @@ indicative.
 
 Writes OUT/cosim_convergence.csv and OUT/cosim_convergence.png and prints the table.
 
-Usage: python cosim_convergence.py [OUT_DIR]   (default: <repo>/out)
+Usage: python -m stickslip_checks.cosim_convergence [OUT_DIR]
+       (or stickslip-cosim-convergence; default: <repo>/out)
 """
 
 from __future__ import annotations
@@ -61,20 +63,10 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from fmu_scene import (  # noqa: E402
-    BEAM,
-    BREAKAWAY_EXPECTED,
-    FIDELITY,
-    FRICTION,
-    FRICTION_MODEL,
-    LAW,
-    REPO,
-    Fmus,
-    fmu_paths,
-    report_failures,
-)
+from . import master, plots
+from .artifacts import BEAM, FRICTION, Fmus
+from .fmu_scene import BREAKAWAY_EXPECTED
+from .runner import find_fmus, out_dir, report_failures
 
 FIDELITY_LEVEL = "beam"
 INTERNAL_STEP = 1e-4  # s, StickSlipBeam time.step
@@ -97,104 +89,61 @@ class Series:
     wall: float
 
 
-def _grid(h: float, t_end: float) -> tuple[int, np.ndarray]:
+# Scheme label -> (master scheme, stepping order).
+MASTER = {
+    "Jacobi": (master.JACOBI, (BEAM, FRICTION)),
+    "Gauss-Seidel": (master.GAUSS_SEIDEL, (BEAM, FRICTION)),
+    "GS friction-first": (master.GAUSS_SEIDEL, (FRICTION, BEAM)),
+}
+
+
+def _grid(h: float, t_end: float) -> None:
+    """ValueError unless h divides t_end."""
     n = int(round(t_end / h))
     if abs(n * h - t_end) > 1e-12:
         raise ValueError(f"h = {h} does not divide t_end = {t_end}")
-    return n, np.arange(n + 1) * h
 
 
 def run_monolithic(fmus: Fmus, h: float, t_end: float = T_END) -> Series:
     """StickSlipBeam alone, friction.model = exponential, stepped at h with FMU2Slave."""
-    vb = fmus.vr[BEAM]
-    n, times = _grid(h, t_end)
-    u, stick = np.empty(n + 1), np.empty(n + 1, bool)
-    beam = fmus.slave(BEAM, "monolithic")
+    _grid(h, t_end)
     began = time.perf_counter()
-    beam.instantiate()
-    try:
-        beam.setupExperiment(startTime=0.0, stopTime=t_end)
-        beam.enterInitializationMode()
-        beam.setInteger(
-            [vb["fidelity.level"], vb["friction.model"]],
-            [FIDELITY[FIDELITY_LEVEL], FRICTION_MODEL["exponential"]],
-        )
-        beam.exitInitializationMode()
-        vr_u, vr_s = [vb["tip_deflection"]], [vb["stick"]]
-        u[0], stick[0] = beam.getReal(vr_u)[0], beam.getBoolean(vr_s)[0]
-        for k in range(n):
-            beam.doStep(currentCommunicationPoint=times[k], communicationStepSize=h)
-            u[k + 1], stick[k + 1] = beam.getReal(vr_u)[0], beam.getBoolean(vr_s)[0]
-        beam.terminate()
-    finally:
-        beam.freeInstance()
+    trace = master.run_alone(
+        fmus,
+        BEAM,
+        "monolithic",
+        h,
+        t_end,
+        parameters={BEAM: {"fidelity.level": FIDELITY_LEVEL, "friction.model": "exponential"}},
+        record={BEAM: ["tip_deflection", "stick"]},
+    )
     wall = time.perf_counter() - began
-    return Series("monolithic", h, times, u, stick, wall)
+    return Series(
+        "monolithic", h, trace.time, trace[BEAM, "tip_deflection"], trace[BEAM, "stick"], wall
+    )
 
 
 def run_cosim(fmus: Fmus, scheme: str, h: float, t_end: float = T_END) -> Series:
     """StickSlipBeam (external friction) + NeuralFriction (exponential law) at step h."""
     if scheme not in SCHEMES:
         raise ValueError(f"unknown scheme {scheme!r}")
-    vb, vf = fmus.vr[BEAM], fmus.vr[FRICTION]
-    n, times = _grid(h, t_end)
-    u, stick = np.empty(n + 1), np.empty(n + 1, bool)
-    beam = fmus.slave(BEAM, "beam")
-    fric = fmus.slave(FRICTION, "friction")
-    b_v = [vb["relative_velocity"]]
-    b_in = [vb["external.kinetic_force"], vb["external.static_limit"]]
-    f_v = [vf["sliding_velocity"]]
-    f_out = [vf["friction_force_magnitude"], vf["static_limit"]]
-    b_u, b_s = [vb["tip_deflection"]], [vb["stick"]]
+    _grid(h, t_end)
+    method, order = MASTER[scheme]
     began = time.perf_counter()
-    beam.instantiate()
-    fric.instantiate()
-    try:
-        for s in (beam, fric):
-            s.setupExperiment(startTime=0.0, stopTime=t_end)
-            s.enterInitializationMode()
-        beam.setInteger(
-            [vb["fidelity.level"], vb["friction.model"]],
-            [FIDELITY[FIDELITY_LEVEL], FRICTION_MODEL["external"]],
-        )
-        fric.setInteger([vf["law"]], [LAW["exponential"]])
-        for s in (beam, fric):
-            s.exitInitializationMode()
-        # Consistent start at t = 0: beam outputs -> friction -> beam inputs.
-        fric.setReal(f_v, beam.getReal(b_v))
-        beam.setReal(b_in, fric.getReal(f_out))
-        u[0], stick[0] = beam.getReal(b_u)[0], beam.getBoolean(b_s)[0]
-        for k in range(n):
-            t = times[k]
-            if scheme == "Jacobi":
-                # Outputs of both at t_n (the friction FMU still holds v_rel(t_{n-1})),
-                # then both inputs, then both step.
-                v_rel = beam.getReal(b_v)
-                forces = fric.getReal(f_out)
-                beam.setReal(b_in, forces)
-                fric.setReal(f_v, v_rel)
-                beam.doStep(currentCommunicationPoint=t, communicationStepSize=h)
-                fric.doStep(currentCommunicationPoint=t, communicationStepSize=h)
-            elif scheme == "Gauss-Seidel":
-                # Beam first with the friction outputs at t_n (already set), then the
-                # friction FMU evaluated at the beam's v_rel(t_{n+1}).
-                beam.doStep(currentCommunicationPoint=t, communicationStepSize=h)
-                fric.setReal(f_v, beam.getReal(b_v))
-                fric.doStep(currentCommunicationPoint=t, communicationStepSize=h)
-                beam.setReal(b_in, fric.getReal(f_out))
-            else:  # GS friction-first
-                fric.setReal(f_v, beam.getReal(b_v))
-                fric.doStep(currentCommunicationPoint=t, communicationStepSize=h)
-                beam.setReal(b_in, fric.getReal(f_out))
-                beam.doStep(currentCommunicationPoint=t, communicationStepSize=h)
-            u[k + 1], stick[k + 1] = beam.getReal(b_u)[0], beam.getBoolean(b_s)[0]
-        for s in (beam, fric):
-            s.terminate()
-    finally:
-        for s in (beam, fric):
-            s.freeInstance()
+    trace = master.run_coupled(
+        fmus,
+        h,
+        t_end,
+        beam={"fidelity.level": FIDELITY_LEVEL},
+        friction={"law": "exponential"},
+        record={BEAM: ["tip_deflection", "stick"]},
+        scheme=method,
+        order=order,
+    )
     wall = time.perf_counter() - began
-    return Series(scheme, h, times, u, stick, wall)
+    return Series(
+        scheme, h, trace.time, trace[BEAM, "tip_deflection"], trace[BEAM, "stick"], wall
+    )
 
 
 # ----------------------------------------------------------------------------- metrics
@@ -295,67 +244,6 @@ def write_csv(rows: list[Row], path: Path) -> None:
             )
 
 
-def plot(rows: list[Row], orders: dict[str, float], path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (ax_e, ax_w) = plt.subplots(1, 2, figsize=(12, 5))
-    styles = {
-        "Jacobi": dict(color="tab:blue", marker="o"),
-        "Gauss-Seidel": dict(color="tab:red", marker="s"),
-    }
-    for scheme, style in styles.items():
-        rs = [r for r in rows if r.scheme == scheme]
-        hs = np.array([r.h for r in rs])
-        ax_e.loglog(
-            hs,
-            [1e3 * r.error_first_cycle for r in rs],
-            label=f"{scheme}, to {T_FIRST_CYCLE} s (order {orders[scheme]:.2f})",
-            **style,
-        )
-        ax_e.loglog(
-            hs,
-            [1e3 * r.error_full for r in rs],
-            ls="--",
-            alpha=0.6,
-            label=f"{scheme}, to {T_END} s",
-            **style,
-        )
-        ax_w.loglog(hs, [r.wall for r in rs], label=scheme, **style)
-    # Slope-1 reference through half the Gauss-Seidel error at h = 1e-3 (offset so that
-    # it does not hide the Gauss-Seidel curve).
-    anchor = next(r for r in rows if r.scheme == "Gauss-Seidel" and np.isclose(r.h, 1e-3))
-    h_ref = np.array([min(STEPS), max(STEPS)])
-    ax_e.loglog(
-        h_ref,
-        0.5e3 * anchor.error_first_cycle * h_ref / 1e-3,
-        color="grey",
-        ls=":",
-        label="slope 1 reference (error ~ h)",
-    )
-    lo, hi = min(ASYMPTOTIC), max(ASYMPTOTIC)
-    ax_e.axvspan(lo, hi, color="grey", alpha=0.08, label="range of the fitted order")
-    ax_e.set_xlabel("communication step h (s)")
-    ax_e.set_ylabel("max |tip deflection coupled - monolithic| (mm)")
-    ax_e.set_title("Coupling error vs communication step", fontsize=10)
-    ax_e.grid(True, which="both", alpha=0.3)
-    ax_e.legend(fontsize=8, loc="lower right")
-    ax_w.set_xlabel("communication step h (s)")
-    ax_w.set_ylabel("wall time of the master loop (s)")
-    ax_w.set_title("Wall time per run (0 .. 1.2 s)", fontsize=10)
-    ax_w.grid(True, which="both", alpha=0.3)
-    ax_w.legend(fontsize=8)
-    fig.suptitle(
-        "StickSlipBeam.fmu (beam fidelity) + NeuralFriction.fmu (exponential law), "
-        "fmpy FMU2Slave master"
-    )
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-
-
 # ----------------------------------------------------------------------------- main
 
 
@@ -367,14 +255,10 @@ def run_study(fmus: Fmus, steps=STEPS, schemes=SCHEMES, t_end: float = T_END):
 
 
 def main(argv: list[str] | None = None) -> int:
-    argv = sys.argv[1:] if argv is None else argv
-    out = Path(argv[0]) if argv else REPO / "out"
-    out.mkdir(parents=True, exist_ok=True)
+    out = out_dir(argv)
     began = time.perf_counter()
-    try:
-        paths = fmu_paths()
-    except FileNotFoundError as error:
-        print(f"cosim_convergence: {error}", file=sys.stderr)
+    paths = find_fmus("cosim_convergence")
+    if paths is None:
         return 2
     fmus = Fmus(paths)
     try:
@@ -421,7 +305,9 @@ def main(argv: list[str] | None = None) -> int:
 
     csv_path, png_path = out / "cosim_convergence.csv", out / "cosim_convergence.png"
     write_csv(rows, csv_path)
-    plot(rows, orders, png_path)
+    plots.cosim_convergence(
+        rows, orders, STEPS, ASYMPTOTIC, T_FIRST_CYCLE, T_END, png_path
+    )
     print(f"\nwrote {csv_path}\nwrote {png_path}")
     print(f"total wall time {time.perf_counter() - began:.1f} s")
     return report_failures(failures)

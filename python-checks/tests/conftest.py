@@ -2,25 +2,20 @@
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-import fmu_scene  # noqa: E402
+from stickslip_checks.artifacts import Fmus, fmu_paths
 
 
 @pytest.fixture(scope="module")
 def built():
     """The unpacked FMUs, or the error that says how to build them (see `need`)."""
     try:
-        paths = fmu_scene.fmu_paths()
+        paths = fmu_paths()
     except FileNotFoundError as error:
         yield error
         return
-    fmus = fmu_scene.Fmus(paths)
+    fmus = Fmus(paths)
     yield fmus
     fmus.close()
 

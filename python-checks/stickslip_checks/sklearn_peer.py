@@ -13,16 +13,16 @@ Times: "ours" is the optimisation time the Rust report gives (`seconds`, data
 generation and I/O excluded); scikit-learn's is the wall time of `fit` alone
 (standardisation excluded). Both run in this one invocation on the same machine.
 
-Usage: python sklearn_peer.py [--iterations 200] [--seed 2] [--lambda 0.004]
-       [--binary PATH] [--json OUT.json]
-The binary defaults to $STICKSLIP_BIN, else it is built with `cargo build --release`.
+Usage: python -m stickslip_checks.sklearn_peer (or stickslip-sklearn-peer)
+       [--iterations 200] [--seed 2] [--lambda 0.004] [--binary PATH] [--json OUT.json]
+The binary defaults to $STICKSLIP_BIN, else it is built with `cargo build --release`
+(artifacts.find_binary).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import os
 import subprocess
 import sys
 import tempfile
@@ -33,26 +33,7 @@ import numpy as np
 from sklearn.neural_network import MLPRegressor
 from sklearn.preprocessing import StandardScaler
 
-REPO = Path(__file__).resolve().parent.parent
-
-
-def find_binary() -> Path:
-    """$STICKSLIP_BIN, or the release binary built (if needed) by cargo."""
-    if os.environ.get("STICKSLIP_BIN"):
-        return Path(os.environ["STICKSLIP_BIN"])
-    subprocess.run(
-        ["cargo", "build", "--release", "--quiet", "--bin", "stickslip"],
-        cwd=REPO,
-        check=True,
-    )
-    metadata = subprocess.run(
-        ["cargo", "metadata", "--format-version", "1", "--no-deps"],
-        cwd=REPO,
-        check=True,
-        capture_output=True,
-        text=True,
-    )
-    return Path(json.loads(metadata.stdout)["target_directory"]) / "release" / "stickslip"
+from .artifacts import find_binary
 
 
 def read_split(path: Path) -> tuple[np.ndarray, np.ndarray, list[str]]:
@@ -209,5 +190,11 @@ def main(argv: list[str] | None = None) -> dict:
     return result
 
 
-if __name__ == "__main__":
+def cli() -> int:
+    """Console script `stickslip-sklearn-peer` (main returns the result, not a status)."""
     main(sys.argv[1:])
+    return 0
+
+
+if __name__ == "__main__":
+    cli()

@@ -5,12 +5,7 @@ Uses $STICKSLIP_BIN if set, else builds the release binary (first run only).
 Runs in about 6 s once the binary exists.
 """
 
-import sys
-from pathlib import Path
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-import sklearn_peer  # noqa: E402
+from stickslip_checks import sklearn_peer
 
 
 def test_rust_and_sklearn_fit_the_same_split(capsys):

@@ -5,20 +5,15 @@ against wall time, log-log, one marker per fidelity level and colour per integra
 with the Pareto front (no run both faster and more accurate) joined by a line.
 Also prints the front and, if present, the fidelity = auto verification table.
 
-Usage: python study_plot.py OUT_DIR   (default out/study)
+Usage: python -m stickslip_checks.study_plot OUT_DIR   (or stickslip-study-plot;
+default out/study)
 """
 
 import csv
 import sys
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-MARKERS = {"modal": "o", "beam": "s", "plane-stress": "^"}
-COLOURS = {"generalized-alpha": "tab:blue", "moreau-jean": "tab:orange"}
+from . import plots
 
 
 def read_rows(path):
@@ -52,51 +47,6 @@ def pareto(rows):
     return sorted(front, key=lambda r: float(r["wall_s"]))
 
 
-def plot(rows, front, path):
-    fig, ax = plt.subplots(figsize=(10, 6.5))
-    floor = min(float(r["err_rms_m"]) for r in rows if float(r["err_rms_m"]) > 0) / 2
-    for level, marker in MARKERS.items():
-        for scheme, colour in COLOURS.items():
-            pts = [r for r in rows if r["level"] == level and r["integrator"] == scheme]
-            if not pts:
-                continue
-            ax.scatter(
-                [float(r["wall_s"]) for r in pts],
-                [max(float(r["err_rms_m"]), floor) * 1e3 for r in pts],
-                marker=marker,
-                facecolors="none",
-                edgecolors=colour,
-                s=30,
-                label=f"{level}, {scheme}",
-            )
-    ax.plot(
-        [float(r["wall_s"]) for r in front],
-        [max(float(r["err_rms_m"]), floor) * 1e3 for r in front],
-        "k-",
-        lw=1,
-        marker=".",
-        label="Pareto front",
-    )
-    for r in front:
-        ax.annotate(
-            label(r),
-            (float(r["wall_s"]), max(float(r["err_rms_m"]), floor) * 1e3),
-            fontsize=6,
-            xytext=(4, 2),
-            textcoords="offset points",
-        )
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("wall time of the 1.2 s paper scene (s)")
-    ax.set_ylabel("RMS tip-deflection error against the reference (mm)")
-    ax.set_title("Speed against accuracy (stickslip study)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, loc="lower left")
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-
-
 def main():
     out = Path(sys.argv[1]) if len(sys.argv) > 1 else Path("out/study")
     rows = read_rows(out / "study.csv")
@@ -105,7 +55,7 @@ def main():
     if [label(r) for r in front] != [label(r) for r in marked]:
         raise SystemExit("study.csv's pareto column disagrees with the front computed here")
     path = out / "pareto.png"
-    plot(rows, front, path)
+    plots.pareto(rows, front, [label(r) for r in front], path)
     print(f"{len(rows)} runs, {len(front)} on the Pareto front; plot {path}")
     verification = out / "auto_verification.csv"
     if verification.exists():

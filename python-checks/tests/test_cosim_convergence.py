@@ -1,4 +1,4 @@
-"""Convergence of the Jacobi and Gauss-Seidel co-simulation (cosim_convergence.py) at
+"""Convergence of the Jacobi and Gauss-Seidel co-simulation (cosim_convergence) at
 h = 2e-3, 1e-3, 5e-4 s: the error to 0.7 s against the monolithic StickSlipBeam run falls
 monotonically, the fitted order is first order (0.7 .. 1.5: the force is held over each
 step) and breakaway stays at 0.400 s within h.
@@ -9,15 +9,10 @@ FAILS (it is not skipped) and says how to build them. Runs in a few seconds.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import pytest
+from conftest import need
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-import cosim_convergence as cc  # noqa: E402
-from conftest import need  # noqa: E402
+from stickslip_checks import cosim_convergence as cc
 
 STEPS = [2e-3, 1e-3, 5e-4]
 SCHEMES = ["Jacobi", "Gauss-Seidel"]

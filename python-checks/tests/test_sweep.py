@@ -1,7 +1,8 @@
-"""The Dask parameter sweep (sweep.py): distributed = serial, one FMU load per worker,
-the stick-slip map's physics, and clear errors for bad parameter names and grids.
+"""The Dask parameter sweep (sweep, sweep_engine, stick_slip_map): distributed = serial,
+one FMU load per worker, the stick-slip map's physics, and clear errors for bad parameter
+names and grids.
 
-Needs the FMUs built by `cargo run --release -p fmu-build` (found as in fmu_scene.py);
+Needs the FMUs built by `cargo run --release -p fmu-build` (found by artifacts);
 without them every test here FAILS and says how to build them. Starts two small
 LocalClusters on 127.0.0.1; runs in about 15 s on two cores.
 """
@@ -9,15 +10,21 @@ LocalClusters on 127.0.0.1; runs in about 15 s on two cores.
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 
 import pytest
+from conftest import need
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-import sweep  # noqa: E402
-from conftest import need  # noqa: E402
+from stickslip_checks import sweep
+from stickslip_checks.parameters import Catalogue
+from stickslip_checks.stick_slip_map import (
+    FAILED,
+    MAP_SPEEDS,
+    SLIDING,
+    STICK_SLIP,
+    default_cases,
+    sliding_stability_speed,
+)
+from stickslip_checks.sweep_engine import beam_fmu, run_serial, run_sweep
 
 # Fields that say where and how fast a run went, not what it computed.
 PLACE = {"wall_s", "worker", "worker_loads", "process_loads"}
@@ -44,18 +51,18 @@ def computed(row: dict) -> dict:
 def serial(built):
     """SMALL run one after the other in this process: the reference of the Dask runs."""
     need(built)
-    return sweep.run_serial(SMALL, fidelity="modal", t_end=SMALL_T_END)
+    return run_serial(SMALL, fidelity="modal", t_end=SMALL_T_END)
 
 
 def test_local_cluster_equals_serial_and_loads_once_per_worker(serial):
-    results = sweep.run_sweep(SMALL, fidelity="modal", t_end=SMALL_T_END, workers=2)
+    results = run_sweep(SMALL, fidelity="modal", t_end=SMALL_T_END, workers=2)
     assert len(results) == len(SMALL)
     for params, got, want in zip(SMALL, results, serial):
         # Same FMU, same inputs, same arithmetic: the worker's runs (after fmi2Reset, in
         # whatever order Dask chose) must equal the serial ones bit for bit, down to the
         # hash of the sampled tip deflection, stick and transition series.
         assert computed(got) == computed(want), params
-        assert got["regime"] != sweep.FAILED, got.get("error")
+        assert got["regime"] != FAILED, got.get("error")
     # Two worker processes, each loaded the FMU exactly once for six tasks.
     assert len(results.loads) == 2, results.loads
     assert all(n == 1 for n in results.loads.values()), results.loads
@@ -71,7 +78,7 @@ def test_existing_scheduler_equals_serial(serial):
     with LocalCluster(
         n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None
     ) as cluster:
-        results = sweep.run_sweep(SMALL[:3], t_end=SMALL_T_END, scheduler=cluster.scheduler_address)
+        results = run_sweep(SMALL[:3], t_end=SMALL_T_END, scheduler=cluster.scheduler_address)
         assert len(cluster.workers) == 2  # still running
     assert [computed(r) for r in results] == [computed(r) for r in serial[:3]]
     assert sorted(results.loads.values()) == [1, 1]
@@ -90,29 +97,29 @@ def test_map_stick_slip_at_paper_speed_and_sliding_at_top(built):
       spring holds kinetic friction: mu(v) F_n / k = 0.2 * 100 N / 6250 N/m = 3.2 mm.
     """
     need(built)
-    catalogue = sweep.Catalogue(sweep.beam_fmu())
-    cases = sweep.default_cases(catalogue)
-    top, paper, below = sweep.MAP_SPEEDS[-1], 0.02, sweep.MAP_SPEEDS[20]
-    assert paper in sweep.MAP_SPEEDS and top > 10.0 and 0.5 < below < 0.52
+    catalogue = Catalogue(beam_fmu())
+    cases = default_cases(catalogue)
+    top, paper, below = MAP_SPEEDS[-1], 0.02, MAP_SPEEDS[20]
+    assert paper in MAP_SPEEDS and top > 10.0 and 0.5 < below < 0.52
     sets, labels = [], []
     for label, values in cases:
         speeds = (paper, below, top) if values else (paper, top)
         for v in speeds:
             sets.append({**values, "belt_speed": v})
             labels.append((label, v))
-    rows = dict(zip(labels, sweep.run_serial(sets)))  # the map's defaults: modal, 20 s
+    rows = dict(zip(labels, run_serial(sets)))  # the map's defaults: modal, 20 s
     static_stiffness = 3 * 200e9 * (1.0 * 0.01**3 / 12) / 2.0**3  # 3 EI / L^3 = 6250 N/m
     for (label, v), row in rows.items():
-        assert row["regime"] != sweep.FAILED, row.get("error")
+        assert row["regime"] != FAILED, row.get("error")
         if v == paper:
-            assert row["regime"] == sweep.STICK_SLIP, (label, row)
+            assert row["regime"] == STICK_SLIP, (label, row)
             assert row["window_stick_to_slip"] >= 3, (label, row)
             if "at rest" not in label:
                 assert abs(row["breakaway_s"] - 0.400) <= 1e-3, (label, row)
         elif v == below:
-            assert row["regime"] == sweep.STICK_SLIP, (label, row)
+            assert row["regime"] == STICK_SLIP, (label, row)
         else:
-            assert row["regime"] == sweep.SLIDING, (label, row)
+            assert row["regime"] == SLIDING, (label, row)
             assert row["stick_fraction"] == 0.0 and row["window_stick_to_slip"] == 0
             mean = 1e-3 * row["mean_mm"]
             # 2 % damping has decayed the oscillation after breakaway; the default 0.09 %
@@ -120,7 +127,7 @@ def test_map_stick_slip_at_paper_speed_and_sliding_at_top(built):
             tol = 0.02 if "Rayleigh" in label else 0.3
             assert mean == pytest.approx(0.2 * 100.0 / static_stiffness, rel=tol), (label, row)
     # The linear estimate the map draws: 2 % damping gives the notes' ~0.6 m/s.
-    speed = sweep.sliding_stability_speed({**catalogue.defaults(), **cases[1][1]})
+    speed = sliding_stability_speed({**catalogue.defaults(), **cases[1][1]})
     assert 0.55 < speed < 0.65
 
 
@@ -128,7 +135,7 @@ def test_paper_scene_metrics_match_the_library(built):
     """0.02 m/s for 1.2 s: the README's modal row (breakaway 0.400 s, 16 slip phases,
     corridor 4.836 - 8.434 mm after breakaway), here from the 1 ms samples."""
     need(built)
-    (row,) = sweep.run_serial([{"belt_speed": 0.02}], t_end=1.2)
+    (row,) = run_serial([{"belt_speed": 0.02}], t_end=1.2)
     assert row["breakaway_s"] == pytest.approx(0.400, abs=1e-9)
     assert row["stick_to_slip"] == 16
     assert row["corridor_min_mm"] == pytest.approx(4.836, abs=1e-3)
@@ -137,11 +144,11 @@ def test_paper_scene_metrics_match_the_library(built):
 
 def test_refused_value_is_an_error_row_and_the_instance_recovers(built):
     need(built)
-    rows = sweep.run_serial([{"material.youngs_modulus": -1.0}, {"belt_speed": 0.02}], t_end=0.6)
-    assert rows[0]["regime"] == sweep.FAILED
+    rows = run_serial([{"material.youngs_modulus": -1.0}, {"belt_speed": 0.02}], t_end=0.6)
+    assert rows[0]["regime"] == FAILED
     assert "youngs_modulus" in rows[0]["error"]
     # fmi2Reset leaves the error state: the next run on the same instance is normal.
-    assert rows[1]["regime"] == sweep.STICK_SLIP and math.isclose(rows[1]["breakaway_s"], 0.4)
+    assert rows[1]["regime"] == STICK_SLIP and math.isclose(rows[1]["breakaway_s"], 0.4)
     assert rows.loads == {"in-process": 1}
 
 

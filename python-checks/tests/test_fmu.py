@@ -12,22 +12,17 @@ Runs in a few seconds once the FMUs and the binary exist.
 from __future__ import annotations
 
 import subprocess
-import sys
 import zipfile
 from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import need
 from fmpy import simulate_fmu
 from fmpy.fmi1 import FMICallException
 from fmpy.validation import validate_fmu
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-import fmu_scene  # noqa: E402
-from conftest import need  # noqa: E402
-from fmu_scene import BEAM, FIDELITY, FRICTION  # noqa: E402
-from sklearn_peer import find_binary  # noqa: E402
+from stickslip_checks.artifacts import BEAM, FRICTION, Fmus, find_binary, fmu_paths
 
 FMI2_ERROR = 3
 BELT_SPEED = 0.02  # m/s
@@ -37,7 +32,7 @@ BREAKAWAY = 0.400  # s
 _beam_result = {}
 
 
-def beam_curve(fmus: fmu_scene.Fmus):
+def beam_curve(fmus: Fmus):
     """The paper scene at beam fidelity through simulate_fmu, 1 ms output (cached)."""
     if "beam" not in _beam_result:
         _beam_result["beam"] = simulate_fmu(
@@ -45,12 +40,12 @@ def beam_curve(fmus: fmu_scene.Fmus):
             start_time=0.0,
             stop_time=1.2,
             output_interval=1e-3,
-            start_values={"fidelity.level": FIDELITY["beam"]},
+            start_values={"fidelity.level": fmus.models[BEAM].code("fidelity.level", "beam")},
         )
     return _beam_result["beam"]
 
 
-def initialised(fmus: fmu_scene.Fmus, name: str, instance: str, **integers):
+def initialised(fmus: Fmus, name: str, instance: str, **integers):
     """An instantiated slave in step mode (integer parameters by name set first)."""
     slave = fmus.slave(name, instance)
     slave.instantiate()
@@ -63,7 +58,7 @@ def initialised(fmus: fmu_scene.Fmus, name: str, instance: str, **integers):
     return slave
 
 
-def still_usable(fmus: fmu_scene.Fmus, slave, name: str) -> None:
+def still_usable(fmus: Fmus, slave, name: str) -> None:
     """After an fmi2Error: fmi2Reset brings the instance back and it steps again."""
     slave.reset()
     slave.setupExperiment(startTime=0.0, stopTime=1.2)
@@ -84,7 +79,7 @@ def still_usable(fmus: fmu_scene.Fmus, slave, name: str) -> None:
 def test_fmu_dir_missing_fails_with_the_build_command(tmp_path, monkeypatch):
     monkeypatch.setenv("STICKSLIP_FMU_DIR", str(tmp_path / "no-such-dir"))
     with pytest.raises(FileNotFoundError, match="cargo run --release -p fmu-build"):
-        fmu_scene.fmu_paths()
+        fmu_paths()
 
 
 @pytest.mark.parametrize("name", [BEAM, FRICTION])
@@ -191,7 +186,10 @@ def test_negative_youngs_modulus_is_an_fmi2_error(built):
             str(fmus.paths[BEAM]),
             stop_time=0.01,
             output_interval=1e-3,
-            start_values={"material.youngs_modulus": -2.1e11, "fidelity.level": 2},
+            start_values={
+                "material.youngs_modulus": -2.1e11,
+                "fidelity.level": fmus.models[BEAM].code("fidelity.level", "beam"),
+            },
         )
     assert error.value.status == FMI2_ERROR
     # Step by step: refused when initialisation ends; the instance survives a reset.
@@ -219,7 +217,8 @@ def test_do_step_before_initialisation_raises(built, name):
 
 def test_fixed_parameter_after_initialisation_raises(built):
     fmus = need(built)
-    slave = initialised(fmus, BEAM, "fixed", fidelity__level=FIDELITY["beam"])
+    beam = fmus.models[BEAM].code("fidelity.level", "beam")
+    slave = initialised(fmus, BEAM, "fixed", fidelity__level=beam)
     with pytest.raises(FMICallException) as error:
         slave.setReal([fmus.vr[BEAM]["material.youngs_modulus"]], [2.0e11])
     assert error.value.status == FMI2_ERROR

@@ -1,4 +1,4 @@
-"""The stick-slip metrics of the validation table (slip_metrics.py): on a constructed
+"""The stick-slip metrics of the validation table (slip_metrics): on a constructed
 sawtooth whose every number is known in closed form, and on the paper scene through the
 FMU against the command line's own summary (src/metrics.rs, exact transition times).
 
@@ -9,19 +9,14 @@ from __future__ import annotations
 
 import json
 import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import need
 from fmpy import simulate_fmu
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-import fmu_scene  # noqa: E402
-import slip_metrics  # noqa: E402
-from conftest import need  # noqa: E402
-from sklearn_peer import find_binary  # noqa: E402
+from stickslip_checks import slip_metrics
+from stickslip_checks.artifacts import BEAM, find_binary
 
 DT = 1e-3  # s
 V_BELT = 0.02  # m/s
@@ -109,11 +104,11 @@ def test_fmu_slips_agree_with_the_command_line_summary(built, tmp_path):
     the first 1 ms sample after it, so onsets and ends may be up to 1 ms late each."""
     fmus = need(built)
     result = simulate_fmu(
-        str(fmus.paths[fmu_scene.BEAM]),
+        str(fmus.paths[BEAM]),
         start_time=0.0,
         stop_time=1.2,
         output_interval=DT,
-        start_values={"fidelity.level": fmu_scene.FIDELITY["modal"]},
+        start_values={"fidelity.level": fmus.models[BEAM].code("fidelity.level", "modal")},
         output=["tip_deflection", "stick"],
     )
     t, u, stick = result["time"], result["tip_deflection"], result["stick"].astype(bool)

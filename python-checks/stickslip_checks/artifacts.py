@@ -1,0 +1,207 @@
+"""The built artifacts and what their model descriptions say: the one place that knows
+where the FMUs and the `stickslip` binary are, and how a variable's name, type and
+choices map to FMI value references and integer codes.
+
+- FMUs: $STICKSLIP_FMU_DIR, else $CARGO_TARGET_DIR/fmu (relative to the repository
+  root, as fmu-build resolves it), else <repo>/target/fmu, where
+  `cargo run --release -p fmu-build` writes them.
+- Binary: $STICKSLIP_BIN, else the release binary, built (if needed) by cargo.
+- Value references, types, start values and the choices of every variable are read from
+  each FMU's modelDescription.xml; nothing here is hard-coded. A choice variable (today
+  an FMI Enumeration) is set as an integer code; `choices` is the only function that
+  knows how the codes are declared.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+
+from fmpy import extract, read_model_description
+from fmpy.fmi2 import FMU2Slave
+
+BEAM = "StickSlipBeam"
+FRICTION = "NeuralFriction"
+# The structural models (items of StickSlipBeam's fidelity.level) the scripts run; `auto`
+# picks one of them by itself and is not among them.
+FIDELITIES = ("modal", "beam", "plane-stress")
+BUILD_HINT = "run `cargo run --release -p fmu-build` first (it writes <target dir>/fmu/*.fmu)"
+
+
+def _repo_root() -> Path:
+    """The repository this package belongs to: <repo>/python-checks/stickslip_checks is
+    where it lives (an editable install, as scripts/python-env.sh makes); otherwise the
+    nearest folder above the working directory that holds python-checks/pyproject.toml."""
+    source = Path(__file__).resolve().parents[2]
+    if (source / "python-checks" / "pyproject.toml").is_file():
+        return source
+    here = Path.cwd().resolve()
+    for folder in (here, *here.parents):
+        if (folder / "python-checks" / "pyproject.toml").is_file():
+            return folder
+    return here
+
+
+REPO = _repo_root()
+DEFAULT_OUT = REPO / "out"
+
+
+def fmu_dir() -> Path:
+    """$STICKSLIP_FMU_DIR, else $CARGO_TARGET_DIR/fmu, else <repo>/target/fmu."""
+    if os.environ.get("STICKSLIP_FMU_DIR"):
+        return Path(os.environ["STICKSLIP_FMU_DIR"])
+    if os.environ.get("CARGO_TARGET_DIR"):
+        # Relative to the workspace root, as fmu-build resolves it.
+        return REPO / os.environ["CARGO_TARGET_DIR"] / "fmu"
+    return REPO / "target" / "fmu"
+
+
+def fmu_paths() -> dict[str, Path]:
+    """Paths of both FMUs; FileNotFoundError (with the build command) if one is missing."""
+    directory = fmu_dir()
+    paths = {name: directory / f"{name}.fmu" for name in (BEAM, FRICTION)}
+    missing = [str(p) for p in paths.values() if not p.is_file()]
+    if missing:
+        raise FileNotFoundError(f"missing FMU(s) {', '.join(missing)}: {BUILD_HINT}")
+    return paths
+
+
+def find_binary() -> Path:
+    """$STICKSLIP_BIN, or the release binary built (if needed) by cargo."""
+    if os.environ.get("STICKSLIP_BIN"):
+        return Path(os.environ["STICKSLIP_BIN"])
+    subprocess.run(
+        ["cargo", "build", "--release", "--quiet", "--bin", "stickslip"],
+        cwd=REPO,
+        check=True,
+    )
+    metadata = subprocess.run(
+        ["cargo", "metadata", "--format-version", "1", "--no-deps"],
+        cwd=REPO,
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    return Path(json.loads(metadata.stdout)["target_directory"]) / "release" / "stickslip"
+
+
+# ----------------------------------------------------------------------------- model description
+
+
+def choices(variable) -> dict[str, int] | None:
+    """Item name -> integer code of a choice variable of the model description, or None.
+
+    Today the choices are FMI Enumerations (their declared type lists the items). When
+    they become Integer variables whose codes are listed in the variable itself, this is
+    the one function to change.
+    """
+    if variable.type == "Enumeration":
+        return {item.name: int(item.value) for item in variable.declaredType.items}
+    return None
+
+
+class Model:
+    """One model description: variables by name, their value references, types and choices."""
+
+    def __init__(self, description):
+        self.description = description
+        self.guid = description.guid
+        self.identifier = description.coSimulation.modelIdentifier
+        self.variables = {v.name: v for v in description.modelVariables}
+        self.vr = {name: v.valueReference for name, v in self.variables.items()}
+        self.choices = {
+            name: items
+            for name, items in ((n, choices(v)) for n, v in self.variables.items())
+            if items is not None
+        }
+
+    @classmethod
+    def read(cls, fmu: Path) -> Model:
+        return cls(read_model_description(str(fmu)))
+
+    def code(self, name: str, value) -> int:
+        """The integer a choice variable is set to for `value` (an item name or its code)."""
+        items = self.choices[name]
+        if isinstance(value, str):
+            return items[value]
+        if int(value) not in items.values():
+            raise KeyError(f"{name}: no choice with code {value}")
+        return int(value)
+
+    def kind(self, name: str) -> str:
+        """How the variable is set and read: Real, Integer, Boolean or String (a choice
+        variable is an Integer: its code)."""
+        kind = self.variables[name].type
+        return "Integer" if name in self.choices else kind
+
+    def set(self, slave: FMU2Slave, values: dict) -> None:
+        """Sets every name -> value in order, each with its type's setter (choices by
+        item name or code)."""
+        for name, value in values.items():
+            vr, kind = [self.vr[name]], self.kind(name)
+            if name in self.choices:
+                slave.setInteger(vr, [self.code(name, value)])
+            elif kind == "Real":
+                slave.setReal(vr, [float(value)])
+            elif kind == "Integer":
+                slave.setInteger(vr, [int(value)])
+            elif kind == "Boolean":
+                slave.setBoolean(vr, [bool(value)])
+            else:
+                slave.setString(vr, [str(value)])
+
+    def getter(self, slave: FMU2Slave, name: str):
+        """A function of no argument that reads the variable `name` of `slave`."""
+        vr, kind = [self.vr[name]], self.kind(name)
+        read = {
+            "Real": slave.getReal,
+            "Integer": slave.getInteger,
+            "Boolean": slave.getBoolean,
+            "String": slave.getString,
+        }[kind]
+        return lambda: read(vr)[0]
+
+
+class Fmu:
+    """One FMU archive unpacked into a temporary folder (removed by close())."""
+
+    def __init__(self, archive: Path, folder: Path | None = None):
+        self.path = Path(archive)
+        self.folder = Path(folder) if folder else Path(tempfile.mkdtemp(prefix="stickslip-fmu-"))
+        self.unzipped = Path(extract(str(self.path), unzipdir=str(self.folder / self.path.stem)))
+        self.model = Model.read(self.path)
+
+    def slave(self, instance: str) -> FMU2Slave:
+        """A new (not yet instantiated) co-simulation slave of this FMU."""
+        return FMU2Slave(
+            guid=self.model.guid,
+            unzipDirectory=str(self.unzipped),
+            modelIdentifier=self.model.identifier,
+            instanceName=instance,
+        )
+
+    def close(self) -> None:
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+
+class Fmus:
+    """Both FMUs, unpacked once into one temporary folder (removed by close())."""
+
+    def __init__(self, paths: dict[str, Path]):
+        self.paths = paths
+        self.tmp = Path(tempfile.mkdtemp(prefix="fmu-scene-"))
+        self.fmus = {name: Fmu(path, self.tmp) for name, path in paths.items()}
+        self.dirs = {name: fmu.unzipped for name, fmu in self.fmus.items()}
+        self.models = {name: fmu.model for name, fmu in self.fmus.items()}
+        self.descriptions = {name: m.description for name, m in self.models.items()}
+        self.vr = {name: m.vr for name, m in self.models.items()}
+
+    def slave(self, name: str, instance: str) -> FMU2Slave:
+        return self.fmus[name].slave(instance)
+
+    def close(self) -> None:
+        shutil.rmtree(self.tmp, ignore_errors=True)
