@@ -13,6 +13,7 @@ use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::instance::{Instance, Mode, SavedState};
 use stickslip_fmi::Model;
+use stickslip_train::data::Synthetic;
 use stickslip_train::csv::{read_csv_file, ColumnSelection};
 use stickslip::neural::weights::LayerWeights;
 use stickslip::neural::{

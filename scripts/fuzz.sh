@@ -13,7 +13,7 @@
 # the seeds back, and prints per target the executions, executions per second,
 # coverage and whether it crashed. A crash leaves its input in fuzz/artifacts/<target>/
 # and makes the script exit with status 1: turn it into a test in
-# tests/fuzz_regressions.rs.
+# tests/fmu/fuzz_regressions.rs.
 #
 # Build: `cargo fuzz` builds in release mode with debug assertions and overflow checks
 # (its default). `-s none` turns the sanitizers off: they need a nightly compiler,

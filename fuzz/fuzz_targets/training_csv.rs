@@ -20,7 +20,8 @@ use libfuzzer_sys::fuzz_target;
 use stickslip_cli::train::{load_split, DataArgs};
 use stickslip_train::csv::{read_csv_file, ColumnSelection};
 use stickslip_train::train::DataSource;
-use stickslip::neural::{train, Dataset, FeatureRole, TrainConfig, Variant};
+use stickslip::neural::{FeatureRole, Variant};
+use stickslip_train::{train, Dataset, TrainConfig};
 use stickslip_fuzz::scratch_file;
 
 /// Most training samples for which the tiny training run is done.
@@ -105,7 +106,7 @@ fn use_split(args: &DataArgs, train_set: &Dataset, test_set: &Dataset, source: &
     if train_set.len() > MAX_TRAINING_SAMPLES {
         return;
     }
-    let split = stickslip::neural::Split {
+    let split = stickslip_train::Split {
         train: train_set.clone(),
         test: test_set.clone(),
     };

@@ -35,7 +35,7 @@ from .artifacts import REPO, Fmus, find_binary
 from .fmu_scene import drive_friction, friction_sweep
 from .runner import find_fmus, out_dir, report_failures
 
-ITERATIONS, SEED, LAMBDA = 200, 2, 0.004  # the paper's settings (src/neural/train.rs)
+ITERATIONS, SEED, LAMBDA = 200, 2, 0.004  # the paper's settings (src/train/src/train.rs)
 SHIPPED = REPO / "weights" / "paper-plain.json"
 FMU_AGREEMENT = 1e-9  # relative MSE difference FMU vs trainer
 

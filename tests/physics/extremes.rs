@@ -288,7 +288,7 @@ fn stick_threshold_zero_or_huge_changes_little() {
 #[test]
 fn neural_law_far_outside_its_training_range_stays_bounded() {
     // 10 m/s and 1000 N, against training data |v| <= 0.4 m/s and 90 .. 110 N: the
-    // network's inputs are clamped (src/neural/law.rs), so in slip the force is the
+    // network's inputs are clamped (src/physics/src/neural/law.rs), so in slip the force is the
     // network's value at the edge of the data, at most about mu_s 110 N = 55 N, while the
     // static limit is mu_s F_n = 500 N. Bounded: |F| <= 500 N, and the swing obeys the
     // orbit bound with a kinetic force of at least -55 N.
