@@ -10,17 +10,22 @@ if it sticks through the whole window.
 The map (sweep.py without --grid) runs MAP_SPEEDS for three cases: the FMU's default
 damping, 2 % Rayleigh damping at modes 1 and 3, and the same from rest.
 
-Beam physics left here, because neither the FMU nor the command line reports it (see
-euler_bernoulli_modes): the Euler-Bernoulli frequencies of modes 1 and 3 and the beam's
-mass, for the Rayleigh coefficients of the 2 % case and for the linear estimate of where
-steady sliding becomes stable.
+The beam-theory numbers the map needs (the Rayleigh coefficients of the 2 % case and the
+linear estimate of where steady sliding becomes stable) come from `stickslip estimates`,
+which computes them in Rust (`stickslip::stability`); nothing here re-derives the beam.
 """
 
 from __future__ import annotations
 
+import json
 import math
+import subprocess
+import tempfile
+from pathlib import Path
 
 import numpy as np
+
+from .artifacts import find_binary
 
 DEFAULT_WINDOW = 1.0 / 3.0  # metrics over the last third of the run (after transients)
 
@@ -138,68 +143,60 @@ def default_cases(catalogue) -> list[tuple[str, dict]]:
 
 # ----------------------------------------------------------------------------- beam estimates
 
-# Euler-Bernoulli cantilever: beta_n L of modes 1 and 3;
-# omega_n = (beta_n L)^2 sqrt(EI / (rho A L^4)).
-BETA_L = {1: 1.875104, 3: 7.854757}
+# The sections of the scene file that the estimates read; the FMU names its parameters
+# after the scene file's fields, so these carry over by name.
+_ESTIMATE_SECTIONS = ("geometry", "material", "friction", "contact", "damping")
 
 
-def euler_bernoulli_modes(params: dict) -> tuple[float, float, float]:
-    """(omega_1 (rad/s), omega_3 (rad/s), total mass M (kg)) of the Euler-Bernoulli
-    cantilever with the geometry and material of `params` (the FMU's parameter names).
+def _scene_of(params: dict) -> dict:
+    """The scene file (as a dict) that the FMU parameters and inputs `params` describe."""
+    scene: dict = {"loading": {}}
+    for name, value in params.items():
+        if name in ("belt_speed", "normal_force"):
+            scene["loading"][name] = value
+            continue
+        section, _, field = name.partition(".")
+        if section not in _ESTIMATE_SECTIONS or name == "friction.weights":
+            continue
+        if name == "friction.model":
+            field = "law"
+        scene.setdefault(section, {})[field] = value
+    return scene
 
-    Neither StickSlipBeam.fmu nor `stickslip` reports these numbers. `stickslip simulate
-    --damping-ratio Z` computes Rayleigh damping from the same two frequencies inside the
-    binary, but with beta_n L rounded to 1.8751 and 7.8548 and without printing a or b.
-    What would remove this function: StickSlipBeam.fmu calculated parameters (or a
-    command that prints them for a scene) for the natural frequencies of its structural
-    model and the Rayleigh a, b of a damping ratio at modes 1 and 3 (e.g. a parameter
-    damping.ratio), plus the modal mass at the tip for sliding_stability_speed.
-    """
-    length = params["geometry.length"]
-    area = params["geometry.width"] * params["geometry.height"]  # m^2
-    ei = (
-        params["material.youngs_modulus"]
-        * params["geometry.width"]
-        * params["geometry.height"] ** 3
-        / 12
-    )
-    rho_a = params["material.density"] * area  # kg/m
-    scale = math.sqrt(ei / (rho_a * length**4))
-    return BETA_L[1] ** 2 * scale, BETA_L[3] ** 2 * scale, rho_a * length
+
+def beam_estimates(params: dict, rayleigh_ratio: float | None = None) -> dict:
+    """`stickslip estimates` for the scene of `params`: bending frequencies `omega`
+    (rad/s), `mass` (kg), the Rayleigh `mass_proportional` (1/s) and
+    `stiffness_proportional` (s) in use, and `sliding_stability_speed` (m/s, None where it
+    does not apply). With `rayleigh_ratio`, the damping is Rayleigh damping with that ratio
+    at modes 1 and 3. Raises ValueError with the binary's message for a bad scene."""
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "scene.json"
+        path.write_text(json.dumps(_scene_of(params)))
+        command = [str(find_binary()), "estimates", "--scene", str(path)]
+        if rayleigh_ratio is not None:
+            command += ["--rayleigh-ratio", repr(rayleigh_ratio)]
+        done = subprocess.run(command, capture_output=True, text=True)
+    if done.returncode != 0:
+        message = done.stderr.strip() or f"stickslip estimates failed ({done.returncode})"
+        raise ValueError(message)
+    return json.loads(done.stdout)
 
 
 def rayleigh_damping(params: dict, ratio: float = RAYLEIGH_RATIO) -> dict:
     """Rayleigh a (1/s), b (s) giving `ratio` at modes 1 and 3: zeta(w) = a/(2w) + b w/2."""
-    w1, w3, _ = euler_bernoulli_modes(params)
+    estimates = beam_estimates(params, rayleigh_ratio=ratio)
     return {
-        "damping.mass_proportional": 2 * ratio * w1 * w3 / (w1 + w3),
-        "damping.stiffness_proportional": 2 * ratio / (w1 + w3),
+        "damping.mass_proportional": estimates["mass_proportional"],
+        "damping.stiffness_proportional": estimates["stiffness_proportional"],
     }
 
 
 def sliding_stability_speed(params: dict) -> float | None:
-    """Belt speed (m/s) above which steady sliding is linearly stable (mode 1), or None.
-
-    Linearised about steady sliding, the exponential law's slope dF/dv_rel =
-    -alpha (mu_s - mu_k) F_n exp(-alpha v_b) feeds the tip velocity back as negative
-    damping. A cantilever's mass-normalised modes all have phi_n(L)^2 = 4 / M at the tip,
-    so mode 1 (the least damped: 2 zeta_1 omega_1 = a + b omega_1^2) is stable when
-    (4 / M) alpha (mu_s - mu_k) F_n exp(-alpha v_b) < a + b omega_1^2. Only for the
-    exponential law with the relative sliding velocity; the higher modes and the coupling
-    through the static correction are ignored.
-    """
-    if (
-        params.get("friction.model") != "exponential"
-        or params.get("contact.sliding_velocity") != "relative"
-    ):
-        return None
-    w1, _, mass = euler_bernoulli_modes(params)
-    damping = params["damping.mass_proportional"] + params["damping.stiffness_proportional"] * w1**2
-    alpha = params["friction.decay"]
-    slope = alpha * (params["friction.static_coefficient"] - params["friction.kinetic_coefficient"])
-    gain = 4.0 / mass * slope * params["normal_force"]  # 1/s at v_b = 0
-    if alpha <= 0 or gain <= 0:
-        return 0.0
-    if damping <= 0:
+    """Belt speed (m/s) above which steady sliding is linearly stable in mode 1, or None
+    where the estimate does not apply (see `stickslip::stability::sliding_stability_speed`
+    for the derivation). Raises ValueError for a scene the binary refuses."""
+    speed = beam_estimates(params)["sliding_stability_speed"]
+    if speed == "inf":
         return math.inf
-    return max(0.0, math.log(gain / damping) / alpha)
+    return speed

@@ -3,10 +3,12 @@
 //!
 //! - `simulate`: `simulate`, `static` and `study`;
 //! - `train`: `train` and `search`;
+//! - `estimates`: `estimates` (beam-theory numbers of a scene, as JSON);
 //! - `choice`: the command-line values of the scene's choices.
 //!
 //! A library as well as a binary, so that the tests can run the commands in-process.
 
 pub mod choice;
+pub mod estimates;
 pub mod simulate;
 pub mod train;

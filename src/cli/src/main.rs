@@ -26,6 +26,10 @@ enum Command {
     /// steps and integrators, with errors against a converged reference and the Pareto
     /// front.
     Study(stickslip_cli::simulate::StudyArgs),
+    /// Closed-form numbers of the scene's Euler-Bernoulli cantilever as JSON: bending
+    /// frequencies, mass, Rayleigh damping, and the belt speed above which steady sliding
+    /// is stable.
+    Estimates(stickslip_cli::estimates::EstimatesArgs),
     /// Hyperparameter grid search with k-fold cross-validation for the neural law.
     Search(stickslip_cli::train::SearchArgs),
 }
@@ -36,6 +40,7 @@ fn main() -> ExitCode {
         Command::Simulate(args) => stickslip_cli::simulate::simulate(args),
         Command::Static(args) => stickslip_cli::simulate::static_check(args),
         Command::Study(args) => stickslip_cli::simulate::study(args),
+        Command::Estimates(args) => stickslip_cli::estimates::estimates(args),
         Command::Train(args) => stickslip_cli::train::run_train(args)
             .map(|_| ())
             .map_err(|e| e.to_string()),

@@ -27,6 +27,7 @@ pub mod neural;
 pub mod run;
 pub mod scene;
 pub mod simulation;
+pub mod stability;
 pub mod statics;
 pub mod structure;
 pub mod study;

@@ -1,0 +1,70 @@
+//! `stickslip estimates`: the closed-form numbers of a scene's Euler-Bernoulli
+//! cantilever (`stickslip::stability`), as JSON for scripts, so that no script
+//! re-derives beam theory.
+
+use crate::simulate::SceneArgs;
+use clap::Args;
+use serde::Serialize;
+use stickslip::stability::{cantilever_omega, rayleigh_at_modes_1_and_3, sliding_stability_speed};
+
+/// Arguments of `stickslip estimates`.
+#[derive(Args, Debug, Clone)]
+pub struct EstimatesArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Replace the scene's damping by Rayleigh damping with this ratio at modes 1 and 3
+    /// (and report its a and b).
+    #[arg(long, allow_negative_numbers = true)]
+    pub rayleigh_ratio: Option<f64>,
+}
+
+/// What `stickslip estimates` prints.
+#[derive(Debug, Serialize)]
+pub struct Estimates {
+    /// Angular frequencies of bending modes 1 to 4 (rad/s).
+    pub omega: Vec<f64>,
+    /// Beam mass rho A L (kg).
+    pub mass: f64,
+    /// Rayleigh a (1/s) of the damping used below.
+    pub mass_proportional: f64,
+    /// Rayleigh b (s) of the damping used below.
+    pub stiffness_proportional: f64,
+    /// Belt speed above which steady sliding is linearly stable in mode 1 (m/s); null
+    /// where the estimate does not apply, a string "inf" without damping.
+    pub sliding_stability_speed: Option<serde_json::Value>,
+}
+
+/// `stickslip estimates`: prints the scene's estimates as one JSON object.
+pub fn estimates(args: &EstimatesArgs) -> Result<(), String> {
+    let mut scene = args.scene.scene()?;
+    if let Some(ratio) = args.rayleigh_ratio {
+        if !(ratio.is_finite() && ratio >= 0.0) {
+            return Err(format!(
+                "--rayleigh-ratio = {ratio}; it must be finite and >= 0"
+            ));
+        }
+        let damping = rayleigh_at_modes_1_and_3(&scene, ratio);
+        let mut raw = scene.into_scene();
+        raw.damping = damping;
+        scene = raw.check().map_err(|e| e.to_string())?;
+    }
+    let speed = sliding_stability_speed(&scene).map(|v| {
+        if v.is_finite() {
+            serde_json::json!(v)
+        } else {
+            serde_json::json!("inf")
+        }
+    });
+    let estimates = Estimates {
+        omega: (1..=4)
+            .filter_map(|n| cantilever_omega(&scene, n))
+            .collect(),
+        mass: scene.mass_per_length() * scene.geometry.length,
+        mass_proportional: scene.damping.mass_proportional,
+        stiffness_proportional: scene.damping.stiffness_proportional,
+        sliding_stability_speed: speed,
+    };
+    let text = serde_json::to_string_pretty(&estimates).map_err(|e| e.to_string())?;
+    println!("{text}");
+    Ok(())
+}
