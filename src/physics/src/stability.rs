@@ -109,8 +109,10 @@ mod tests {
 
     #[test]
     fn the_stability_speed_balances_the_friction_slope_and_the_damping() {
-        let mut raw = Scene::default();
-        raw.damping = Damping::none();
+        let mut raw = Scene {
+            damping: Damping::none(),
+            ..Scene::default()
+        };
         let scene = raw.clone().check().unwrap();
         assert_eq!(sliding_stability_speed(&scene), Some(f64::INFINITY));
         raw.damping = Damping {
