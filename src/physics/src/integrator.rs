@@ -100,9 +100,12 @@ pub struct Integrator {
     free: Vec<f64>,
 }
 
-/// The step without tip force, and how the tip responds to a force.
+/// The step without tip force, and how the tip responds to a force: what the contact
+/// resolves the step's tip force from (`contact::Contact::resolve`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrialStep {
+    /// Length of the step (s).
+    pub dt: f64,
     /// Tip displacement at t_n, the start of the step (m).
     pub start_tip_displacement: f64,
     /// Tip velocity at t_n (m/s).
@@ -230,6 +233,7 @@ impl Integrator {
             Coefficients::GeneralizedAlpha { gamma, beta, .. } => {
                 let g = gamma / (beta * dt);
                 TrialStep {
+                    dt,
                     start_tip_displacement: tip_u,
                     start_tip_velocity: tip_v,
                     free_tip_displacement: tip_free,
@@ -241,6 +245,7 @@ impl Integrator {
                 }
             }
             Coefficients::MoreauJean { theta } => TrialStep {
+                dt,
                 start_tip_displacement: tip_u,
                 start_tip_velocity: tip_v,
                 free_tip_displacement: tip_u + dt * ((1.0 - theta) * tip_v + theta * tip_free),

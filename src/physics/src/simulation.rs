@@ -1,30 +1,17 @@
 //! The transient stick-slip simulation: a structural model, an integrator, the contact
-//! switch and a friction law, stepped at a fixed time step.
+//! and a friction law, stepped at a fixed time step.
 //!
-//! Each step makes one trial solve without tip force. Everything the contact needs
-//! follows from it, because the tip responds linearly to the tip force F:
-//! - Stick: F is the reaction that puts the tip where the belt takes it,
-//!   u_tip,n+1 = u_tip,n + v_b dt (generalised-alpha, the paper's Eq. 4), or that gives
-//!   it the belt's velocity (Moreau-Jean).
-//! - Slip: F = F_law(v_rel) is solved by fixed-point iteration, since v_rel depends on F.
-//!   The iteration contracts because |dF/dv| * (dv_tip/dF) ~ 150 N s/m * 1e-5 m/(s N)
-//!   << 1 at the paper's step.
-//!
-//! Generalised-alpha evaluates the law at v_rel(t_{n+1-alpha_f}), the time level at
-//! which its balance holds. Moreau-Jean takes the contact at impulse level: stick when
-//! the needed impulse lies in [-mu_s F_n dt, mu_s F_n dt], with no threshold eps.
+//! A step reads: the integrator's trial solve without tip force, then the contact's
+//! resolution of the tip force from it (stick reaction, slip solve and switch for either
+//! scheme, see `contact`), then the integrator's finish with that force.
 
-use crate::contact::{next_state, ContactState, Transition};
-use crate::friction::{signum_or_zero, FrictionLaw};
+use crate::contact::{Contact, ContactState, Kinetic, Previous, Transition};
+use crate::friction::FrictionLaw;
 use crate::integrator::{Coefficients, Integrator, Kinematics};
-use crate::scene::{CheckedScene, HoldingForce, InitialState, SlidingVelocity};
+use crate::scene::{CheckedScene, InitialState};
 use crate::structure::{singular, ModelError, StructuralModel};
 use serde::{Deserialize, Serialize};
 use std::fmt;
-
-/// Most fixed-point iterations for the slip force; the iteration contracts by ~1e-3 per
-/// pass at the paper's step, so this is a guard, not a tuning knob.
-const SLIP_ITERATIONS: usize = 50;
 
 /// Everything that evolves in time; plain data, so that it can be saved and restored.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -135,6 +122,7 @@ pub struct Simulator {
     scene: CheckedScene,
     model: StructuralModel,
     integrator: Integrator,
+    contact: Contact,
     law: Box<dyn FrictionLaw>,
     belt_speed: f64,
     normal_force: f64,
@@ -171,6 +159,7 @@ impl Simulator {
             scene.damping.mass_proportional,
             scene.damping.stiffness_proportional,
         )?;
+        let contact = Contact::new(&scene, integrator.coefficients());
         let state = initial_state(&scene, &model)?;
         Ok(Self {
             belt_speed: scene.loading.belt_speed,
@@ -178,6 +167,7 @@ impl Simulator {
             scene,
             model,
             integrator,
+            contact,
             law,
             external: None,
             landing: None,
@@ -364,107 +354,33 @@ impl Simulator {
     }
 
     fn take_step(&mut self, landing: bool) -> Result<(), SimulationError> {
-        let limit = self.static_limit();
-        let external = self.external;
+        let static_limit = self.static_limit();
+        let kinetic = match self.external {
+            Some(e) => Kinetic::External {
+                force: e.kinetic_force,
+            },
+            None => Kinetic::Law {
+                law: self.law.as_mut(),
+                normal_force: self.normal_force,
+            },
+        };
         let integrator = match (landing, self.landing.as_mut()) {
             (true, Some(short)) => short,
             _ => &mut self.integrator,
         };
         let dt = integrator.dt();
         let vb = self.belt_speed;
-        let fnormal = self.normal_force;
         let state = &mut self.state;
+        let previous = Previous {
+            state: state.contact,
+            relative_velocity: state.relative_velocity,
+            force: state.contact_force,
+        };
         let trial = integrator.trial(&self.model, &state.kinematics);
-        let (tip_u, tip_v) = (trial.start_tip_displacement, trial.start_tip_velocity);
-
-        let (stick_force, stick_tip) = match integrator.coefficients() {
-            Coefficients::GeneralizedAlpha { .. } => {
-                let target = tip_u + vb * dt;
-                (
-                    (target - trial.free_tip_displacement) / trial.displacement_per_force,
-                    target,
-                )
-            }
-            Coefficients::MoreauJean { .. } => {
-                let f = (vb - trial.free_tip_velocity) / trial.velocity_per_force;
-                (
-                    f,
-                    trial.free_tip_displacement + f * trial.displacement_per_force,
-                )
-            }
-        };
-        let holding = match self.scene.contact.holding_force {
-            HoldingForce::Reaction => stick_force,
-            // The paper's rule, P = E h^3 delta / (4 L^3) = 3 EI delta / L^3 for b = 1.
-            HoldingForce::EulerBernoulli => self.scene.euler_bernoulli_tip_stiffness() * stick_tip,
-        };
-
-        let alpha_f = match integrator.coefficients() {
-            Coefficients::GeneralizedAlpha { alpha_f, .. } => alpha_f,
-            Coefficients::MoreauJean { .. } => 0.0,
-        };
-        let slip = |law: &mut Box<dyn FrictionLaw>| {
-            let mut force = state.contact_force;
-            for _ in 0..SLIP_ITERATIONS {
-                let v_tip = trial.free_tip_velocity + force * trial.velocity_per_force;
-                let v_rel = vb - v_tip;
-                let rel_eval = (1.0 - alpha_f) * v_rel + alpha_f * state.relative_velocity;
-                let argument = match self.scene.contact.sliding_velocity {
-                    SlidingVelocity::Relative => rel_eval,
-                    SlidingVelocity::Tip => {
-                        signum_or_zero(rel_eval) * ((1.0 - alpha_f) * v_tip + alpha_f * tip_v).abs()
-                    }
-                };
-                let next = match external {
-                    Some(e) => signum_or_zero(argument) * e.kinetic_force,
-                    None => law.sliding_force(argument, fnormal),
-                };
-                let converged = (next - force).abs() <= 1e-12 * (1.0 + next.abs());
-                force = next;
-                if converged {
-                    break;
-                }
-            }
-            let v_tip = trial.free_tip_velocity + force * trial.velocity_per_force;
-            (force, vb - v_tip)
-        };
-
-        // The slip solution, when the decision needed it, is reused for the force.
-        let mut slip_solution = None;
-        let next = match integrator.coefficients() {
-            Coefficients::MoreauJean { .. } => {
-                if stick_force.abs() <= limit {
-                    ContactState::Stick
-                } else {
-                    ContactState::Slip
-                }
-            }
-            Coefficients::GeneralizedAlpha { .. } => match state.contact {
-                ContactState::Stick => {
-                    next_state(ContactState::Stick, holding, limit, 0.0, 0.0, 0.0)
-                }
-                ContactState::Slip => {
-                    let (force, v_rel_slip) = slip(&mut self.law);
-                    slip_solution = Some(force);
-                    next_state(
-                        ContactState::Slip,
-                        holding,
-                        limit,
-                        state.relative_velocity,
-                        v_rel_slip,
-                        self.scene.friction.stick_threshold,
-                    )
-                }
-            },
-        };
-        let force = match next {
-            ContactState::Stick => stick_force,
-            ContactState::Slip => match slip_solution {
-                Some(force) => force,
-                None => slip(&mut self.law).0,
-            },
-        };
-        integrator.finish(&mut state.kinematics, force);
+        let resolution = self
+            .contact
+            .resolve(&trial, previous, vb, static_limit, kinetic);
+        integrator.finish(&mut state.kinematics, resolution.force);
         state.step += 1;
         if landing {
             state.time += dt;
@@ -477,9 +393,15 @@ impl Simulator {
         let new_tip_v = self.model.tip_value(&state.kinematics.velocity);
         let new_tip_u = self.model.tip_value(&state.kinematics.displacement);
         let relative = vb - new_tip_v;
-        if ![new_tip_u, new_tip_v, force, holding, relative]
-            .iter()
-            .all(|x| x.is_finite())
+        if ![
+            new_tip_u,
+            new_tip_v,
+            resolution.force,
+            resolution.holding_force,
+            relative,
+        ]
+        .iter()
+        .all(|x| x.is_finite())
         {
             return Err(SimulationError::NonFinite {
                 time: state.time,
@@ -487,16 +409,16 @@ impl Simulator {
             });
         }
         state.relative_velocity = relative;
-        state.contact_force = force;
-        state.holding_force = holding;
-        if next != state.contact {
+        state.contact_force = resolution.force;
+        state.holding_force = resolution.holding_force;
+        if resolution.state != state.contact {
             state.transition_count += 1;
             self.transitions.push(Transition {
                 time: state.time,
-                to: next,
+                to: resolution.state,
             });
         }
-        state.contact = next;
+        state.contact = resolution.state;
         Ok(())
     }
 
