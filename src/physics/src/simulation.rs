@@ -228,7 +228,7 @@ impl Simulator {
             return Err(StateMismatch(format!("{name} is not finite")));
         }
         // No run reaches 2^53 steps (centuries); larger counts would overflow when
-        // stepped on (tests/fuzz_regressions.rs).
+        // stepped on (tests/fmu/fuzz_regressions.rs).
         for (name, count) in [
             ("step", state.step),
             ("steps_since_anchor", state.steps_since_anchor),
