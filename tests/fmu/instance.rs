@@ -8,7 +8,7 @@ use stickslip::scene::{CheckedScene, FidelityLevel, Scene};
 use stickslip::simulation::Simulator;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
-use stickslip_fmi::instance::{Instance, Logger, Mode, SavedState, Status};
+use stickslip_fmi::instance::{Instance, Logger, Mode, SavedState, Status, STATE_VERSION};
 use stickslip_fmi::variables::Causality;
 use stickslip_fmi::{FmuKind, Model};
 
@@ -307,7 +307,8 @@ fn malformed_state_bytes_are_refused() {
         (bytes[..bytes.len() / 2].to_vec(), "malformed"),
         (b"\xff\x00garbage".to_vec(), "malformed"),
         (
-            text.replace("\"version\":1", "\"version\":99").into_bytes(),
+            text.replace(&format!("\"version\":{STATE_VERSION}"), "\"version\":99")
+                .into_bytes(),
             "version 99",
         ),
         (
