@@ -125,3 +125,106 @@ impl<T: Choice> TypedValueParser for ChoiceParser<T> {
         })))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::simulate::{friction_parser, SceneArgs};
+    use clap::Parser;
+    use stickslip::scene::{FidelityLevel, FrictionLawKind, Scheme};
+
+    /// (word, help line) of every listed value.
+    fn listed<P: TypedValueParser>(parser: &P) -> Vec<(String, String)> {
+        parser
+            .possible_values()
+            .unwrap()
+            .map(|v| {
+                let help = v.get_help().map(|h| h.to_string()).unwrap_or_default();
+                (v.get_name().to_string(), help)
+            })
+            .collect()
+    }
+
+    fn words_and_descriptions<T: Choice>() -> Vec<(String, String)> {
+        T::ALL
+            .iter()
+            .map(|c| (c.name().to_string(), c.description().to_string()))
+            .collect()
+    }
+
+    #[test]
+    fn the_values_are_the_scene_words_with_their_descriptions() {
+        assert_eq!(
+            listed(&parser::<FidelityLevel>()),
+            words_and_descriptions::<FidelityLevel>()
+        );
+        assert_eq!(
+            listed(&parser::<Scheme>()),
+            words_and_descriptions::<Scheme>()
+        );
+        for c in FidelityLevel::ALL {
+            assert_eq!(parser::<FidelityLevel>().value(c.name()), Ok(*c));
+        }
+    }
+
+    #[test]
+    fn friction_takes_the_scene_laws_and_analytical_but_not_external() {
+        let parser = friction_parser();
+        let words: Vec<String> = listed(&parser).into_iter().map(|(w, _)| w).collect();
+        let laws: Vec<&str> = FrictionLawKind::ALL
+            .iter()
+            .filter(|l| **l != FrictionLawKind::External)
+            .map(|l| l.name())
+            .collect();
+        assert_eq!(words, laws);
+        assert!(listed(&parser)[0].1.contains("also: analytical"));
+        assert_eq!(parser.value("analytical"), Ok(FrictionLawKind::Exponential));
+        assert_eq!(
+            parser.value("exponential"),
+            Ok(FrictionLawKind::Exponential)
+        );
+        let refused = parser.value("external").unwrap_err();
+        assert!(refused.contains("StickSlipBeam"), "{refused}");
+        let unknown = parser.value("Coulomb").unwrap_err();
+        assert!(
+            unknown.contains("exponential, analytical, coulomb, neural"),
+            "{unknown}"
+        );
+    }
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        scene: SceneArgs,
+    }
+
+    /// The words scripts use parse through clap into the scene's values.
+    #[test]
+    fn the_command_line_contract_parses() {
+        let args = Cli::try_parse_from([
+            "stickslip",
+            "--fidelity",
+            "plane-stress",
+            "--friction",
+            "analytical",
+            "--integrator",
+            "moreau-jean",
+        ])
+        .unwrap()
+        .scene;
+        assert_eq!(args.fidelity, Some(FidelityLevel::PlaneStress));
+        assert_eq!(args.friction, Some(FrictionLawKind::Exponential));
+        assert_eq!(args.integrator, Some(Scheme::MoreauJean));
+        let auto = Cli::try_parse_from(["stickslip", "--fidelity", "auto"]).unwrap();
+        assert_eq!(auto.scene.fidelity, Some(FidelityLevel::Auto));
+        let error = Cli::try_parse_from(["stickslip", "--friction", "external"])
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            error.contains("--friction") && error.contains("StickSlipBeam"),
+            "{error}"
+        );
+        assert!(Cli::try_parse_from(["stickslip", "--integrator", "euler"]).is_err());
+    }
+}
