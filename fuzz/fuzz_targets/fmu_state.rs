@@ -157,10 +157,18 @@ fn short_step(state: &SavedState) -> Option<f64> {
     (steps.is_finite() && steps <= MAX_STEPS_PER_INPUT).then_some(h)
 }
 
-/// False for states whose scenes would build a large model, or that name weights
-/// outside `resources/` (see `stickslip_fuzz`).
+/// False for states whose scenes would build a large model or resolve `auto` (which
+/// runs the scene several times), or that name weights outside `resources/` (see
+/// `stickslip_fuzz`).
 fn affordable(model: &Value) -> bool {
     if !weights_names(model).all(weights_name_stays_in_resources) {
+        return false;
+    }
+    // Version-1 states keep the auto request beside the scene.
+    let auto_v1 = ["/settings/fidelity_auto", "/running/built_from/fidelity_auto"]
+        .iter()
+        .any(|path| model.pointer(path) == Some(&Value::Bool(true)));
+    if auto_v1 {
         return false;
     }
     ["/settings/scene", "/running/built_from/scene"]

@@ -39,10 +39,11 @@ fn plane_stress_dofs(scene: &Scene, limit: usize) -> Option<usize> {
 }
 
 /// Whether the structural model of a scene that passed `Scene::check` builds in a few
-/// milliseconds.
+/// milliseconds. Not `auto`: resolving it runs the scene several times.
 pub fn cheap_to_build(scene: &Scene) -> bool {
     let f = &scene.fidelity;
     match f.level {
+        FidelityLevel::Auto => false,
         FidelityLevel::Beam => f.beam_elements <= 100,
         FidelityLevel::PlaneStress => plane_stress_dofs(scene, 1200).is_some(),
         FidelityLevel::Modal => {

@@ -8,7 +8,7 @@ use stickslip::scene::{CheckedScene, FidelityLevel, Scene};
 use stickslip::simulation::Simulator;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
-use stickslip_fmi::instance::{Instance, Logger, Mode, SavedState, Status};
+use stickslip_fmi::instance::{Instance, Logger, Mode, SavedState, Status, STATE_VERSION};
 use stickslip_fmi::variables::Causality;
 use stickslip_fmi::{FmuKind, Model};
 
@@ -307,7 +307,8 @@ fn malformed_state_bytes_are_refused() {
         (bytes[..bytes.len() / 2].to_vec(), "malformed"),
         (b"\xff\x00garbage".to_vec(), "malformed"),
         (
-            text.replace("\"version\":1", "\"version\":99").into_bytes(),
+            text.replace(&format!("\"version\":{STATE_VERSION}"), "\"version\":99")
+                .into_bytes(),
             "version 99",
         ),
         (
@@ -776,4 +777,59 @@ fn fidelity_auto_chooses_at_initialisation_and_logs_the_choice() {
     run(&mut b, 0.0, 0.6, 1e-2);
     // Past breakaway at 0.4 s the tip has slipped back below its 8 mm peak.
     assert!(tip(&mut b) > 0.0 && tip(&mut b) < 8.1e-3);
+}
+
+/// A version-1 state, which kept the friction model, the auto flag and the tolerance
+/// beside the scene, restores into the scene's fields and is saved again as the
+/// current version; a current-version state with the old fields is refused.
+#[test]
+fn a_version_1_beam_state_restores_into_the_scene_fields() {
+    let (mut b, log) = beam(true);
+    b.setup_experiment(0.0, Some(0.6)).unwrap();
+    b.enter_initialization_mode().unwrap();
+    let current = b.get_state().unwrap();
+    assert_eq!(current.version, STATE_VERSION);
+    let mut v1 = current.clone();
+    v1.version = 1;
+    let settings = v1.model["settings"].as_object_mut().unwrap();
+    settings["scene"]["fidelity"]
+        .as_object_mut()
+        .unwrap()
+        .remove("tolerance");
+    settings.insert("friction_model".into(), "external".into());
+    settings.insert("fidelity_auto".into(), true.into());
+    settings.insert("fidelity_tolerance".into(), 2e-4.into());
+    let restored = b.deserialize_state(&v1.to_bytes()).unwrap();
+    b.set_state(&restored).unwrap();
+    let mut codes = [0; 2];
+    b.get_integer(
+        &[
+            vr::<StickSlipBeam>("friction.model"),
+            vr::<StickSlipBeam>("fidelity.level"),
+        ],
+        &mut codes,
+    )
+    .unwrap_or_else(|e| panic!("{e:?}: {:?}", log.lock().unwrap()));
+    assert_eq!(codes, [4, 4], "external, auto");
+    let mut tolerance = [0.0];
+    b.get_real(&[vr::<StickSlipBeam>("fidelity.tolerance")], &mut tolerance)
+        .unwrap();
+    assert_eq!(tolerance, [2e-4]);
+    let again = b.get_state().unwrap();
+    assert_eq!(again.version, STATE_VERSION);
+    let scene = &again.model["settings"]["scene"];
+    assert_eq!(scene["friction"]["law"], "external");
+    assert_eq!(scene["fidelity"]["level"], "auto");
+    assert_eq!(scene["fidelity"]["tolerance"], 2e-4);
+    // It initialises as auto with the external model: the choice is logged, and the
+    // tip follows the belt while it sticks (the inputs' static limit holds it).
+    b.exit_initialization_mode().unwrap();
+    assert!(logged(&log, "fidelity = auto (tolerance 2e-4 m"));
+    run(&mut b, 0.0, 0.1, 1e-2);
+    assert!((tip(&mut b) - 0.02 * 0.1).abs() < 1e-6, "{}", tip(&mut b));
+
+    let mut mixed = v1;
+    mixed.version = STATE_VERSION;
+    assert!(b.set_state(&mixed).is_err());
+    assert!(logged(&log, "unknown field"), "{:?}", log.lock().unwrap());
 }

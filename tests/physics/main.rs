@@ -1,6 +1,7 @@
-//! Physics: statics and frequencies against beam theory, dynamics (orbits, energy, convergence), the extremes, scene validation and fidelity = auto.
+//! Physics: statics and frequencies against beam theory, dynamics (orbits, energy, convergence), the extremes, scene validation, the choice enums and fidelity = auto.
 
 mod auto;
+mod choices;
 mod dynamics;
 mod extremes;
 mod scene_validation;

@@ -1,12 +1,18 @@
 //! The `simulate` and `static` commands of the `stickslip` binary.
 //!
 //! The command-line contract (relied on by scripts; extend it, don't rename it):
-//! `stickslip simulate [--scene FILE] [--fidelity modal|beam|plane-stress] [--dt S]
-//! [--t-end S] [--out FILE.csv]` writes `t,tip_deflection,tip_velocity,friction_force,stick`
-//! (SI units, stick as 0/1) and prints a summary.
+//! `stickslip simulate [--scene FILE] [--fidelity modal|beam|plane-stress|auto]
+//! [--tolerance M] [--friction analytical|exponential|coulomb|neural]
+//! [--integrator generalized-alpha|moreau-jean] [--dt S] [--t-end S] [--out FILE.csv]`
+//! writes `t,tip_deflection,tip_velocity,friction_force,stick` (SI units, stick as 0/1)
+//! and prints a summary.
 //! `stickslip static [--fidelity ...] [--element-size M] [--convergence]`.
+//!
+//! The values of `--fidelity`, `--friction` and `--integrator` are the scene's words
+//! (`crate::choice`); `--friction analytical` stays accepted for `exponential`.
 
-use clap::{Args, ValueEnum};
+use crate::choice::{parser, ChoiceParser};
+use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
 use stickslip::run::run_scene;
@@ -15,42 +21,16 @@ use stickslip::simulation::Sample;
 use stickslip::statics::convergence_study;
 use stickslip::structure::{euler_bernoulli_tip_deflection, StructuralModel};
 
-/// `--fidelity` values.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum FidelityArg {
-    Modal,
-    Beam,
-    PlaneStress,
-    /// The cheapest configuration of the measured front that meets `--tolerance` on
-    /// this scene (see the `auto` module).
-    Auto,
-}
-
-impl FidelityArg {
-    /// The level, or `None` for `auto`.
-    fn level(self) -> Option<FidelityLevel> {
-        match self {
-            FidelityArg::Modal => Some(FidelityLevel::Modal),
-            FidelityArg::Beam => Some(FidelityLevel::Beam),
-            FidelityArg::PlaneStress => Some(FidelityLevel::PlaneStress),
-            FidelityArg::Auto => None,
-        }
-    }
-}
-
-/// `--friction` values; `analytical` is the paper's exponential law.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum FrictionArg {
-    Analytical,
-    Coulomb,
-    Neural,
-}
-
-/// `--integrator` values.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum SchemeArg {
-    GeneralizedAlpha,
-    MoreauJean,
+/// `--friction`: the scene's laws, plus `analytical`, the command line's name for the
+/// exponential law before the values were the scene's words (scripts use it). The
+/// external law is refused: its force comes from the StickSlipBeam FMU's inputs.
+pub fn friction_parser() -> ChoiceParser<FrictionLawKind> {
+    parser::<FrictionLawKind>()
+        .alias("analytical", FrictionLawKind::Exponential)
+        .refuse(
+            FrictionLawKind::External,
+            "the external law takes its force from the inputs external.kinetic_force and external.static_limit of the StickSlipBeam FMU, and a command-line run has none",
+        )
 }
 
 /// Options shared by commands that build a scene: a scene file plus overrides.
@@ -60,9 +40,11 @@ pub struct SceneArgs {
     #[arg(long)]
     pub scene: Option<PathBuf>,
     /// Structural model; `auto` also picks the time step and integrator.
-    #[arg(long, value_enum)]
-    pub fidelity: Option<FidelityArg>,
-    /// With `--fidelity auto`: the RMS tip-deflection error allowed over the run (m).
+    #[arg(long, value_parser = parser::<FidelityLevel>())]
+    pub fidelity: Option<FidelityLevel>,
+    /// With fidelity auto (`--fidelity auto`, or a scene file's `fidelity.level =
+    /// "auto"`): the RMS tip-deflection error allowed over the run (m); it replaces
+    /// the scene file's `fidelity.tolerance`.
     #[arg(long, allow_negative_numbers = true)]
     pub tolerance: Option<f64>,
     /// Number of beam elements (beam, and modal from a beam).
@@ -81,8 +63,8 @@ pub struct SceneArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub t_end: Option<f64>,
     /// Time integration scheme.
-    #[arg(long, value_enum)]
-    pub integrator: Option<SchemeArg>,
+    #[arg(long, value_parser = parser::<Scheme>())]
+    pub integrator: Option<Scheme>,
     /// Generalised-alpha spectral radius at infinity, in [0, 1].
     #[arg(long, allow_negative_numbers = true)]
     pub rho_inf: Option<f64>,
@@ -90,9 +72,9 @@ pub struct SceneArgs {
     /// Euler-Bernoulli cantilever.
     #[arg(long, allow_negative_numbers = true)]
     pub damping_ratio: Option<f64>,
-    /// Friction law during slip.
-    #[arg(long, value_enum)]
-    pub friction: Option<FrictionArg>,
+    /// Friction law during slip (`analytical` is accepted for `exponential`).
+    #[arg(long, value_parser = friction_parser())]
+    pub friction: Option<FrictionLawKind>,
     /// Weights file of the neural law (default: the weights shipped with the crate).
     #[arg(long)]
     pub weights: Option<String>,
@@ -105,7 +87,7 @@ impl SceneArgs {
             Some(path) => Scene::load(path).map_err(|e| e.to_string())?.into_scene(),
             None => Scene::default(),
         };
-        if let Some(level) = self.fidelity.and_then(FidelityArg::level) {
+        if let Some(level) = self.fidelity {
             scene.fidelity.level = level;
         }
         if let Some(n) = self.elements {
@@ -124,20 +106,13 @@ impl SceneArgs {
             scene.time.end = t;
         }
         if let Some(s) = self.integrator {
-            scene.integrator.scheme = match s {
-                SchemeArg::GeneralizedAlpha => Scheme::GeneralizedAlpha,
-                SchemeArg::MoreauJean => Scheme::MoreauJean,
-            };
+            scene.integrator.scheme = s;
         }
         if let Some(r) = self.rho_inf {
             scene.integrator.rho_inf = r;
         }
         if let Some(f) = self.friction {
-            scene.friction.law = match f {
-                FrictionArg::Analytical => FrictionLawKind::Exponential,
-                FrictionArg::Coulomb => FrictionLawKind::Coulomb,
-                FrictionArg::Neural => FrictionLawKind::Neural,
-            };
+            scene.friction.law = f;
         }
         if let Some(w) = &self.weights {
             scene.friction.weights = Some(w.clone());
@@ -156,37 +131,42 @@ impl SceneArgs {
             scene.damping =
                 Damping::from_ratio(zeta, 1.8751f64.powi(2) * base, 7.8548f64.powi(2) * base);
         }
-        let auto = matches!(self.fidelity, Some(FidelityArg::Auto));
-        match (auto, self.tolerance) {
-            (false, None) => {}
-            (false, Some(_)) => return Err("--tolerance applies to --fidelity auto only".into()),
-            (true, None) => {
-                return Err(
-                    "--fidelity auto needs --tolerance M: the RMS tip-deflection error allowed (m)"
-                        .into(),
-                )
+        if scene.fidelity.level != FidelityLevel::Auto {
+            if self.tolerance.is_some() {
+                return Err("--tolerance applies to --fidelity auto only".into());
             }
-            (true, Some(tolerance)) => {
-                let chosen_by_auto = [
-                    ("--elements", self.elements.is_some()),
-                    ("--element-size", self.element_size.is_some()),
-                    ("--modes", self.modes.is_some()),
-                    ("--dt", self.dt.is_some()),
-                    ("--integrator", self.integrator.is_some()),
-                ];
-                if let Some((flag, _)) = chosen_by_auto.iter().find(|(_, given)| *given) {
-                    return Err(format!("{flag} is chosen by --fidelity auto; leave it out"));
-                }
-                // Checked first, so that a bad scene is reported as such, not as a
-                // failed calibration run.
-                scene.clone().check().map_err(|e| e.to_string())?;
-                let front = stickslip::auto::paper_front()?;
-                let choice = stickslip::auto::choose(&scene, tolerance, &front)?;
-                eprintln!("{}", stickslip::auto::describe(&choice, tolerance));
-                scene = choice.configuration.apply(&scene);
-            }
+            return scene.check().map_err(|e| e.to_string());
         }
-        scene.check().map_err(|e| e.to_string())
+        // Fidelity auto, from --fidelity or from the scene file.
+        let by = if self.fidelity == Some(FidelityLevel::Auto) {
+            "--fidelity auto"
+        } else {
+            "the scene's fidelity.level = auto"
+        };
+        if let Some(tolerance) = self.tolerance {
+            scene.fidelity.tolerance = Some(tolerance);
+        }
+        let Some(tolerance) = scene.fidelity.tolerance else {
+            return Err(format!(
+                "{by} needs --tolerance M: the RMS tip-deflection error allowed (m)"
+            ));
+        };
+        let chosen_by_auto = [
+            ("--elements", self.elements.is_some()),
+            ("--element-size", self.element_size.is_some()),
+            ("--modes", self.modes.is_some()),
+            ("--dt", self.dt.is_some()),
+            ("--integrator", self.integrator.is_some()),
+        ];
+        if let Some((flag, _)) = chosen_by_auto.iter().find(|(_, given)| *given) {
+            return Err(format!("{flag} is chosen by {by}; leave it out"));
+        }
+        let front = stickslip::auto::paper_front()?;
+        let (resolved, choice) = stickslip::auto::resolve(scene, &front)?;
+        if let Some(choice) = &choice {
+            eprintln!("{}", stickslip::auto::describe(choice, tolerance));
+        }
+        resolved.check().map_err(|e| e.to_string())
     }
 }
 
@@ -359,8 +339,8 @@ pub struct StudyArgs {
     #[arg(long, value_delimiter = ',')]
     pub dts: Option<Vec<f64>>,
     /// Integrators.
-    #[arg(long, value_enum, value_delimiter = ',')]
-    pub integrators: Option<Vec<SchemeArg>>,
+    #[arg(long, value_parser = parser::<Scheme>(), value_delimiter = ',')]
+    pub integrators: Option<Vec<Scheme>>,
     /// Output folder: study.csv (every run) and front.json (the Pareto front).
     #[arg(long, default_value = "out/study")]
     pub out: PathBuf,
@@ -372,15 +352,6 @@ pub struct StudyArgs {
     /// tolerances (m) on four scenes, each against its own reference run.
     #[arg(long, value_delimiter = ',')]
     pub verify_auto: Option<Vec<f64>>,
-}
-
-impl From<SchemeArg> for Scheme {
-    fn from(s: SchemeArg) -> Self {
-        match s {
-            SchemeArg::GeneralizedAlpha => Scheme::GeneralizedAlpha,
-            SchemeArg::MoreauJean => Scheme::MoreauJean,
-        }
-    }
 }
 
 /// `stickslip study`: the grid, the reference, the CSV and the front.
@@ -402,7 +373,7 @@ pub fn study(args: &StudyArgs) -> Result<(), String> {
         element_sizes: args.element_sizes.clone().unwrap_or(full.element_sizes),
         time_steps: args.dts.clone().unwrap_or(full.time_steps),
         schemes: match &args.integrators {
-            Some(list) => list.iter().map(|&s| s.into()).collect(),
+            Some(list) => list.clone(),
             None => full.schemes,
         },
     };

@@ -2,33 +2,30 @@
 //!
 //! Parameters are the scene's fields under the scene file's names (`geometry.length`,
 //! `fidelity.level`, ...), checked together at fmi2ExitInitializationMode with the
-//! scene's messages. The belt speed and normal force are inputs. `friction.model =
-//! external` takes the kinetic force magnitude and the static limit from two more
-//! inputs, held over each communication step, so that the beam can be coupled to
-//! NeuralFriction.fmu or any other friction FMU.
+//! scene's messages; the enumerations are the scene's choice enums. The belt speed and
+//! normal force are inputs. `friction.model = external` (the scene's
+//! `friction.law = external`) takes the kinetic force magnitude and the static limit
+//! from two more inputs, held over each communication step, so that the beam can be
+//! coupled to NeuralFriction.fmu or any other friction FMU. `fidelity.level = auto` is
+//! resolved by the `auto` module at fmi2ExitInitializationMode.
 //!
 //! The FMU steps at `time.step` and ends each communication step with one shorter step
 //! when the communication point is not on that grid (`Simulator::advance_to`).
 
 use crate::networks::{weights_name, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
-use crate::variables::{Access, Causality, EnumerationType, Variability, Variable};
+use crate::variables::{choice_at, Access, Causality, EnumerationType, Variability, Variable};
 use crate::{Model, ModelInfo};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+use stickslip::choice::Choice;
 use stickslip::contact::ContactState;
-use stickslip::scene::{CheckedScene, FrictionLawKind, Scene};
+use stickslip::friction::ExponentialLaw;
+use stickslip::scene::{
+    CheckedScene, Clamp, FidelityLevel, FrictionLawKind, HoldingForce, InitialState, ModalBasis,
+    Scene, Scheme, SlidingVelocity,
+};
 use stickslip::simulation::{ExternalFriction, SimulationState, Simulator};
 use stickslip::study::Configuration;
-
-/// Where the kinetic friction force comes from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum FrictionModel {
-    Exponential,
-    Coulomb,
-    Neural,
-    External,
-}
 
 /// Inputs of the beam (SI units).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -40,32 +37,25 @@ pub struct BeamInputs {
     pub static_limit: f64,
 }
 
-/// Everything set from outside: parameters and inputs.
+/// Everything set from outside: parameters and inputs. The friction model and the
+/// fidelity level (`auto` included) are the scene's own fields.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct Settings {
     scene: Scene,
-    friction_model: FrictionModel,
     weights: String,
     inputs: BeamInputs,
-    /// fidelity.level = auto: the fidelity, time step and integrator of `scene` are
-    /// replaced by the `auto` choice at fmi2ExitInitializationMode.
-    #[serde(default)]
-    fidelity_auto: bool,
-    /// RMS tip-deflection error that `auto` must meet (m).
-    #[serde(default = "default_fidelity_tolerance")]
-    fidelity_tolerance: f64,
 }
 
-/// Default of fidelity.tolerance (m): 0.1 mm RMS, about 1 % of the paper scene's
-/// deflection corridor.
-fn default_fidelity_tolerance() -> f64 {
-    1e-4
-}
+/// Start value of fidelity.tolerance (m): 0.1 mm RMS, about 1 % of the paper scene's
+/// deflection corridor. (A scene file has no default: there the tolerance is required
+/// with `auto`; an FMU parameter needs a start value.)
+pub const DEFAULT_FIDELITY_TOLERANCE: f64 = 1e-4;
 
 impl Default for Settings {
     fn default() -> Self {
-        let scene = Scene::default();
+        let mut scene = Scene::default();
+        scene.fidelity.tolerance = Some(DEFAULT_FIDELITY_TOLERANCE);
         let f = &scene.friction;
         let inputs = BeamInputs {
             belt_speed: scene.loading.belt_speed,
@@ -75,11 +65,8 @@ impl Default for Settings {
         };
         Self {
             scene,
-            friction_model: FrictionModel::Exponential,
             weights: DEFAULT_WEIGHTS.into(),
             inputs,
-            fidelity_auto: false,
-            fidelity_tolerance: default_fidelity_tolerance(),
         }
     }
 }
@@ -111,11 +98,80 @@ struct SavedRun {
     transitions: Vec<stickslip::contact::Transition>,
 }
 
+/// Settings as FMU state version 1 saved them: the friction model, the auto flag and
+/// the tolerance beside the scene instead of in it.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SettingsV1 {
+    scene: Scene,
+    friction_model: FrictionLawKind,
+    weights: String,
+    inputs: BeamInputs,
+    #[serde(default)]
+    fidelity_auto: bool,
+    #[serde(default = "default_tolerance_v1")]
+    fidelity_tolerance: f64,
+}
+
+fn default_tolerance_v1() -> f64 {
+    DEFAULT_FIDELITY_TOLERANCE
+}
+
+impl From<SettingsV1> for Settings {
+    /// The version-1 FMU ran `friction_model` whatever the scene's law said, and with
+    /// `fidelity_auto` replaced the scene's level by the auto choice.
+    fn from(v1: SettingsV1) -> Self {
+        let mut scene = v1.scene;
+        scene.friction.law = v1.friction_model;
+        scene.fidelity.tolerance = Some(v1.fidelity_tolerance);
+        if v1.fidelity_auto {
+            scene.fidelity.level = FidelityLevel::Auto;
+        }
+        Settings {
+            scene,
+            weights: v1.weights,
+            inputs: v1.inputs,
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SavedV1 {
+    settings: SettingsV1,
+    initialized: bool,
+    running: Option<SavedRunV1>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SavedRunV1 {
+    built_from: SettingsV1,
+    start_time: f64,
+    state: SimulationState,
+    transitions: Vec<stickslip::contact::Transition>,
+}
+
+impl From<SavedV1> for Saved {
+    fn from(v1: SavedV1) -> Self {
+        Saved {
+            settings: v1.settings.into(),
+            initialized: v1.initialized,
+            running: v1.running.map(|run| SavedRun {
+                built_from: run.built_from.into(),
+                start_time: run.start_time,
+                state: run.state,
+                transitions: run.transitions,
+            }),
+        }
+    }
+}
+
 pub struct StickSlipBeam {
     settings: Settings,
     networks: Networks,
-    /// The last `auto` choice: (scene, tolerance, configuration).
-    auto_cache: Option<(Scene, f64, Configuration)>,
+    /// The last `auto` choice: (scene asking for it, configuration).
+    auto_cache: Option<(Scene, Configuration)>,
     /// `auto` choices not yet logged.
     auto_log: Vec<String>,
     running: Option<Running>,
@@ -138,36 +194,35 @@ impl StickSlipBeam {
         let inputs = &self.settings.inputs;
         scene.loading.belt_speed = inputs.belt_speed;
         scene.loading.normal_force = inputs.normal_force;
-        scene.friction.law = match self.settings.friction_model {
-            FrictionModel::Coulomb => FrictionLawKind::Coulomb,
-            FrictionModel::Neural => FrictionLawKind::Neural,
-            // The external model replaces the law; the exponential parameters stay checked.
-            FrictionModel::Exponential | FrictionModel::External => FrictionLawKind::Exponential,
-        };
         if let Some(stop) = stop_time {
             scene.time.end = (stop - start_time).max(scene.time.step);
         }
-        if self.settings.fidelity_auto {
-            scene.clone().check().map_err(|e| e.to_string())?;
+        if scene.fidelity.level == FidelityLevel::Auto {
             scene = self.auto_choice(&scene)?.apply(&scene);
         }
         scene.check().map_err(|e| e.to_string())
     }
 
-    /// The `auto` choice for `scene`, computed once per scene and tolerance: the
+    /// The `auto` choice for `scene` at its tolerance, computed once per scene: the
     /// calibration runs the scene several times.
     fn auto_choice(&mut self, scene: &Scene) -> Result<Configuration, String> {
-        let tolerance = self.settings.fidelity_tolerance;
-        if let Some((cached_scene, cached_tolerance, choice)) = &self.auto_cache {
-            if cached_scene == scene && *cached_tolerance == tolerance {
+        if let Some((cached_scene, choice)) = &self.auto_cache {
+            if cached_scene == scene {
                 return Ok(*choice);
             }
         }
+        // The calibration runs stand alone, without this FMU's inputs: with the external
+        // model they run the exponential law of the scene's coefficients instead.
+        let mut calibrated = scene.clone();
+        if calibrated.friction.law == FrictionLawKind::External {
+            calibrated.friction.law = FrictionLawKind::Exponential;
+        }
         let front = stickslip::auto::paper_front()?;
-        let choice = stickslip::auto::choose(scene, tolerance, &front)?;
+        let choice = stickslip::auto::choose_for(&calibrated, &front)?;
+        let tolerance = calibrated.fidelity.tolerance.unwrap_or(f64::NAN);
         self.auto_log
             .push(stickslip::auto::describe(&choice, tolerance));
-        self.auto_cache = Some((scene.clone(), tolerance, choice.configuration));
+        self.auto_cache = Some((scene.clone(), choice.configuration));
         Ok(choice.configuration)
     }
 
@@ -179,8 +234,9 @@ impl StickSlipBeam {
             }
         }
         let scene = self.checked_scene(start_time, stop_time)?;
-        let law: Box<dyn stickslip::friction::FrictionLaw> = match self.settings.friction_model {
-            FrictionModel::Neural => {
+        let external = scene.friction.law == FrictionLawKind::External;
+        let law: Box<dyn stickslip::friction::FrictionLaw> = match scene.friction.law {
+            FrictionLawKind::Neural => {
                 let name = self.settings.weights.clone();
                 self.networks
                     .get(&name)?
@@ -188,11 +244,16 @@ impl StickSlipBeam {
                     .into_friction_law()
                     .map_err(|e| format!("friction.weights = {name}: {e}"))?
             }
-            _ => stickslip::friction::analytical_law(&scene)
-                .ok_or_else(|| "no analytical law for this scene".to_string())?,
+            // The inputs replace the law while the external model is on; the simulator
+            // still holds a law, the exponential one of the scene's coefficients.
+            FrictionLawKind::External => Box::new(ExponentialLaw::of(&scene.friction)),
+            FrictionLawKind::Exponential | FrictionLawKind::Coulomb => {
+                stickslip::friction::analytical_law(&scene)
+                    .ok_or_else(|| "no analytical law for this scene".to_string())?
+            }
         };
         let mut simulator = Simulator::new(scene, law).map_err(|e| e.to_string())?;
-        if self.settings.friction_model == FrictionModel::External {
+        if external {
             simulator.set_external_friction(Some(self.external_friction()));
         }
         self.running = Some(Running {
@@ -213,7 +274,7 @@ impl StickSlipBeam {
 
     /// Passes the current inputs to a running simulation.
     fn apply_inputs(&mut self) {
-        let external = (self.settings.friction_model == FrictionModel::External)
+        let external = (self.settings.scene.friction.law == FrictionLawKind::External)
             .then(|| self.external_friction());
         let inputs = self.settings.inputs.clone();
         if let Some(running) = &mut self.running {
@@ -263,8 +324,10 @@ macro_rules! real_parameter {
     };
 }
 
+/// A scene field holding a choice `$choice`: the FMI enumeration type, its items and
+/// the value's code are all read off the choice.
 macro_rules! enum_parameter {
-    ($vr:expr, $name:expr, $kind:expr, $description:expr, |$s:ident| $field:expr) => {
+    ($vr:expr, $name:expr, $choice:ty, $description:expr, |$s:ident| $field:expr) => {
         Variable {
             name: $name,
             value_reference: $vr,
@@ -272,14 +335,14 @@ macro_rules! enum_parameter {
             variability: Variability::Fixed,
             description: $description,
             access: Access::Enumeration {
-                kind: $kind,
+                kind: EnumerationType::of::<$choice>(),
                 get: |m: &StickSlipBeam| {
                     let $s = &m.settings.scene;
-                    $kind.value_of(&$field)
+                    $field.code()
                 },
                 set: Some(|m: &mut StickSlipBeam, v: i32| {
                     let $s = &mut m.settings.scene;
-                    $field = $kind.parse(v)?;
+                    $field = choice_at::<$choice>(v)?;
                     Ok(())
                 }),
             },
@@ -356,100 +419,6 @@ fn non_negative(v: f64) -> Result<(), String> {
     }
 }
 
-pub static FRICTION_MODEL: EnumerationType = EnumerationType {
-    name: "FrictionModel",
-    description: "Where the kinetic friction force comes from",
-    items: &[
-        (
-            "exponential",
-            "mu(v) = mu_k + (mu_s - mu_k) exp(-alpha |v|) (paper, Eq. 6)",
-        ),
-        ("coulomb", "mu = mu_k"),
-        ("neural", "the network in friction.weights"),
-        (
-            "external",
-            "inputs external.kinetic_force and external.static_limit",
-        ),
-    ],
-};
-
-pub static HOLDING_FORCE: EnumerationType = EnumerationType {
-    name: "HoldingForce",
-    description: "How the stick holding force is obtained",
-    items: &[
-        ("reaction", "the constraint reaction of the discrete model"),
-        ("euler-bernoulli", "paper-literal: 3 EI delta / L^3"),
-    ],
-};
-
-pub static SLIDING_VELOCITY: EnumerationType = EnumerationType {
-    name: "SlidingVelocity",
-    description: "The velocity the friction law is evaluated at",
-    items: &[
-        ("relative", "v_rel = v_b - v_tip"),
-        ("tip", "paper-literal: |v_tip| with the sign of v_rel"),
-    ],
-};
-
-pub static INITIAL_STATE: EnumerationType = EnumerationType {
-    name: "InitialState",
-    description: "The state at t = 0",
-    items: &[
-        (
-            "quasi-static",
-            "tip moving with the belt, beam in its static shape",
-        ),
-        ("at-rest", "beam at rest"),
-    ],
-};
-
-pub static FIDELITY_LEVEL: EnumerationType = EnumerationType {
-    name: "FidelityLevel",
-    description: "Structural model",
-    items: &[
-        ("modal", "reduced modal model"),
-        ("beam", "Euler-Bernoulli beam elements"),
-        (
-            "plane-stress",
-            "2D plane-stress mesh of 8-node quadrilaterals",
-        ),
-        (
-            "auto",
-            "the cheapest measured configuration that meets fidelity.tolerance on this scene",
-        ),
-    ],
-};
-
-pub static MODAL_BASIS: EnumerationType = EnumerationType {
-    name: "ModalBasis",
-    description: "The model whose modes the modal level keeps",
-    items: &[
-        ("beam", "beam elements"),
-        ("plane-stress", "plane-stress mesh"),
-    ],
-};
-
-pub static CLAMP: EnumerationType = EnumerationType {
-    name: "Clamp",
-    description: "Support of the plane-stress mesh at x = 0",
-    items: &[
-        (
-            "neutral-axis",
-            "transverse displacement fixed on the neutral axis only",
-        ),
-        ("full", "every node of the clamped face fixed"),
-    ],
-};
-
-pub static SCHEME: EnumerationType = EnumerationType {
-    name: "Scheme",
-    description: "Time integrator",
-    items: &[
-        ("generalized-alpha", "Chung-Hulbert generalised-alpha"),
-        ("moreau-jean", "Moreau-Jean theta time-stepping"),
-    ],
-};
-
 const BELT_SPEED: u32 = 100;
 
 static VARIABLES: &[Variable<StickSlipBeam>] = &[
@@ -483,21 +452,13 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         "Poisson's ratio nu",
         |s| s.material.poisson_ratio
     ),
-    Variable {
-        name: "friction.model",
-        value_reference: 10,
-        causality: Causality::Parameter,
-        variability: Variability::Fixed,
-        description: "Kinetic friction model",
-        access: Access::Enumeration {
-            kind: &FRICTION_MODEL,
-            get: |m: &StickSlipBeam| FRICTION_MODEL.value_of(&m.settings.friction_model),
-            set: Some(|m: &mut StickSlipBeam, v: i32| {
-                m.settings.friction_model = FRICTION_MODEL.parse(v)?;
-                Ok(())
-            }),
-        },
-    },
+    enum_parameter!(
+        10,
+        "friction.model",
+        FrictionLawKind,
+        "Kinetic friction model",
+        |s| s.friction.law
+    ),
     real_parameter!(
         11,
         "friction.static_coefficient",
@@ -544,21 +505,21 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
     enum_parameter!(
         20,
         "contact.holding_force",
-        &HOLDING_FORCE,
+        HoldingForce,
         "Stick holding force",
         |s| s.contact.holding_force
     ),
     enum_parameter!(
         21,
         "contact.sliding_velocity",
-        &SLIDING_VELOCITY,
+        SlidingVelocity,
         "Velocity argument of the law",
         |s| s.contact.sliding_velocity
     ),
     enum_parameter!(
         22,
         "contact.initial_state",
-        &INITIAL_STATE,
+        InitialState,
         "State at t = 0",
         |s| s.contact.initial_state
     ),
@@ -583,32 +544,13 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         "Internal time step (the FMU sub-steps each communication step)",
         |s| s.time.step
     ),
-    Variable {
-        name: "fidelity.level",
-        value_reference: 50,
-        causality: Causality::Parameter,
-        variability: Variability::Fixed,
-        description: "Structural model; auto also picks the time step and integrator",
-        access: Access::Enumeration {
-            kind: &FIDELITY_LEVEL,
-            get: |m: &StickSlipBeam| {
-                if m.settings.fidelity_auto {
-                    FIDELITY_LEVEL.items.len() as i32
-                } else {
-                    FIDELITY_LEVEL.value_of(&m.settings.scene.fidelity.level)
-                }
-            },
-            set: Some(|m: &mut StickSlipBeam, v: i32| {
-                if FIDELITY_LEVEL.item(v)? == "auto" {
-                    m.settings.fidelity_auto = true;
-                } else {
-                    m.settings.scene.fidelity.level = FIDELITY_LEVEL.parse(v)?;
-                    m.settings.fidelity_auto = false;
-                }
-                Ok(())
-            }),
-        },
-    },
+    enum_parameter!(
+        50,
+        "fidelity.level",
+        FidelityLevel,
+        "Structural model; auto also picks the time step and integrator",
+        |s| s.fidelity.level
+    ),
     Variable {
         name: "fidelity.tolerance",
         value_reference: 57,
@@ -617,12 +559,13 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         description: "fidelity.level = auto: RMS tip-deflection error allowed over the run",
         access: Access::Real {
             unit: Some("m"),
-            get: |m: &StickSlipBeam| m.settings.fidelity_tolerance,
+            // Some from the start value on; NaN stands for a tolerance never given.
+            get: |m: &StickSlipBeam| m.settings.scene.fidelity.tolerance.unwrap_or(f64::NAN),
             set: Some(|m: &mut StickSlipBeam, v: f64| {
                 if !(v.is_finite() && v > 0.0) {
                     return Err(format!("{v} must be finite and > 0"));
                 }
-                m.settings.fidelity_tolerance = v;
+                m.settings.scene.fidelity.tolerance = Some(v);
                 Ok(())
             }),
         },
@@ -651,7 +594,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
     enum_parameter!(
         54,
         "fidelity.modal_basis",
-        &MODAL_BASIS,
+        ModalBasis,
         "Model whose modes the modal level keeps",
         |s| s.fidelity.modal_basis
     ),
@@ -672,11 +615,11 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
     enum_parameter!(
         56,
         "fidelity.clamp",
-        &CLAMP,
+        Clamp,
         "Support of the plane-stress mesh",
         |s| s.fidelity.clamp
     ),
-    enum_parameter!(60, "integrator.scheme", &SCHEME, "Time integrator", |s| s
+    enum_parameter!(60, "integrator.scheme", Scheme, "Time integrator", |s| s
         .integrator
         .scheme),
     real_parameter!(
@@ -872,9 +815,13 @@ impl Model for StickSlipBeam {
         serde_json::to_value(saved).unwrap_or(serde_json::Value::Null)
     }
 
-    fn restore(&mut self, saved: serde_json::Value, time: f64) -> Result<(), String> {
-        let saved: Saved = serde_json::from_value(saved)
-            .map_err(|e| format!("saved StickSlipBeam state is malformed: {e}"))?;
+    fn restore(&mut self, saved: serde_json::Value, version: u32, time: f64) -> Result<(), String> {
+        let saved: Saved = if version == 1 {
+            serde_json::from_value::<SavedV1>(saved).map(Saved::from)
+        } else {
+            serde_json::from_value(saved)
+        }
+        .map_err(|e| format!("saved StickSlipBeam state is malformed: {e}"))?;
         if let Some(run) = &saved.running {
             // fmi2DoStep lands the simulation exactly on each communication point, so the
             // two clocks agree to rounding; half a time step separates rounding from a
@@ -900,7 +847,6 @@ impl Model for StickSlipBeam {
         let mut previous_running = self.running.take();
         let reusable = previous_running.as_ref().is_some_and(|r| {
             r.built_from.scene == run.built_from.scene
-                && r.built_from.friction_model == run.built_from.friction_model
                 && r.built_from.weights == run.built_from.weights
         });
         let built = if reusable {

@@ -8,22 +8,16 @@
 //! Inputs are clamped to the network's training range (see `neural`).
 
 use crate::networks::{weights_name, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
-use crate::variables::{Access, Causality, EnumerationType, Variability, Variable};
+use crate::variables::{choice_at, Access, Causality, EnumerationType, Variability, Variable};
 use crate::{Model, ModelInfo};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-use stickslip::friction::{ExponentialLaw, FrictionLaw};
+use stickslip::choice::Choice;
+use stickslip::friction::{ExponentialLaw, FrictionLaw, LawChoice};
 use stickslip::scene::Scene;
 
 /// How many features beyond velocity and normal force a network may have.
 pub const EXTRA_FEATURES: usize = 4;
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum LawChoice {
-    Neural,
-    Exponential,
-}
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -142,18 +136,6 @@ impl NeuralFriction {
     }
 }
 
-pub static LAW_CHOICE: EnumerationType = EnumerationType {
-    name: "FrictionLaw",
-    description: "Which law gives the friction force",
-    items: &[
-        ("neural", "the network in weights"),
-        (
-            "exponential",
-            "mu(v) = mu_k + (mu_s - mu_k) exp(-alpha |v|) (paper, Eq. 6)",
-        ),
-    ],
-};
-
 macro_rules! parameter {
     ($vr:expr, $name:expr, $unit:expr, $description:expr, $field:ident) => {
         Variable {
@@ -222,10 +204,10 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         variability: Variability::Fixed,
         description: "Friction law: the network, or the analytical law for comparison",
         access: Access::Enumeration {
-            kind: &LAW_CHOICE,
-            get: |m: &NeuralFriction| LAW_CHOICE.value_of(&m.settings.law),
+            kind: EnumerationType::of::<LawChoice>(),
+            get: |m: &NeuralFriction| m.settings.law.code(),
             set: Some(|m: &mut NeuralFriction, v: i32| {
-                m.settings.law = LAW_CHOICE.parse(v)?;
+                m.settings.law = choice_at::<LawChoice>(v)?;
                 Ok(())
             }),
         },
@@ -400,7 +382,13 @@ impl Model for NeuralFriction {
         serde_json::to_value(&self.settings).unwrap_or(serde_json::Value::Null)
     }
 
-    fn restore(&mut self, saved: serde_json::Value, _time: f64) -> Result<(), String> {
+    /// Versions 1 and 2 of the state hold the same settings.
+    fn restore(
+        &mut self,
+        saved: serde_json::Value,
+        _version: u32,
+        _time: f64,
+    ) -> Result<(), String> {
         let settings: Settings = serde_json::from_value(saved)
             .map_err(|e| format!("saved NeuralFriction state is malformed: {e}"))?;
         // Plain data: the outputs are evaluated when next read, so a state saved before

@@ -133,7 +133,13 @@ pub struct SavedState {
 }
 
 pub const STATE_FORMAT: &str = "stickslip-fmu-state";
-pub const STATE_VERSION: u32 = 1;
+/// The version this FMU writes. 2: StickSlipBeam's friction model, `auto` flag and
+/// tolerance moved into its scene (`friction.law`, `fidelity.level = auto`,
+/// `fidelity.tolerance`), so an FMU that reads only version 1 refuses these states by
+/// their version rather than as malformed.
+pub const STATE_VERSION: u32 = 2;
+/// The oldest version this FMU still reads (a version-1 beam state is converted).
+pub const OLDEST_STATE_VERSION: u32 = 1;
 
 impl SavedState {
     pub fn to_bytes(&self) -> Vec<u8> {
@@ -151,9 +157,9 @@ impl SavedState {
                 state.format
             ));
         }
-        if state.version != STATE_VERSION {
+        if !(OLDEST_STATE_VERSION..=STATE_VERSION).contains(&state.version) {
             return Err(format!(
-                "serialized FMU state has version {}, this FMU reads version {STATE_VERSION}",
+                "serialized FMU state has version {}, this FMU reads versions {OLDEST_STATE_VERSION} to {STATE_VERSION}",
                 state.version
             ));
         }
@@ -693,7 +699,10 @@ impl<M: Model> Instance<M> {
         if let Err(reason) = state.check_clock() {
             return Err(self.fail(CALL, &reason));
         }
-        if let Err(reason) = self.model.restore(state.model.clone(), state.time) {
+        if let Err(reason) = self
+            .model
+            .restore(state.model.clone(), state.version, state.time)
+        {
             return Err(self.fail(CALL, &reason));
         }
         self.mode = state.mode;

@@ -82,10 +82,12 @@ pub trait Model: Send + Sized + 'static {
     fn save(&self) -> serde_json::Value;
 
     /// Restores what `save` wrote; refuses data that does not fit, leaving the model as
-    /// it was. `time` is the instance's time in the same saved state (s): a model with
-    /// a clock of its own refuses a state whose clock disagrees, because the next
-    /// fmi2DoStep would otherwise have to bridge the gap.
-    fn restore(&mut self, saved: serde_json::Value, time: f64) -> Result<(), String>;
+    /// it was. `version` is the state's format version (`instance::STATE_VERSION` or an
+    /// older one that `instance::SavedState::from_bytes` still reads). `time` is the
+    /// instance's time in the same saved state (s): a model with a clock of its own
+    /// refuses a state whose clock disagrees, because the next fmi2DoStep would
+    /// otherwise have to bridge the gap.
+    fn restore(&mut self, saved: serde_json::Value, version: u32, time: f64) -> Result<(), String>;
 }
 
 /// The FMUs this library serves.

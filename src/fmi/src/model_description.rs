@@ -112,12 +112,11 @@ fn body<M: Model>(guid: &str) -> String {
                 escape(t.description)
             );
             let _ = writeln!(w, "      <Enumeration>");
-            for (k, (name, description)) in t.items.iter().enumerate() {
+            for (value, name, description) in t.items() {
                 let _ = writeln!(
                     w,
-                    r#"        <Item name="{}" value="{}" description="{}"/>"#,
+                    r#"        <Item name="{}" value="{value}" description="{}"/>"#,
                     escape(name),
-                    k + 1,
                     escape(description)
                 );
             }

@@ -6,8 +6,7 @@
 //! values are read from a model with default settings), and the FMI calls dispatch
 //! through it, so the XML and the binary cannot disagree.
 
-use serde::de::DeserializeOwned;
-use serde::Serialize;
+use stickslip::choice::Choice;
 
 /// FMI 2.0 causality (only the ones our models use).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -48,59 +47,62 @@ impl Variability {
     }
 }
 
-/// An FMI enumeration type: items numbered 1, 2, ... in list order. Item names are the
-/// serde names of the Rust enum they stand for, so a scene file and the FMU use the same
-/// words.
-#[derive(Debug)]
+/// An FMI enumeration type, read off a [`Choice`]: the type's name and description
+/// ([`Choice::TYPE_NAME`], [`Choice::TYPE_DESCRIPTION`]), and one item per value in
+/// [`Choice::ALL`] order, numbered 1, 2, ..., with the value's word and description. A
+/// scene file, the command line and the FMU therefore use the same words.
+#[derive(Clone, Copy, Debug)]
 pub struct EnumerationType {
     pub name: &'static str,
     pub description: &'static str,
-    /// (name, description) of each item.
-    pub items: &'static [(&'static str, &'static str)],
+    /// Number of items; their values are 1..=len.
+    pub len: usize,
+    /// (name, description) of the item with a 1-based value, if there is one.
+    item: fn(i32) -> Option<(&'static str, &'static str)>,
+}
+
+fn item_of<T: Choice>(value: i32) -> Option<(&'static str, &'static str)> {
+    T::from_code(value).map(|c| (c.name(), c.description()))
 }
 
 impl EnumerationType {
-    /// FMI value (1-based) of a serde enum value.
-    pub fn value_of<T: Serialize>(&self, value: &T) -> i32 {
-        let name = serde_json::to_value(value)
-            .ok()
-            .and_then(|v| v.as_str().map(str::to_owned))
-            .unwrap_or_default();
-        self.items
-            .iter()
-            .position(|(item, _)| *item == name)
-            .map(|k| k as i32 + 1)
-            .unwrap_or(0)
+    /// The enumeration type of the choice `T`.
+    pub const fn of<T: Choice>() -> Self {
+        Self {
+            name: T::TYPE_NAME,
+            description: T::TYPE_DESCRIPTION,
+            len: T::ALL.len(),
+            item: item_of::<T>,
+        }
+    }
+
+    /// (value, name, description) of every item, in order.
+    pub fn items(&self) -> impl Iterator<Item = (i32, &'static str, &'static str)> + '_ {
+        (1..=self.len as i32).filter_map(|v| (self.item)(v).map(|(n, d)| (v, n, d)))
     }
 
     /// Name of item `value` (1-based), or an error naming the allowed values.
     pub fn item(&self, value: i32) -> Result<&'static str, String> {
-        usize::try_from(value)
-            .ok()
-            .and_then(|v| v.checked_sub(1))
-            .and_then(|k| self.items.get(k))
-            .map(|(name, _)| *name)
-            .ok_or_else(|| {
-                let allowed: Vec<String> = self
-                    .items
-                    .iter()
-                    .enumerate()
-                    .map(|(k, (name, _))| format!("{} = {name}", k + 1))
-                    .collect();
-                format!(
-                    "{value} is not a {} value; allowed: {}",
-                    self.name,
-                    allowed.join(", ")
-                )
-            })
+        (self.item)(value).map(|(name, _)| name).ok_or_else(|| {
+            let allowed: Vec<String> = self
+                .items()
+                .map(|(v, name, _)| format!("{v} = {name}"))
+                .collect();
+            format!(
+                "{value} is not a {} value; allowed: {}",
+                self.name,
+                allowed.join(", ")
+            )
+        })
     }
+}
 
-    /// The serde enum value of item `value` (1-based).
-    pub fn parse<T: DeserializeOwned>(&self, value: i32) -> Result<T, String> {
-        let name = self.item(value)?;
-        serde_json::from_value(serde_json::Value::String(name.to_owned()))
-            .map_err(|e| format!("{} item {name}: {e}", self.name))
-    }
+/// The value of choice `T` at FMI enumeration value `value` (1-based), or an error
+/// naming the allowed values.
+pub fn choice_at<T: Choice>(value: i32) -> Result<T, String> {
+    let kind = EnumerationType::of::<T>();
+    kind.item(value)?;
+    T::from_code(value).ok_or_else(|| format!("{value} is not a {} value", kind.name))
 }
 
 /// Writes a value into model `M`, or says why it refuses it.
@@ -129,7 +131,7 @@ pub enum Access<M: 'static> {
         set: Setter<M, bool>,
     },
     Enumeration {
-        kind: &'static EnumerationType,
+        kind: EnumerationType,
         get: fn(&M) -> i32,
         set: Setter<M, i32>,
     },

@@ -14,12 +14,15 @@
 //! 2. Points are tried cheapest first; the first with e_k <= tolerance is chosen. Each
 //!    run is done once and reused.
 //!
+//! A scene asks for this with `fidelity.level = auto` and `fidelity.tolerance`;
+//! [`resolve`] turns it into the concrete scene that runs.
+//!
 //! The last point has no partner, so a tolerance that no earlier point meets is refused
 //! with the best estimate, rather than answered with an unverified guess. The
 //! calibration costs the runs it made (at most the chosen point's partner and the
 //! points before it); the result says how long it took.
 
-use crate::scene::Scene;
+use crate::scene::{FidelityLevel, Scene};
 use crate::study::{measure, rms_difference, Configuration, FrontPoint, Measured};
 use std::time::Instant;
 
@@ -139,6 +142,28 @@ pub fn choose(scene: &Scene, tolerance: f64, front: &[FrontPoint]) -> Result<Cho
     Err(format!(
         "fidelity = auto: no configuration of the front is verified to meet the tolerance {tolerance:e} m on this scene; the best estimated RMS tip-deflection error is {best:.3e} m. Choose a larger tolerance or a fidelity by hand."
     ))
+}
+
+/// The choice for a scene at its own `fidelity.tolerance` (m). The scene is checked
+/// first, so that a bad scene is reported as such, not as a failed calibration run.
+pub fn choose_for(scene: &Scene, front: &[FrontPoint]) -> Result<Choice, String> {
+    let checked = scene.clone().check().map_err(|e| e.to_string())?;
+    let tolerance = checked.fidelity.tolerance.ok_or_else(|| {
+        "fidelity = auto needs fidelity.tolerance: the RMS tip-deflection error allowed (m)"
+            .to_string()
+    })?;
+    choose(scene, tolerance, front)
+}
+
+/// Resolves `fidelity.level = auto`: the scene with the fidelity, time step and
+/// integrator of the choice (every other field kept), and the choice. A scene with a
+/// concrete level comes back as it is, with no choice.
+pub fn resolve(scene: Scene, front: &[FrontPoint]) -> Result<(Scene, Option<Choice>), String> {
+    if scene.fidelity.level != FidelityLevel::Auto {
+        return Ok((scene, None));
+    }
+    let choice = choose_for(&scene, front)?;
+    Ok((choice.configuration.apply(&scene), Some(choice)))
 }
 
 /// What was chosen and why, in one paragraph for a log.

@@ -6,7 +6,7 @@ use crate::scene::{CheckedScene, FidelityLevel, ModalBasis};
 use crate::structure::{ModelError, StructuralModel};
 
 impl StructuralModel {
-    /// The model the scene's fidelity asks for.
+    /// The model the scene's fidelity asks for; an unresolved `auto` level is refused.
     pub fn build(scene: &CheckedScene) -> Result<Self, ModelError> {
         let fidelity = &scene.fidelity;
         match fidelity.level {
@@ -19,6 +19,7 @@ impl StructuralModel {
                 };
                 reduce(&full, fidelity.modes, fidelity.static_correction)
             }
+            FidelityLevel::Auto => Err(ModelError::UnresolvedAuto),
         }
     }
 }

@@ -5,7 +5,20 @@
 //! belt-relative velocity v = v_b - v_tip, so the force drags the tip toward the belt.
 //! The static limit mu_s F_n is not part of a law: it belongs to the contact.
 
-use crate::scene::{CheckedScene, FrictionLawKind};
+use crate::choice::Choice;
+use crate::scene::{CheckedScene, Friction, FrictionLawKind};
+
+crate::choice! {
+    /// The law of a friction model evaluated on its own (the NeuralFriction FMU): the
+    /// network, or the paper's analytical law to compare it with.
+    #[choice(name = "FrictionLaw", description = "Which law gives the friction force")]
+    pub enum LawChoice {
+        /// A trained network (see `neural`).
+        Neural = "neural": "the network in weights",
+        /// The paper's exponential law (Eq. 6), [`ExponentialLaw`].
+        Exponential = "exponential": "mu(v) = mu_k + (mu_s - mu_k) exp(-alpha |v|) (paper, Eq. 6)",
+    }
+}
 
 /// A kinetic friction law F(v, F_n).
 ///
@@ -33,6 +46,15 @@ pub struct ExponentialLaw {
 }
 
 impl ExponentialLaw {
+    /// The exponential law with a scene's coefficients, whatever law the scene names.
+    pub fn of(friction: &Friction) -> Self {
+        Self {
+            static_coefficient: friction.static_coefficient,
+            kinetic_coefficient: friction.kinetic_coefficient,
+            decay: friction.decay,
+        }
+    }
+
     /// Friction coefficient mu(|v|) (1).
     pub fn coefficient(&self, speed: f64) -> f64 {
         self.kinetic_coefficient
@@ -43,7 +65,7 @@ impl ExponentialLaw {
 
 impl FrictionLaw for ExponentialLaw {
     fn name(&self) -> &str {
-        "exponential"
+        FrictionLawKind::Exponential.name()
     }
 
     fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {
@@ -60,7 +82,7 @@ pub struct CoulombLaw {
 
 impl FrictionLaw for CoulombLaw {
     fn name(&self) -> &str {
-        "coulomb"
+        FrictionLawKind::Coulomb.name()
     }
 
     fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {
@@ -80,19 +102,15 @@ pub fn signum_or_zero(v: f64) -> f64 {
 }
 
 /// The analytical law a checked scene asks for. `None` for the neural law, which needs
-/// its weights (see `neural`).
+/// its weights (see `neural`), and for the external one, whose force comes from outside.
 pub fn analytical_law(scene: &CheckedScene) -> Option<Box<dyn FrictionLaw>> {
     let f = &scene.friction;
     match f.law {
-        FrictionLawKind::Exponential => Some(Box::new(ExponentialLaw {
-            static_coefficient: f.static_coefficient,
-            kinetic_coefficient: f.kinetic_coefficient,
-            decay: f.decay,
-        })),
+        FrictionLawKind::Exponential => Some(Box::new(ExponentialLaw::of(f))),
         FrictionLawKind::Coulomb => Some(Box::new(CoulombLaw {
             kinetic_coefficient: f.kinetic_coefficient,
         })),
-        FrictionLawKind::Neural => None,
+        FrictionLawKind::Neural | FrictionLawKind::External => None,
     }
 }
 

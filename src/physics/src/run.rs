@@ -1,10 +1,11 @@
 //! A scene run from start to end: the friction law it asks for, the simulation, its
 //! summary and wall time. The command line, the study and `auto` all run scenes this way.
 
+use crate::choice::Choice;
 use crate::friction::{analytical_law, FrictionLaw};
 use crate::metrics::Summary;
 use crate::neural::SceneLawError;
-use crate::scene::CheckedScene;
+use crate::scene::{CheckedScene, FrictionLawKind};
 use crate::simulation::{Sample, SimulationError, Simulator};
 use std::time::Instant;
 
@@ -15,14 +16,33 @@ pub enum RunError {
     Law(#[from] SceneLawError),
     #[error(transparent)]
     Simulation(#[from] SimulationError),
+    /// `friction.law = external` outside the FMU that supplies its inputs.
+    #[error("{}", external_refused())]
+    External,
+}
+
+fn external_refused() -> String {
+    let others: Vec<&str> = FrictionLawKind::ALL
+        .iter()
+        .filter(|law| **law != FrictionLawKind::External)
+        .map(|law| law.name())
+        .collect();
+    format!(
+        "friction.law = {}: the friction force comes from the inputs external.kinetic_force and external.static_limit of the StickSlipBeam FMU, and a stand-alone run has none; choose one of {}",
+        FrictionLawKind::External.name(),
+        others.join(", ")
+    )
 }
 
 /// The friction law a scene asks for: the analytical one, or the neural law with its
-/// weights.
-pub fn friction_law(scene: &CheckedScene) -> Result<Box<dyn FrictionLaw>, SceneLawError> {
+/// weights. `external` is refused: only the FMU has the inputs it reads.
+pub fn friction_law(scene: &CheckedScene) -> Result<Box<dyn FrictionLaw>, RunError> {
     match analytical_law(scene) {
         Some(law) => Ok(law),
-        None => crate::neural::scene_law(scene),
+        None if scene.friction.law == FrictionLawKind::Neural => {
+            Ok(crate::neural::scene_law(scene)?)
+        }
+        None => Err(RunError::External),
     }
 }
 

@@ -4,11 +4,24 @@
 //! through [`Scene::check`], which validates every field once and returns a
 //! [`CheckedScene`]; everything downstream takes a `CheckedScene` and does not re-check.
 //!
+//! Every closed set of options is a [`Choice`](crate::choice::Choice) enum defined here
+//! (friction law, holding force, sliding velocity, initial state, fidelity level, modal
+//! basis, clamp, scheme): the scene file's words, the command line's values and the FMI
+//! enumeration items with their descriptions are all read from these enums.
+//!
+//! Two values are requests that only some places can honour, so a checked scene may
+//! hold them but a run refuses them: `fidelity.level = auto` (with `fidelity.tolerance`)
+//! is resolved by [`crate::auto::resolve`] into a concrete scene before it runs, and
+//! `friction.law = external` takes its force from the StickSlipBeam FMU's inputs.
+//! `StructuralModel::build` refuses an unresolved auto and `run::friction_law` refuses
+//! external, each with a message that says so.
+//!
 //! `Scene::default()` is the paper's scene (Vater, Stender, Hoffmann, PAMM 2023,
 //! Fig. 1a and Sections 3-4): L = 2 m, h = 0.01 m, rho = 1000 kg/m3, E = 200 GPa,
 //! v_b = 0.02 m/s, F_n = 100 N, mu_s = 0.5, mu_k = 0.2, alpha = 5 s/m, eps = 1e-3 m/s,
 //! dt = 1e-4 s, t_end = 1.2 s. The paper does not give Poisson's ratio; 0.3 (steel) is used.
 
+use crate::choice::Choice;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::path::Path;
@@ -76,16 +89,24 @@ impl Default for Loading {
     }
 }
 
-/// Which kinetic friction law acts during slip.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum FrictionLawKind {
-    /// mu(v) = mu_k + (mu_s - mu_k) exp(-alpha |v|) (paper, Eq. 6).
-    Exponential,
-    /// mu(v) = mu_k (plain Coulomb).
-    Coulomb,
-    /// A trained network (see the `neural` module); weights from `friction.weights`.
-    Neural,
+crate::choice! {
+    /// Which kinetic friction law acts during slip. (The FMI type keeps the name
+    /// `FrictionModel` of the StickSlipBeam variable `friction.model`.)
+    #[choice(name = "FrictionModel", description = "Where the kinetic friction force comes from")]
+    pub enum FrictionLawKind {
+        /// mu(v) = mu_k + (mu_s - mu_k) exp(-alpha |v|) (paper, Eq. 6).
+        Exponential = "exponential": "mu(v) = mu_k + (mu_s - mu_k) exp(-alpha |v|) (paper, Eq. 6)",
+        /// mu(v) = mu_k (plain Coulomb).
+        Coulomb = "coulomb": "mu = mu_k",
+        /// A trained network (see the `neural` module); weights from `friction.weights`.
+        Neural = "neural": "the network in friction.weights",
+        /// The kinetic force magnitude and the static limit come from outside, as the
+        /// StickSlipBeam FMU's inputs `external.kinetic_force` and
+        /// `external.static_limit` (to couple it with NeuralFriction or any other
+        /// friction FMU). Only a run that has those inputs can honour it: a stand-alone
+        /// run refuses it (`run::friction_law`).
+        External = "external": "inputs external.kinetic_force and external.static_limit",
+    }
 }
 
 /// Friction parameters (paper, Eq. 3 and Eq. 6) and the stick threshold.
@@ -119,35 +140,39 @@ impl Default for Friction {
     }
 }
 
-/// How the holding (static friction) force is obtained during stick.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum HoldingForce {
-    /// The exact constraint reaction of the discrete equations (default).
-    Reaction,
-    /// The paper's literal rule: P = E h^3 delta / (4 L^3) from the tip deflection.
-    EulerBernoulli,
+crate::choice! {
+    /// How the holding (static friction) force is obtained during stick.
+    #[choice(name = "HoldingForce", description = "How the stick holding force is obtained")]
+    pub enum HoldingForce {
+        /// The exact constraint reaction of the discrete equations (default).
+        Reaction = "reaction": "the constraint reaction of the discrete model",
+        /// The paper's literal rule: P = E h^3 delta / (4 L^3) = 3 EI delta / L^3 (unit
+        /// width) from the tip deflection.
+        EulerBernoulli = "euler-bernoulli": "paper-literal: 3 EI delta / L^3",
+    }
 }
 
-/// Which velocity feeds the kinetic friction law.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum SlidingVelocity {
-    /// v_rel = v_b - v_tip (default, physically right).
-    Relative,
-    /// The paper's literal v_s = v_tip.
-    Tip,
+crate::choice! {
+    /// Which velocity feeds the kinetic friction law.
+    #[choice(name = "SlidingVelocity", description = "The velocity the friction law is evaluated at")]
+    pub enum SlidingVelocity {
+        /// v_rel = v_b - v_tip (default, physically right).
+        Relative = "relative": "v_rel = v_b - v_tip",
+        /// The paper's literal v_s = v_tip (its magnitude, with the sign of v_rel).
+        Tip = "tip": "paper-literal: |v_tip| with the sign of v_rel",
+    }
 }
 
-/// How the beam starts at t = 0.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum InitialState {
-    /// Undeformed, with the velocity field v_b times the static tip-load shape (tip at
-    /// belt speed, consistent with the stick constraint).
-    QuasiStatic,
-    /// Undeformed and at rest; the stick constraint then jerks the tip to belt speed.
-    AtRest,
+crate::choice! {
+    /// How the beam starts at t = 0.
+    #[choice(name = "InitialState", description = "The state at t = 0")]
+    pub enum InitialState {
+        /// Undeformed, with the velocity field v_b times the static tip-load shape (tip at
+        /// belt speed, consistent with the stick constraint).
+        QuasiStatic = "quasi-static": "tip moving with the belt, beam in its static shape",
+        /// Undeformed and at rest; the stick constraint then jerks the tip to belt speed.
+        AtRest = "at-rest": "beam at rest",
+    }
 }
 
 /// Contact options, including the ones that reproduce the paper literally.
@@ -239,38 +264,46 @@ impl Default for Time {
     }
 }
 
-/// Structural model level.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum FidelityLevel {
-    /// Reduced model: `modes` eigenmodes of `modal_basis` plus static correction.
-    Modal,
-    /// Euler-Bernoulli Hermite beam elements.
-    Beam,
-    /// The paper's 2D plane-stress continuum (quadratic Q8 elements).
-    PlaneStress,
+crate::choice! {
+    /// Structural model level.
+    #[choice(name = "FidelityLevel", description = "Structural model")]
+    pub enum FidelityLevel {
+        /// Reduced model: `modes` eigenmodes of `modal_basis` plus static correction.
+        Modal = "modal": "reduced modal model",
+        /// Euler-Bernoulli Hermite beam elements.
+        Beam = "beam": "Euler-Bernoulli beam elements",
+        /// The paper's 2D plane-stress continuum (quadratic Q8 elements).
+        PlaneStress = "plane-stress": "2D plane-stress mesh of 8-node quadrilaterals",
+        /// Not a model but a request: the `auto` module replaces the level, the time
+        /// step and the integrator by the cheapest point of the measured front whose
+        /// RMS tip-deflection error on this scene meets `fidelity.tolerance`
+        /// (`auto::resolve`). A scene must be resolved before a model is built from it.
+        Auto = "auto": "the cheapest measured configuration that meets fidelity.tolerance on this scene",
+    }
 }
 
-/// Full model that a modal model is reduced from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ModalBasis {
-    Beam,
-    PlaneStress,
+crate::choice! {
+    /// Full model that a modal model is reduced from.
+    #[choice(name = "ModalBasis", description = "The model whose modes the modal level keeps")]
+    pub enum ModalBasis {
+        Beam = "beam": "beam elements",
+        PlaneStress = "plane-stress": "plane-stress mesh",
+    }
 }
 
-/// Boundary condition of the plane-stress model at the clamped face x = 0.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Clamp {
-    /// u_x = 0 on the face and u_y = 0 at mid-height only: the section cannot rotate
-    /// but may contract (Poisson). This is the support of the elasticity solution that
-    /// Euler-Bernoulli approximates (Timoshenko and Goodier, Theory of Elasticity,
-    /// Sec. 21), so the mesh converges to delta_EB (1 + shear term), +0.002 % here.
-    NeutralAxis,
-    /// Both components fixed on the whole face. It converges to the same deflection,
-    /// but only at first order, because of the stress singularities at the two corners.
-    Full,
+crate::choice! {
+    /// Boundary condition of the plane-stress model at the clamped face x = 0.
+    #[choice(name = "Clamp", description = "Support of the plane-stress mesh at x = 0")]
+    pub enum Clamp {
+        /// u_x = 0 on the face and u_y = 0 at mid-height only: the section cannot rotate
+        /// but may contract (Poisson). This is the support of the elasticity solution that
+        /// Euler-Bernoulli approximates (Timoshenko and Goodier, Theory of Elasticity,
+        /// Sec. 21), so the mesh converges to delta_EB (1 + shear term), +0.002 % here.
+        NeutralAxis = "neutral-axis": "transverse displacement fixed on the neutral axis only",
+        /// Both components fixed on the whole face. It converges to the same deflection,
+        /// but only at first order, because of the stress singularities at the two corners.
+        Full = "full": "every node of the clamped face fixed",
+    }
 }
 
 /// Fidelity level and its resolution.
@@ -278,6 +311,10 @@ pub enum Clamp {
 #[serde(default, deny_unknown_fields)]
 pub struct Fidelity {
     pub level: FidelityLevel,
+    /// With `level = auto`, which requires it: the RMS tip-deflection error (m) over the
+    /// run that the chosen configuration must meet. Ignored by the other levels.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
     /// Number of beam elements (beam level, and the modal basis when it is a beam).
     pub beam_elements: usize,
     /// Target element edge length of the plane-stress mesh (m).
@@ -297,6 +334,7 @@ impl Default for Fidelity {
     fn default() -> Self {
         Self {
             level: FidelityLevel::PlaneStress,
+            tolerance: None,
             beam_elements: 100,
             element_size: 0.02,
             modes: 10,
@@ -307,14 +345,15 @@ impl Default for Fidelity {
     }
 }
 
-/// Time integration scheme.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Scheme {
-    /// Chung-Hulbert generalised-alpha; rho_inf = 1 is Newmark average acceleration.
-    GeneralizedAlpha,
-    /// Moreau-Jean nonsmooth theta scheme with impulse-level contact.
-    MoreauJean,
+crate::choice! {
+    /// Time integration scheme.
+    #[choice(name = "Scheme", description = "Time integrator")]
+    pub enum Scheme {
+        /// Chung-Hulbert generalised-alpha; rho_inf = 1 is Newmark average acceleration.
+        GeneralizedAlpha = "generalized-alpha": "Chung-Hulbert generalised-alpha",
+        /// Moreau-Jean nonsmooth theta scheme with impulse-level contact.
+        MoreauJean = "moreau-jean": "Moreau-Jean theta time-stepping",
+    }
 }
 
 /// Integrator and its parameters.
@@ -539,6 +578,18 @@ impl Scene {
         }
 
         let fi = &self.fidelity;
+        if let Some(tolerance) = fi.tolerance {
+            positive("fidelity.tolerance", tolerance, "m")?;
+        } else if fi.level == FidelityLevel::Auto {
+            return Err(SceneError::Invalid {
+                field: "fidelity.tolerance",
+                value: "(absent)".into(),
+                requirement: format!(
+                    "given with fidelity.level = {}: the RMS tip-deflection error allowed over the run (m)",
+                    FidelityLevel::Auto.name()
+                ),
+            });
+        }
         if fi.beam_elements == 0 || fi.beam_elements > MAX_BEAM_ELEMENTS {
             return Err(invalid(
                 "fidelity.beam_elements",

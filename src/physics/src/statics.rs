@@ -2,6 +2,7 @@
 //! load against Euler-Bernoulli (paper Eq. 2) and Timoshenko, over a sequence of element
 //! sizes (the paper's Fig. 1b).
 
+use crate::choice::Choice;
 use crate::scene::{CheckedScene, Clamp};
 use crate::structure::{
     euler_bernoulli_tip_deflection, plane_stress_nodes, timoshenko_tip_deflection, ModelError,
@@ -31,12 +32,12 @@ pub fn convergence_study(
     let eb = euler_bernoulli_tip_deflection(scene, load);
     let timo = timoshenko_tip_deflection(scene, load);
     let mut rows = Vec::new();
-    for (clamp, name) in [(Clamp::NeutralAxis, "neutral-axis"), (Clamp::Full, "full")] {
+    for &clamp in Clamp::ALL {
         for &size in sizes {
             let model = StructuralModel::plane_stress_clamped(scene, size, clamp);
             let d = model.static_tip_deflection(load)?;
             rows.push(ConvergenceRow {
-                clamp: name,
+                clamp: clamp.name(),
                 element_size: size,
                 nodes: plane_stress_nodes(scene, size),
                 dofs: model.dofs(),

@@ -49,6 +49,9 @@ pub enum ModelError {
     TooManyModes { asked: usize, available: usize },
     /// The eigen solver did not converge.
     NoConvergence { iterations: usize },
+    /// The scene's fidelity level is still `auto`, a request that `auto::resolve` turns
+    /// into a concrete level; it names no model.
+    UnresolvedAuto,
 }
 
 impl fmt::Display for ModelError {
@@ -64,6 +67,10 @@ impl fmt::Display for ModelError {
             ModelError::NoConvergence { iterations } => write!(
                 f,
                 "eigen solver did not converge in {iterations} iterations"
+            ),
+            ModelError::UnresolvedAuto => write!(
+                f,
+                "fidelity.level = auto names no model: it must be resolved (stickslip::auto::resolve, which the command line and the FMU call) into modal, beam or plane-stress before a model is built"
             ),
         }
     }

@@ -16,6 +16,7 @@
 //! generalised-alpha. A configuration is on the Pareto front when no other one is both
 //! faster and more accurate (in RMS).
 
+use crate::choice::Choice;
 use crate::metrics::Summary;
 use crate::run::run_scene;
 use crate::scene::{CheckedScene, FidelityLevel, Scene, Scheme};
@@ -86,10 +87,7 @@ impl Configuration {
     }
 
     pub fn scheme_name(&self) -> &'static str {
-        match self.scheme {
-            Scheme::GeneralizedAlpha => "generalized-alpha",
-            Scheme::MoreauJean => "moreau-jean",
-        }
+        self.scheme.name()
     }
 }
 
@@ -324,17 +322,13 @@ pub const CSV_HEADER: &str = "level,modes,beam_elements,element_size_m,dt_s,inte
 /// One CSV line of a row; missing values are empty fields.
 pub fn csv_line(row: &Row, end_time: f64) -> String {
     let c = &row.measured.configuration;
-    let (level, modes, elements, size) = match c.resolution {
-        Resolution::Modal { modes } => ("modal", modes.to_string(), String::new(), String::new()),
-        Resolution::Beam { elements } => {
-            ("beam", String::new(), elements.to_string(), String::new())
+    let level = c.resolution.level().name();
+    let (modes, elements, size) = match c.resolution {
+        Resolution::Modal { modes } => (modes.to_string(), String::new(), String::new()),
+        Resolution::Beam { elements } => (String::new(), elements.to_string(), String::new()),
+        Resolution::PlaneStress { element_size } => {
+            (String::new(), String::new(), element_size.to_string())
         }
-        Resolution::PlaneStress { element_size } => (
-            "plane-stress",
-            String::new(),
-            String::new(),
-            element_size.to_string(),
-        ),
     };
     let opt = |v: Option<f64>| v.map(|v| format!("{v:.6e}")).unwrap_or_default();
     let e = &row.errors;

@@ -356,7 +356,7 @@ impl NeuralLaw {
 
 impl FrictionLaw for NeuralLaw {
     fn name(&self) -> &str {
-        "neural"
+        crate::choice::Choice::name(crate::scene::FrictionLawKind::Neural)
     }
 
     /// Signed force (N) in the direction of `sliding_velocity` (m/s) under
