@@ -1,7 +1,8 @@
-//! Physics: statics and frequencies against beam theory, dynamics (orbits, energy, convergence), the extremes, scene validation and fidelity = auto.
+//! Physics: statics and frequencies against beam theory, dynamics (orbits, energy, convergence), the extremes, scene validation, fidelity = auto and the error messages.
 
 mod auto;
 mod dynamics;
+mod errors;
 mod extremes;
 mod scene_validation;
 mod statics;

@@ -180,8 +180,9 @@ impl SceneArgs {
                 // Checked first, so that a bad scene is reported as such, not as a
                 // failed calibration run.
                 scene.clone().check().map_err(|e| e.to_string())?;
-                let front = stickslip::auto::paper_front()?;
-                let choice = stickslip::auto::choose(&scene, tolerance, &front)?;
+                let front = stickslip::auto::paper_front().map_err(|e| e.to_string())?;
+                let choice = stickslip::auto::choose(&scene, tolerance, &front)
+                    .map_err(|e| e.to_string())?;
                 eprintln!("{}", stickslip::auto::describe(&choice, tolerance));
                 scene = choice.configuration.apply(&scene);
             }
@@ -530,7 +531,7 @@ fn verify_auto(
     out: &std::path::Path,
 ) -> Result<(), String> {
     use stickslip::auto::{paper_front, verification_scenes, verify};
-    let front = paper_front()?;
+    let front = paper_front().map_err(|e| e.to_string())?;
     println!();
     println!(
         "fidelity = auto on four scenes (shipped front, {} points); true error against each scene's {reference_configuration}, end time {} s:",

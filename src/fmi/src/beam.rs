@@ -163,8 +163,9 @@ impl StickSlipBeam {
                 return Ok(*choice);
             }
         }
-        let front = stickslip::auto::paper_front()?;
-        let choice = stickslip::auto::choose(scene, tolerance, &front)?;
+        let front = stickslip::auto::paper_front().map_err(|e| e.to_string())?;
+        let choice =
+            stickslip::auto::choose(scene, tolerance, &front).map_err(|e| e.to_string())?;
         self.auto_log
             .push(stickslip::auto::describe(&choice, tolerance));
         self.auto_cache = Some((scene.clone(), tolerance, choice.configuration));

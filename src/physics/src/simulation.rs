@@ -20,7 +20,6 @@ use crate::integrator::{Coefficients, Integrator, Kinematics};
 use crate::scene::{CheckedScene, HoldingForce, InitialState, SlidingVelocity};
 use crate::structure::{singular, ModelError, StructuralModel};
 use serde::{Deserialize, Serialize};
-use std::fmt;
 
 /// Most fixed-point iterations for the slip force; the iteration contracts by ~1e-3 per
 /// pass at the paper's step, so this is a guard, not a tuning knob.
@@ -72,37 +71,17 @@ pub struct Sample {
 }
 
 /// A simulation that cannot go on.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SimulationError {
-    Model(ModelError),
+    #[error(transparent)]
+    Model(#[from] ModelError),
     /// The state became NaN or infinite.
-    NonFinite {
-        time: f64,
-        quantity: &'static str,
-    },
+    #[error("{quantity} became non-finite at t = {time} s")]
+    NonFinite { time: f64, quantity: &'static str },
     /// A requested end time that is not finite or lies in the past.
-    InvalidTarget {
-        time: f64,
-        target: f64,
-    },
+    #[error("cannot advance to t = {target} s from t = {time} s: the target must be finite and not in the past")]
+    InvalidTarget { time: f64, target: f64 },
 }
-
-impl fmt::Display for SimulationError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SimulationError::Model(e) => write!(f, "{e}"),
-            SimulationError::NonFinite { time, quantity } => {
-                write!(f, "{quantity} became non-finite at t = {time} s")
-            }
-            SimulationError::InvalidTarget { time, target } => write!(
-                f,
-                "cannot advance to t = {target} s from t = {time} s: the target must be finite and not in the past"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for SimulationError {}
 
 /// Friction supplied from outside (a coupled friction model), held constant over a step.
 /// It replaces the law and the static limit mu_s F_n of the scene.
@@ -115,20 +94,9 @@ pub struct ExternalFriction {
 }
 
 /// Why a saved state does not fit a simulator.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("saved state does not fit this model: {0}")]
 pub struct StateMismatch(pub String);
-
-impl fmt::Display for StateMismatch {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "saved state does not fit this model: {}", self.0)
-    }
-}
-
-impl From<ModelError> for SimulationError {
-    fn from(e: ModelError) -> Self {
-        SimulationError::Model(e)
-    }
-}
 
 /// The stick-slip simulation of one scene.
 pub struct Simulator {
