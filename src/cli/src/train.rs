@@ -13,6 +13,7 @@ use stickslip_train::train::{
     train, DataSource, HistoryRecord, TrainConfig, TrainReport, DEFAULT_ITERATIONS, DEFAULT_LAMBDA,
     DEFAULT_SEED,
 };
+use stickslip_train::TrainError;
 
 /// Where the training data come from (shared by `train` and `search`).
 #[derive(clap::Args, Debug, Clone, PartialEq)]
@@ -119,11 +120,11 @@ pub struct SearchArgs {
 }
 
 /// Loads or generates the data and splits it.
-pub fn load_split(args: &DataArgs) -> Result<(Split, DataSource), NeuralError> {
+pub fn load_split(args: &DataArgs) -> Result<(Split, DataSource), TrainError> {
     match &args.data {
         None => {
             if !args.features.is_empty() || args.target.is_some() {
-                return Err(NeuralError::InvalidInput(
+                return Err(TrainError::InvalidInput(
                     "--features and --target select columns of --data; give --data FILE.csv".into(),
                 ));
             }
@@ -145,10 +146,10 @@ pub fn load_split(args: &DataArgs) -> Result<(Split, DataSource), NeuralError> {
         }
         Some(path) => {
             let target = args.target.clone().ok_or_else(|| {
-                NeuralError::InvalidInput("--data needs --target NAME (the force column)".into())
+                TrainError::InvalidInput("--data needs --target NAME (the force column)".into())
             })?;
             if args.features.is_empty() {
-                return Err(NeuralError::InvalidInput(
+                return Err(TrainError::InvalidInput(
                     "--data needs --features A,B,... (the input columns)".into(),
                 ));
             }
@@ -184,14 +185,14 @@ pub fn load_split(args: &DataArgs) -> Result<(Split, DataSource), NeuralError> {
     }
 }
 
-fn write_file(path: &Path, text: &str) -> Result<(), NeuralError> {
-    std::fs::write(path, text).map_err(|e| NeuralError::io("cannot write", path, e))
+fn write_file(path: &Path, text: &str) -> Result<(), TrainError> {
+    std::fs::write(path, text).map_err(|e| TrainError::io("cannot write", path, e))
 }
 
 /// Fails early (before minutes of training) if an output file's directory is missing.
-fn check_output_directory(path: &Path) -> Result<(), NeuralError> {
+fn check_output_directory(path: &Path) -> Result<(), TrainError> {
     match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() && !dir.is_dir() => Err(NeuralError::io(
+        Some(dir) if !dir.as_os_str().is_empty() && !dir.is_dir() => Err(TrainError::io(
             "cannot write",
             path,
             std::io::Error::new(std::io::ErrorKind::NotFound, "its directory does not exist"),
@@ -201,7 +202,7 @@ fn check_output_directory(path: &Path) -> Result<(), NeuralError> {
 }
 
 /// Runs `stickslip train`; returns the report.
-pub fn run_train(args: &TrainArgs) -> Result<TrainReport, NeuralError> {
+pub fn run_train(args: &TrainArgs) -> Result<TrainReport, TrainError> {
     for path in [Some(&args.out), args.report.as_ref(), args.history.as_ref()]
         .into_iter()
         .flatten()
@@ -210,7 +211,7 @@ pub fn run_train(args: &TrainArgs) -> Result<TrainReport, NeuralError> {
     }
     let (split, source) = load_split(&args.data)?;
     if let Some(dir) = &args.export_data {
-        std::fs::create_dir_all(dir).map_err(|e| NeuralError::io("cannot create", dir, e))?;
+        std::fs::create_dir_all(dir).map_err(|e| TrainError::io("cannot create", dir, e))?;
         split.train.write_csv(&dir.join("train.csv"))?;
         split.test.write_csv(&dir.join("test.csv"))?;
     }
@@ -281,7 +282,7 @@ pub fn run_train(args: &TrainArgs) -> Result<TrainReport, NeuralError> {
 }
 
 /// Runs `stickslip search`; prints the table and returns its rows.
-pub fn run_search(args: &SearchArgs) -> Result<Vec<SearchRow>, NeuralError> {
+pub fn run_search(args: &SearchArgs) -> Result<Vec<SearchRow>, TrainError> {
     let (split, source) = load_split(&args.data)?;
     let config = SearchConfig {
         depths: args.depths.clone(),
