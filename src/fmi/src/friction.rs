@@ -134,15 +134,12 @@ impl NeuralFriction {
                         return Err(EvaluateError::TooManyFeatures { weights: s.weights });
                     }
                 }
-                let force =
-                    network
-                        .evaluate(&features)
-                        .map_err(|source| EvaluateError::Evaluation {
-                            weights: s.weights.clone(),
-                            source,
-                        });
+                let force = network.evaluate(&features);
                 self.scratch = features;
-                force?
+                force.map_err(|source| EvaluateError::Evaluation {
+                    weights: s.weights,
+                    source,
+                })?
             }
         };
         let outputs = Outputs {
