@@ -178,3 +178,129 @@ fn a_scene_file_with_fidelity_auto_runs_like_the_flag() {
     assert!(stderr.contains("--tolerance"), "{stderr}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The error line of each kind of bad input, word for word (as the pre-split binary
+/// printed them): the command line's own cases and the physics' and the trainer's
+/// messages passed through.
+#[test]
+fn error_lines_are_the_documented_ones() {
+    let dir = std::env::temp_dir().join(format!("stickslip-cli-errors-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let negative_modulus = dir.join("negative.toml");
+    std::fs::write(&negative_modulus, "[material]\nyoungs_modulus = -1\n").unwrap();
+    let broken_csv = dir.join("broken.csv");
+    std::fs::write(&broken_csv, "v,Fn,F\n0.1,100,20\n0.2,100\n").unwrap();
+    let weights = dir.join("w.json");
+    let study_out = dir.join("study");
+    let cases: &[(&[&str], String)] = &[
+        (
+            &["simulate", "--dt", "-1"],
+            "invalid scene: time.step = -1e0; it must be finite and > 0 (s)".into(),
+        ),
+        (
+            &["simulate", "--scene", negative_modulus.to_str().unwrap()],
+            "invalid scene: material.youngs_modulus = -1e0; it must be finite and > 0 (Pa)".into(),
+        ),
+        (
+            &["simulate", "--fidelity", "auto"],
+            "--fidelity auto needs --tolerance M: the RMS tip-deflection error allowed (m)".into(),
+        ),
+        (
+            &["simulate", "--tolerance", "1e-4"],
+            "--tolerance applies to --fidelity auto only".into(),
+        ),
+        (
+            &["simulate", "--fidelity", "auto", "--tolerance", "1e-4", "--dt", "1e-4"],
+            "--dt is chosen by --fidelity auto; leave it out".into(),
+        ),
+        (
+            &["simulate", "--fidelity", "auto", "--tolerance", "-1"],
+            "invalid scene: fidelity.tolerance = -1e0; it must be finite and > 0 (m)".into(),
+        ),
+        (
+            &["simulate", "--damping-ratio", "-1"],
+            "--damping-ratio = -1; it must be finite and >= 0".into(),
+        ),
+        (
+            &["static", "--fidelity", "modal", "--elements", "5", "--modes", "50"],
+            "fidelity.modes = 50 exceeds the 10 degrees of freedom of the full model".into(),
+        ),
+        (
+            &["static", "--load", "0"],
+            "--load = 0; it must be finite and non-zero".into(),
+        ),
+        (
+            &["study", "--modes", "--elements", "--element-sizes"],
+            "the grid is empty: give at least one resolution and one time step".into(),
+        ),
+        (
+            &["study", "--elements", "--element-sizes", "--modes", "1", "--dts", "3e-4", "--t-end", "0.01", "--out", study_out.to_str().unwrap()],
+            "the reference modal 1 modes, dt 3e-4 s, generalized-alpha failed: time step 0.0003 s does not divide the comparison interval 0.001 s".into(),
+        ),
+        (
+            &["train", "--features", "v", "--out", weights.to_str().unwrap()],
+            "--features and --target select columns of --data; give --data FILE.csv".into(),
+        ),
+        (
+            &["train", "--data", broken_csv.to_str().unwrap(), "--features", "v,Fn", "--target", "F", "--out", weights.to_str().unwrap()],
+            format!("{}, line 3: 2 field(s), but the header has 3 columns", broken_csv.display()),
+        ),
+        (
+            &["train", "--out", "/nonexistent/dir/w.json"],
+            "cannot write '/nonexistent/dir/w.json': its directory does not exist".into(),
+        ),
+        (
+            &["train", "--samples", "5", "--out", weights.to_str().unwrap()],
+            "synthetic data: at least 10 samples are needed".into(),
+        ),
+    ];
+    for (args, line) in cases {
+        let (ok, _, stderr) = stickslip(args);
+        assert!(!ok, "{args:?} succeeded");
+        // Progress lines (the study's) may come before it; the error is the last line.
+        let expected = format!("error: {line}");
+        assert_eq!(stderr.lines().last(), Some(expected.as_str()), "{args:?}");
+    }
+    // I/O errors carry the path (the OS's wording follows it).
+    for (args, prefix) in [
+        (
+            &[
+                "simulate",
+                "--friction",
+                "neural",
+                "--weights",
+                "/nonexistent",
+            ][..],
+            "error: friction.weights = /nonexistent: cannot read '/nonexistent': ",
+        ),
+        (
+            &[
+                "simulate",
+                "--t-end",
+                "0.01",
+                "--out",
+                "/nonexistent/dir/x.csv",
+            ],
+            "error: /nonexistent/dir/x.csv: ",
+        ),
+        (
+            &[
+                "train",
+                "--data",
+                "/nonexistent/m.csv",
+                "--features",
+                "v",
+                "--target",
+                "F",
+                "--out",
+                "w.json",
+            ],
+            "error: cannot read '/nonexistent/m.csv': ",
+        ),
+    ] {
+        let (ok, _, stderr) = stickslip(args);
+        assert!(!ok, "{args:?} succeeded");
+        assert!(stderr.starts_with(prefix), "{args:?}: {stderr}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -342,6 +342,84 @@ fn malformed_state_bytes_are_refused() {
     assert!(logged(&log, "belongs to the FMU with GUID"));
 }
 
+/// The reasons a state's bytes are refused are typed (`StateError`); their messages are
+/// the ones fmi2DeSerializeFMUstate logs.
+#[test]
+fn state_errors_are_typed_and_say_what_is_wrong() {
+    use stickslip_fmi::instance::StateError;
+    let e = SavedState::from_bytes(b"\xff").unwrap_err();
+    assert!(matches!(e, StateError::Malformed(_)), "{e:?}");
+    assert!(e
+        .to_string()
+        .starts_with("serialized FMU state is malformed: "));
+    assert!(std::error::Error::source(&e).is_some());
+    let state = |format: &str, version: u32, mode: &str, time: f64| {
+        format!(
+            r#"{{"format":"{format}","version":{version},"guid":"g","mode":"{mode}","time":{time},"start_time":0,"stop_time":1,"model":null}}"#
+        )
+    };
+    for (text, message) in [
+        (
+            state("other", 1, "step-complete", 0.5),
+            "serialized FMU state has format \"other\", expected \"stickslip-fmu-state\"",
+        ),
+        (
+            state("stickslip-fmu-state", 99, "step-complete", 0.5),
+            "serialized FMU state has version 99, this FMU reads versions 1 to 2",
+        ),
+        (
+            state("stickslip-fmu-state", 1, "step-complete", 2.0),
+            "the state's time 2 s is past its stop time 1 s",
+        ),
+        (
+            state("stickslip-fmu-state", 1, "instantiated", 0.5),
+            "the state was saved in Instantiated mode at time 0.5 s, but before stepping the time must equal the start time 0 s",
+        ),
+    ] {
+        let e = SavedState::from_bytes(text.as_bytes()).unwrap_err();
+        assert_eq!(e.to_string(), message);
+    }
+    assert!(SavedState::from_bytes(
+        state("stickslip-fmu-state", 1, "step-complete", 0.5).as_bytes()
+    )
+    .is_ok());
+}
+
+/// A network that cannot be had says which file, and keeps the loader's error as source.
+#[test]
+fn network_errors_name_the_weights_file() {
+    use stickslip_fmi::networks::{NetworkError, Networks};
+    let mut networks = Networks::default();
+    let e = networks.get("w.json").unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "weights \"w.json\": no resources folder is known"
+    );
+    let e = networks
+        .open(std::path::Path::new("/nonexistent"))
+        .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "weights file /nonexistent/paper-plain.json is missing"
+    );
+    let dir = std::env::temp_dir().join(format!("stickslip-fmu-networks-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let not_weights = dir.join("not-weights.json");
+    std::fs::write(&not_weights, "x").unwrap();
+    let e = networks.get(not_weights.to_str().unwrap()).unwrap_err();
+    assert!(matches!(e, NetworkError::Unreadable { .. }), "{e:?}");
+    let path = not_weights.display();
+    assert!(
+        e.to_string().starts_with(&format!(
+            "weights file {path}: weights file {path}: not a valid model description"
+        )),
+        "{e}"
+    );
+    assert!(std::error::Error::source(&e)
+        .is_some_and(|s| s.downcast_ref::<stickslip::neural::NeuralError>().is_some()));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn set_state_is_the_way_back_from_an_error() {
     let (mut b, _) = initialized_beam(LEVEL_MODAL);

@@ -158,5 +158,5 @@ fn resolve_replaces_auto_by_the_choice_and_leaves_concrete_scenes_alone() {
 
     scene.fidelity.tolerance = None;
     let error = stickslip::auto::resolve(scene, &front).unwrap_err();
-    assert!(error.contains("fidelity.tolerance"), "{error}");
+    assert!(error.to_string().contains("fidelity.tolerance"), "{error}");
 }

@@ -4,11 +4,15 @@
 //! - `simulate`: `simulate`, `static` and `study`;
 //! - `train`: `train` and `search`;
 //! - `estimates`: `estimates` (beam-theory numbers of a scene, as JSON);
-//! - `choice`: the command-line values of the scene's choices.
+//! - `choice`: the command-line values of the scene's choices;
+//! - `error`: [`CliError`], what a command reports when it fails.
 //!
 //! A library as well as a binary, so that the tests can run the commands in-process.
 
 pub mod choice;
+mod error;
 pub mod estimates;
 pub mod simulate;
 pub mod train;
+
+pub use error::CliError;

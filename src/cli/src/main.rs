@@ -41,17 +41,13 @@ fn main() -> ExitCode {
         Command::Static(args) => stickslip_cli::simulate::static_check(args),
         Command::Study(args) => stickslip_cli::simulate::study(args),
         Command::Estimates(args) => stickslip_cli::estimates::estimates(args),
-        Command::Train(args) => stickslip_cli::train::run_train(args)
-            .map(|_| ())
-            .map_err(|e| e.to_string()),
-        Command::Search(args) => stickslip_cli::train::run_search(args)
-            .map(|_| ())
-            .map_err(|e| e.to_string()),
+        Command::Train(args) => stickslip_cli::train::run_train(args).map(|_| ()),
+        Command::Search(args) => stickslip_cli::train::run_search(args).map(|_| ()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("error: {message}");
+        Err(e) => {
+            eprintln!("error: {e}");
             ExitCode::FAILURE
         }
     }

@@ -12,11 +12,12 @@
 //! (`crate::choice`); `--friction analytical` stays accepted for `exponential`.
 
 use crate::choice::{parser, ChoiceParser};
+use crate::CliError;
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
 use stickslip::run::run_scene;
-use stickslip::scene::{CheckedScene, Damping, FidelityLevel, FrictionLawKind, Scene, Scheme};
+use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Scene, Scheme};
 use stickslip::simulation::Sample;
 use stickslip::statics::convergence_study;
 use stickslip::structure::{euler_bernoulli_tip_deflection, StructuralModel};
@@ -82,9 +83,9 @@ pub struct SceneArgs {
 
 impl SceneArgs {
     /// The scene file (or the paper's scene) with the overrides applied, checked.
-    pub fn scene(&self) -> Result<CheckedScene, String> {
+    pub fn scene(&self) -> Result<CheckedScene, CliError> {
         let mut scene: Scene = match &self.scene {
-            Some(path) => Scene::load(path).map_err(|e| e.to_string())?.into_scene(),
+            Some(path) => Scene::load(path)?.into_scene(),
             None => Scene::default(),
         };
         if let Some(level) = self.fidelity {
@@ -118,24 +119,19 @@ impl SceneArgs {
             scene.friction.weights = Some(w.clone());
         }
         if let Some(zeta) = self.damping_ratio {
-            // First and third cantilever frequencies: f_i = (beta_i L)^2 / (2 pi L^2)
-            // sqrt(EI / rho A), beta_1 L = 1.8751, beta_3 L = 7.8548.
-            let checked = scene.clone().check().map_err(|e| e.to_string())?;
-            let base = (checked.bending_stiffness() / checked.mass_per_length()).sqrt()
-                / (2.0 * std::f64::consts::PI * scene.geometry.length.powi(2));
+            // At the first and third cantilever frequencies (the same numbers
+            // `stickslip estimates` prints).
+            let checked = scene.clone().check()?;
             if !(zeta.is_finite() && zeta >= 0.0) {
-                return Err(format!(
-                    "--damping-ratio = {zeta}; it must be finite and >= 0"
-                ));
+                return Err(CliError::DampingRatio(zeta));
             }
-            scene.damping =
-                Damping::from_ratio(zeta, 1.8751f64.powi(2) * base, 7.8548f64.powi(2) * base);
+            scene.damping = stickslip::stability::rayleigh_at_modes_1_and_3(&checked, zeta);
         }
         if scene.fidelity.level != FidelityLevel::Auto {
             if self.tolerance.is_some() {
-                return Err("--tolerance applies to --fidelity auto only".into());
+                return Err(CliError::ToleranceWithoutAuto);
             }
-            return scene.check().map_err(|e| e.to_string());
+            return Ok(scene.check()?);
         }
         // Fidelity auto, from --fidelity or from the scene file.
         let by = if self.fidelity == Some(FidelityLevel::Auto) {
@@ -147,9 +143,7 @@ impl SceneArgs {
             scene.fidelity.tolerance = Some(tolerance);
         }
         let Some(tolerance) = scene.fidelity.tolerance else {
-            return Err(format!(
-                "{by} needs --tolerance M: the RMS tip-deflection error allowed (m)"
-            ));
+            return Err(CliError::AutoWithoutTolerance { by });
         };
         let chosen_by_auto = [
             ("--elements", self.elements.is_some()),
@@ -158,15 +152,15 @@ impl SceneArgs {
             ("--dt", self.dt.is_some()),
             ("--integrator", self.integrator.is_some()),
         ];
-        if let Some((flag, _)) = chosen_by_auto.iter().find(|(_, given)| *given) {
-            return Err(format!("{flag} is chosen by {by}; leave it out"));
+        if let Some(&(flag, _)) = chosen_by_auto.iter().find(|(_, given)| *given) {
+            return Err(CliError::ChosenByAuto { flag, by });
         }
         let front = stickslip::auto::paper_front()?;
         let (resolved, choice) = stickslip::auto::resolve(scene, &front)?;
         if let Some(choice) = &choice {
             eprintln!("{}", stickslip::auto::describe(choice, tolerance));
         }
-        resolved.check().map_err(|e| e.to_string())
+        Ok(resolved.check()?)
     }
 }
 
@@ -187,10 +181,13 @@ pub struct SimulateArgs {
 }
 
 /// Writes samples as the contract's CSV.
-pub fn write_csv(path: &PathBuf, samples: &[Sample]) -> Result<(), String> {
-    let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
+pub fn write_csv(path: &PathBuf, samples: &[Sample]) -> Result<(), CliError> {
+    let io = |source: std::io::Error| CliError::Output {
+        path: path.clone(),
+        source,
+    };
+    let file = std::fs::File::create(path).map_err(io)?;
     let mut w = std::io::BufWriter::new(file);
-    let io = |e: std::io::Error| format!("{}: {e}", path.display());
     writeln!(w, "t,tip_deflection,tip_velocity,friction_force,stick").map_err(io)?;
     for s in samples {
         writeln!(
@@ -203,20 +200,31 @@ pub fn write_csv(path: &PathBuf, samples: &[Sample]) -> Result<(), String> {
     w.flush().map_err(io)
 }
 
+/// Writes an output file of `simulate`, `static` or `study`.
+fn write(path: &std::path::Path, contents: impl AsRef<[u8]>) -> Result<(), CliError> {
+    std::fs::write(path, contents).map_err(|source| CliError::Output {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
 /// `stickslip simulate`.
-pub fn simulate(args: &SimulateArgs) -> Result<(), String> {
+pub fn simulate(args: &SimulateArgs) -> Result<(), CliError> {
     let scene = args.scene.scene()?;
     let end = scene.time.end;
     // The summary is computed on every step; decimation applies to the CSV only.
-    let run = run_scene(scene, 1).map_err(|e| e.to_string())?;
+    let run = run_scene(scene, 1)?;
     if let Some(path) = &args.out {
         let every = args.every.max(1);
         let kept: Vec<Sample> = run.samples.iter().step_by(every).copied().collect();
         write_csv(path, &kept)?;
     }
     if let Some(path) = &args.summary_json {
-        let text = serde_json::to_string_pretty(&run.summary).map_err(|e| e.to_string())?;
-        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        let text = serde_json::to_string_pretty(&run.summary).map_err(|source| CliError::Json {
+            path: path.clone(),
+            source,
+        })?;
+        write(path, text)?;
     }
     println!("{}", run.label);
     print!("{}", run.summary.report());
@@ -245,18 +253,15 @@ pub struct StaticArgs {
 }
 
 /// `stickslip static`.
-pub fn static_check(args: &StaticArgs) -> Result<(), String> {
+pub fn static_check(args: &StaticArgs) -> Result<(), CliError> {
     let scene = args.scene.scene()?;
     if !(args.load.is_finite() && args.load != 0.0) {
-        return Err(format!(
-            "--load = {}; it must be finite and non-zero",
-            args.load
-        ));
+        return Err(CliError::Load(args.load));
     }
     let eb = euler_bernoulli_tip_deflection(&scene, args.load);
     if args.convergence {
         let sizes = [0.16, 0.08, 0.04, 0.02, 0.01, 0.005];
-        let rows = convergence_study(&scene, args.load, &sizes).map_err(|e| e.to_string())?;
+        let rows = convergence_study(&scene, args.load, &sizes)?;
         println!(
             "plane-stress Q8, tip load {} N, delta_EB = 4 P L^3 / (E h^3) = {:.6} mm",
             args.load,
@@ -294,14 +299,12 @@ pub fn static_check(args: &StaticArgs) -> Result<(), String> {
                     r.error_timoshenko
                 );
             }
-            std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+            write(path, text)?;
         }
         return Ok(());
     }
-    let model = StructuralModel::build(&scene).map_err(|e| e.to_string())?;
-    let d = model
-        .static_tip_deflection(args.load)
-        .map_err(|e| e.to_string())?;
+    let model = StructuralModel::build(&scene)?;
+    let d = model.static_tip_deflection(args.load)?;
     println!("{}", model.label);
     println!("tip load                {} N", args.load);
     println!("tip deflection          {:.9} mm", d * 1e3);
@@ -355,12 +358,12 @@ pub struct StudyArgs {
 }
 
 /// `stickslip study`: the grid, the reference, the CSV and the front.
-pub fn study(args: &StudyArgs) -> Result<(), String> {
+pub fn study(args: &StudyArgs) -> Result<(), CliError> {
     use stickslip::study::{
         csv_line, front, front_points, mark_pareto_front, measure, Errors, Grid, Row, CSV_HEADER,
     };
     let mut scene = match &args.scene {
-        Some(path) => Scene::load(path).map_err(|e| e.to_string())?.into_scene(),
+        Some(path) => Scene::load(path)?.into_scene(),
         None => Scene::default(),
     };
     if let Some(t) = args.t_end {
@@ -377,18 +380,19 @@ pub fn study(args: &StudyArgs) -> Result<(), String> {
             None => full.schemes,
         },
     };
-    let reference_configuration = grid
-        .finest()
-        .ok_or("the grid is empty: give at least one resolution and one time step")?;
+    let reference_configuration = grid.finest().ok_or(CliError::EmptyGrid)?;
     let configurations = grid.configurations();
-    std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    std::fs::create_dir_all(&args.out).map_err(|source| CliError::Output {
+        path: args.out.clone(),
+        source,
+    })?;
     eprintln!(
         "study: {} configurations, end time {} s; reference {reference_configuration}",
         configurations.len(),
         scene.time.end
     );
     let reference = measure(&scene, reference_configuration)
-        .map_err(|f| format!("the reference {} failed: {}", f.configuration, f.reason))?;
+        .map_err(|failed| CliError::Reference(Box::new(failed)))?;
     let mut rows = Vec::new();
     let mut failures = Vec::new();
     for (k, configuration) in configurations.iter().enumerate() {
@@ -435,12 +439,15 @@ pub fn study(args: &StudyArgs) -> Result<(), String> {
         csv += &csv_line(row, scene.time.end);
         csv.push('\n');
     }
-    std::fs::write(&csv_path, csv).map_err(|e| format!("{}: {e}", csv_path.display()))?;
+    write(&csv_path, csv)?;
     let points = front_points(&rows);
-    let json = serde_json::to_string_pretty(&points).map_err(|e| e.to_string())?;
     let front_path = args.out.join("front.json");
+    let json = serde_json::to_string_pretty(&points).map_err(|source| CliError::Json {
+        path: front_path.clone(),
+        source,
+    })?;
     for path in std::iter::once(&front_path).chain(args.write_front.as_ref()) {
-        std::fs::write(path, &json).map_err(|e| format!("{}: {e}", path.display()))?;
+        write(path, &json)?;
     }
 
     println!(
@@ -499,7 +506,7 @@ fn verify_auto(
     tolerances: &[f64],
     reference_configuration: stickslip::study::Configuration,
     out: &std::path::Path,
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     use stickslip::auto::{paper_front, verification_scenes, verify};
     let front = paper_front()?;
     println!();
@@ -517,8 +524,13 @@ fn verify_auto(
     let mut failures = 0;
     for (name, mut scene) in verification_scenes() {
         scene.time.end = base.time.end;
-        let reference = stickslip::study::measure(&scene, reference_configuration)
-            .map_err(|f| format!("{name}: the reference failed: {}", f.reason))?;
+        let reference =
+            stickslip::study::measure(&scene, reference_configuration).map_err(|failed| {
+                CliError::VerificationReference {
+                    scene: name,
+                    source: Box::new(failed),
+                }
+            })?;
         for &tolerance in tolerances {
             match verify(&scene, tolerance, &front, &reference) {
                 Ok(v) => {
@@ -560,7 +572,7 @@ fn verify_auto(
         }
     }
     let path = out.join("auto_verification.csv");
-    std::fs::write(&path, csv).map_err(|e| format!("{}: {e}", path.display()))?;
+    write(&path, csv)?;
     println!();
     println!(
         "{failures} of {} cases fail; written to {}",

@@ -4,8 +4,9 @@
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
+use crate::CliError;
 use stickslip::choice::Choice;
-use stickslip::neural::{Activation, NeuralError, SyntheticSpec, Variant};
+use stickslip::neural::{Activation, SyntheticSpec, Variant};
 use stickslip_train::csv::{read_csv_file, ColumnSelection};
 use stickslip_train::data::{Split, Synthetic, NORMAL_FORCE, SLIDING_VELOCITY};
 use stickslip_train::search::{format_table, grid_search, SearchConfig, SearchRow};
@@ -119,13 +120,11 @@ pub struct SearchArgs {
 }
 
 /// Loads or generates the data and splits it.
-pub fn load_split(args: &DataArgs) -> Result<(Split, DataSource), NeuralError> {
+pub fn load_split(args: &DataArgs) -> Result<(Split, DataSource), CliError> {
     match &args.data {
         None => {
             if !args.features.is_empty() || args.target.is_some() {
-                return Err(NeuralError::InvalidInput(
-                    "--features and --target select columns of --data; give --data FILE.csv".into(),
-                ));
+                return Err(CliError::ColumnsWithoutData);
             }
             let spec = SyntheticSpec {
                 samples: args.samples,
@@ -144,13 +143,9 @@ pub fn load_split(args: &DataArgs) -> Result<(Split, DataSource), NeuralError> {
             ))
         }
         Some(path) => {
-            let target = args.target.clone().ok_or_else(|| {
-                NeuralError::InvalidInput("--data needs --target NAME (the force column)".into())
-            })?;
+            let target = args.target.clone().ok_or(CliError::DataWithoutTarget)?;
             if args.features.is_empty() {
-                return Err(NeuralError::InvalidInput(
-                    "--data needs --features A,B,... (the input columns)".into(),
-                ));
+                return Err(CliError::DataWithoutFeatures);
             }
             let default_role = |given: &Option<String>, name: &str| {
                 given.clone().or_else(|| {
@@ -184,24 +179,28 @@ pub fn load_split(args: &DataArgs) -> Result<(Split, DataSource), NeuralError> {
     }
 }
 
-fn write_file(path: &Path, text: &str) -> Result<(), NeuralError> {
-    std::fs::write(path, text).map_err(|e| NeuralError::io("cannot write", path, e))
+fn write_file(path: &Path, text: &str) -> Result<(), CliError> {
+    std::fs::write(path, text).map_err(|source| CliError::TrainOutput {
+        action: "cannot write",
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 /// Fails early (before minutes of training) if an output file's directory is missing.
-fn check_output_directory(path: &Path) -> Result<(), NeuralError> {
+fn check_output_directory(path: &Path) -> Result<(), CliError> {
     match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() && !dir.is_dir() => Err(NeuralError::io(
-            "cannot write",
-            path,
-            std::io::Error::new(std::io::ErrorKind::NotFound, "its directory does not exist"),
-        )),
+        Some(dir) if !dir.as_os_str().is_empty() && !dir.is_dir() => {
+            Err(CliError::MissingDirectory {
+                path: path.to_path_buf(),
+            })
+        }
         _ => Ok(()),
     }
 }
 
 /// Runs `stickslip train`; returns the report.
-pub fn run_train(args: &TrainArgs) -> Result<TrainReport, NeuralError> {
+pub fn run_train(args: &TrainArgs) -> Result<TrainReport, CliError> {
     for path in [Some(&args.out), args.report.as_ref(), args.history.as_ref()]
         .into_iter()
         .flatten()
@@ -210,7 +209,11 @@ pub fn run_train(args: &TrainArgs) -> Result<TrainReport, NeuralError> {
     }
     let (split, source) = load_split(&args.data)?;
     if let Some(dir) = &args.export_data {
-        std::fs::create_dir_all(dir).map_err(|e| NeuralError::io("cannot create", dir, e))?;
+        std::fs::create_dir_all(dir).map_err(|source| CliError::TrainOutput {
+            action: "cannot create",
+            path: dir.clone(),
+            source,
+        })?;
         split.train.write_csv(&dir.join("train.csv"))?;
         split.test.write_csv(&dir.join("test.csv"))?;
     }
@@ -240,9 +243,9 @@ pub fn run_train(args: &TrainArgs) -> Result<TrainReport, NeuralError> {
     }
     model.save(&args.out)?;
     if let Some(path) = &args.report {
-        let text = serde_json::to_string_pretty(&report).map_err(|e| NeuralError::Json {
-            source_name: path.display().to_string(),
-            message: e.to_string(),
+        let text = serde_json::to_string_pretty(&report).map_err(|source| CliError::Json {
+            path: path.clone(),
+            source,
         })?;
         write_file(path, &(text + "\n"))?;
     }
@@ -281,7 +284,7 @@ pub fn run_train(args: &TrainArgs) -> Result<TrainReport, NeuralError> {
 }
 
 /// Runs `stickslip search`; prints the table and returns its rows.
-pub fn run_search(args: &SearchArgs) -> Result<Vec<SearchRow>, NeuralError> {
+pub fn run_search(args: &SearchArgs) -> Result<Vec<SearchRow>, CliError> {
     let (split, source) = load_split(&args.data)?;
     let config = SearchConfig {
         depths: args.depths.clone(),
@@ -323,9 +326,9 @@ pub fn run_search(args: &SearchArgs) -> Result<Vec<SearchRow>, NeuralError> {
     }
     print!("{}", format_table(&rows, &split.train.target.unit));
     if let Some(path) = &args.out {
-        let text = serde_json::to_string_pretty(&rows).map_err(|e| NeuralError::Json {
-            source_name: path.display().to_string(),
-            message: e.to_string(),
+        let text = serde_json::to_string_pretty(&rows).map_err(|source| CliError::Json {
+            path: path.clone(),
+            source,
         })?;
         write_file(path, &(text + "\n"))?;
     }

@@ -12,19 +12,21 @@
 //! The FMU steps at `time.step` and ends each communication step with one shorter step
 //! when the communication point is not on that grid (`Simulator::advance_to`).
 
-use crate::networks::{weights_name, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
+use crate::networks::{weights_name, NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use crate::variables::{choice_at, Access, Causality, EnumerationType, Variability, Variable};
 use crate::{Model, ModelInfo};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+use stickslip::auto::AutoError;
 use stickslip::choice::Choice;
 use stickslip::contact::ContactState;
 use stickslip::friction::ExponentialLaw;
+use stickslip::neural::NeuralError;
 use stickslip::scene::{
     CheckedScene, Clamp, FidelityLevel, FrictionLawKind, HoldingForce, InitialState, ModalBasis,
-    Scene, Scheme, SlidingVelocity,
+    Scene, SceneError, Scheme, SlidingVelocity,
 };
-use stickslip::simulation::{ExternalFriction, SimulationState, Simulator};
+use stickslip::simulation::{ExternalFriction, SimulationError, SimulationState, Simulator};
 use stickslip::study::Configuration;
 
 /// Inputs of the beam (SI units).
@@ -167,6 +169,25 @@ impl From<SavedV1> for Saved {
     }
 }
 
+/// Why the simulation could not be built from the parameters (the `Model` methods log
+/// the message).
+#[derive(Debug, thiserror::Error)]
+enum BuildError {
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error(transparent)]
+    Auto(#[from] AutoError),
+    #[error(transparent)]
+    Network(#[from] NetworkError),
+    /// The weights are not a friction law of the beam (wrong features).
+    #[error("friction.weights = {name}: {source}")]
+    NotAFrictionLaw { name: String, source: NeuralError },
+    #[error("no analytical law for this scene")]
+    NoAnalyticalLaw,
+    #[error(transparent)]
+    Simulation(#[from] SimulationError),
+}
+
 pub struct StickSlipBeam {
     settings: Settings,
     networks: Networks,
@@ -189,7 +210,7 @@ impl StickSlipBeam {
         &mut self,
         start_time: f64,
         stop_time: Option<f64>,
-    ) -> Result<CheckedScene, String> {
+    ) -> Result<CheckedScene, BuildError> {
         let mut scene = self.settings.scene.clone();
         let inputs = &self.settings.inputs;
         scene.loading.belt_speed = inputs.belt_speed;
@@ -200,12 +221,12 @@ impl StickSlipBeam {
         if scene.fidelity.level == FidelityLevel::Auto {
             scene = self.auto_choice(&scene)?.apply(&scene);
         }
-        scene.check().map_err(|e| e.to_string())
+        Ok(scene.check()?)
     }
 
     /// The `auto` choice for `scene` at its tolerance, computed once per scene: the
     /// calibration runs the scene several times.
-    fn auto_choice(&mut self, scene: &Scene) -> Result<Configuration, String> {
+    fn auto_choice(&mut self, scene: &Scene) -> Result<Configuration, BuildError> {
         if let Some((cached_scene, choice)) = &self.auto_cache {
             if cached_scene == scene {
                 return Ok(*choice);
@@ -227,7 +248,11 @@ impl StickSlipBeam {
     }
 
     /// Builds the simulation unless it is already built from the current settings.
-    fn ensure_running(&mut self, start_time: f64, stop_time: Option<f64>) -> Result<(), String> {
+    fn ensure_running(
+        &mut self,
+        start_time: f64,
+        stop_time: Option<f64>,
+    ) -> Result<(), BuildError> {
         if let Some(running) = &self.running {
             if running.built_from == self.settings {
                 return Ok(());
@@ -242,17 +267,16 @@ impl StickSlipBeam {
                     .get(&name)?
                     .clone()
                     .into_friction_law()
-                    .map_err(|e| format!("friction.weights = {name}: {e}"))?
+                    .map_err(|source| BuildError::NotAFrictionLaw { name, source })?
             }
             // The inputs replace the law while the external model is on; the simulator
             // still holds a law, the exponential one of the scene's coefficients.
             FrictionLawKind::External => Box::new(ExponentialLaw::of(&scene.friction)),
             FrictionLawKind::Exponential | FrictionLawKind::Coulomb => {
-                stickslip::friction::analytical_law(&scene)
-                    .ok_or_else(|| "no analytical law for this scene".to_string())?
+                stickslip::friction::analytical_law(&scene).ok_or(BuildError::NoAnalyticalLaw)?
             }
         };
-        let mut simulator = Simulator::new(scene, law).map_err(|e| e.to_string())?;
+        let mut simulator = Simulator::new(scene, law)?;
         if external {
             simulator.set_external_friction(Some(self.external_friction()));
         }
@@ -750,7 +774,7 @@ impl Model for StickSlipBeam {
     }
 
     fn load_resources(&mut self, resources: &Path) -> Result<(), String> {
-        self.networks.open(resources)
+        self.networks.open(resources).map_err(|e| e.to_string())
     }
 
     fn reset(&mut self) {
@@ -763,13 +787,15 @@ impl Model for StickSlipBeam {
         if !self.initialized {
             // Outputs asked for during initialisation: the state at the start time of
             // the current parameters and inputs.
-            self.ensure_running(start_time, stop_time)?;
+            self.ensure_running(start_time, stop_time)
+                .map_err(|e| e.to_string())?;
         }
         Ok(())
     }
 
     fn initialize(&mut self, start_time: f64, stop_time: Option<f64>) -> Result<(), String> {
-        self.ensure_running(start_time, stop_time)?;
+        self.ensure_running(start_time, stop_time)
+            .map_err(|e| e.to_string())?;
         if let Some(running) = &mut self.running {
             running.start_time = start_time;
         }
@@ -855,6 +881,7 @@ impl Model for StickSlipBeam {
         } else {
             let stop = Some(run.start_time + run.built_from.scene.time.end);
             self.ensure_running(run.start_time, stop)
+                .map_err(|e| e.to_string())
         };
         let restored = built.and_then(|()| {
             let running = self.running.as_mut().ok_or("no simulation")?;

@@ -7,14 +7,15 @@
 //! the order the weights file lists them, from `extra_feature[1]` ... `extra_feature[4]`.
 //! Inputs are clamped to the network's training range (see `neural`).
 
-use crate::networks::{weights_name, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
+use crate::networks::{weights_name, NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use crate::variables::{choice_at, Access, Causality, EnumerationType, Variability, Variable};
 use crate::{Model, ModelInfo};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use stickslip::choice::Choice;
 use stickslip::friction::{ExponentialLaw, FrictionLaw, LawChoice};
-use stickslip::scene::Scene;
+use stickslip::neural::NeuralError;
+use stickslip::scene::{Scene, SceneError};
 
 /// How many features beyond velocity and normal force a network may have.
 pub const EXTRA_FEATURES: usize = 4;
@@ -55,6 +56,29 @@ struct Outputs {
     static_limit: f64,
 }
 
+/// Why the outputs could not be evaluated (the `Model` methods log the message).
+#[derive(Debug, thiserror::Error)]
+enum EvaluateError {
+    #[error(transparent)]
+    Network(#[from] NetworkError),
+    #[error("weights {weights} have more than {EXTRA_FEATURES} features besides sliding velocity and normal force")]
+    TooManyFeatures { weights: String },
+    #[error("weights {weights}: {source}")]
+    Evaluation {
+        weights: String,
+        source: NeuralError,
+    },
+    /// Inputs (m/s, N) at which the law gives a non-finite force.
+    #[error("the outputs are not finite at sliding_velocity = {sliding_velocity} m/s, normal_force = {normal_force} N (force {force}, coefficient {coefficient}, static limit {static_limit})")]
+    NonFiniteOutputs {
+        sliding_velocity: f64,
+        normal_force: f64,
+        force: f64,
+        coefficient: f64,
+        static_limit: f64,
+    },
+}
+
 pub struct NeuralFriction {
     settings: Settings,
     networks: Networks,
@@ -64,17 +88,17 @@ pub struct NeuralFriction {
 
 impl NeuralFriction {
     /// Checks the analytical parameters with the scene's rules and messages.
-    fn check(&self) -> Result<(), String> {
+    fn check(&self) -> Result<(), SceneError> {
         let mut scene = Scene::default();
         let s = &self.settings;
         scene.friction.static_coefficient = s.static_coefficient;
         scene.friction.kinetic_coefficient = s.kinetic_coefficient;
         scene.friction.decay = s.decay;
         scene.loading.normal_force = s.normal_force;
-        scene.check().map(|_| ()).map_err(|e| e.to_string())
+        scene.check().map(|_| ())
     }
 
-    fn evaluate(&mut self) -> Result<Outputs, String> {
+    fn evaluate(&mut self) -> Result<Outputs, EvaluateError> {
         let s = self.settings.clone();
         let force = match s.law {
             LawChoice::Exponential => ExponentialLaw {
@@ -101,17 +125,15 @@ impl NeuralFriction {
                         features.push(s.extra_features[extra]);
                         extra += 1;
                     } else {
-                        return Err(format!(
-                            "weights {} have more than {EXTRA_FEATURES} features besides sliding velocity and normal force",
-                            s.weights
-                        ));
+                        return Err(EvaluateError::TooManyFeatures { weights: s.weights });
                     }
                 }
-                let force = network
-                    .evaluate(&features)
-                    .map_err(|e| format!("weights {}: {e}", s.weights));
+                let force = network.evaluate(&features);
                 self.scratch = features;
-                force?
+                force.map_err(|source| EvaluateError::Evaluation {
+                    weights: s.weights,
+                    source,
+                })?
             }
         };
         let outputs = Outputs {
@@ -127,10 +149,13 @@ impl NeuralFriction {
             .iter()
             .all(|x| x.is_finite())
         {
-            return Err(format!(
-                "the outputs are not finite at sliding_velocity = {} m/s, normal_force = {} N (force {}, coefficient {}, static limit {})",
-                s.sliding_velocity, s.normal_force, outputs.force, outputs.coefficient, outputs.static_limit
-            ));
+            return Err(EvaluateError::NonFiniteOutputs {
+                sliding_velocity: s.sliding_velocity,
+                normal_force: s.normal_force,
+                force: outputs.force,
+                coefficient: outputs.coefficient,
+                static_limit: outputs.static_limit,
+            });
         }
         Ok(outputs)
     }
@@ -354,7 +379,9 @@ impl Model for NeuralFriction {
     }
 
     fn load_resources(&mut self, resources: &Path) -> Result<(), String> {
-        self.networks.open_and_read_default(resources)
+        self.networks
+            .open_and_read_default(resources)
+            .map_err(|e| e.to_string())
     }
 
     fn reset(&mut self) {
@@ -363,18 +390,18 @@ impl Model for NeuralFriction {
     }
 
     fn refresh_outputs(&mut self, _start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
-        self.outputs = self.evaluate()?;
+        self.outputs = self.evaluate().map_err(|e| e.to_string())?;
         Ok(())
     }
 
     fn initialize(&mut self, _start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
-        self.check()?;
-        self.outputs = self.evaluate()?;
+        self.check().map_err(|e| e.to_string())?;
+        self.outputs = self.evaluate().map_err(|e| e.to_string())?;
         Ok(())
     }
 
     fn do_step(&mut self, _from: f64, _to: f64, _events: &mut Vec<String>) -> Result<(), String> {
-        self.outputs = self.evaluate()?;
+        self.outputs = self.evaluate().map_err(|e| e.to_string())?;
         Ok(())
     }
 

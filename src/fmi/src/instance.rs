@@ -148,23 +148,20 @@ impl SavedState {
     }
 
     /// Reads bytes written by `to_bytes`, refusing anything else with a reason.
-    pub fn from_bytes(bytes: &[u8]) -> Result<SavedState, String> {
-        let state: SavedState = serde_json::from_slice(bytes)
-            .map_err(|e| format!("serialized FMU state is malformed: {e}"))?;
+    pub fn from_bytes(bytes: &[u8]) -> Result<SavedState, StateError> {
+        let state: SavedState = serde_json::from_slice(bytes).map_err(StateError::Malformed)?;
         if state.format != STATE_FORMAT {
-            return Err(format!(
-                "serialized FMU state has format \"{}\", expected \"{STATE_FORMAT}\"",
-                state.format
-            ));
+            return Err(StateError::Format {
+                found: state.format,
+            });
         }
         if !(OLDEST_STATE_VERSION..=STATE_VERSION).contains(&state.version) {
-            return Err(format!(
-                "serialized FMU state has version {}, this FMU reads versions {OLDEST_STATE_VERSION} to {STATE_VERSION}",
-                state.version
-            ));
+            return Err(StateError::Version {
+                found: state.version,
+            });
         }
         if !state.time.is_finite() || !state.start_time.is_finite() {
-            return Err("serialized FMU state has a non-finite time".into());
+            return Err(StateError::NonFiniteTime);
         }
         state.check_clock()?;
         Ok(state)
@@ -173,40 +170,56 @@ impl SavedState {
     /// The instance clock of a state must be one the instance could have reached: no
     /// time before the start, none past the stop, and no time but the start before
     /// initialisation ends.
-    fn check_clock(&self) -> Result<(), String> {
+    fn check_clock(&self) -> Result<(), StateError> {
         let (start, time) = (self.start_time, self.time);
         if !(start.is_finite() && time.is_finite()) {
-            return Err(format!(
-                "the state's time {time} s or start time {start} s is not finite"
-            ));
+            return Err(StateError::ClockNotFinite { time, start });
         }
         let slack = 1e-9 * time.abs().max(start.abs()).max(1.0);
         if time < start - slack {
-            return Err(format!(
-                "the state's time {time} s is before its start time {start} s"
-            ));
+            return Err(StateError::BeforeStart { time, start });
         }
         if let Some(stop) = self.stop_time {
             if !(stop.is_finite() && stop > start) {
-                return Err(format!(
-                    "the state's stop time {stop} s is not after its start time {start} s"
-                ));
+                return Err(StateError::StopNotAfterStart { stop, start });
             }
             if time > stop + slack {
-                return Err(format!(
-                    "the state's time {time} s is past its stop time {stop} s"
-                ));
+                return Err(StateError::PastStop { time, stop });
             }
         }
         let before_steps = matches!(self.mode, Mode::Instantiated | Mode::InitializationMode);
         if before_steps && (time - start).abs() > slack {
-            return Err(format!(
-                "the state was saved in {:?} mode at time {time} s, but before stepping the time must equal the start time {start} s",
-                self.mode
-            ));
+            return Err(StateError::NotAtStart {
+                mode: self.mode,
+                time,
+                start,
+            });
         }
         Ok(())
     }
+}
+
+/// Why bytes are not a state this FMU can restore (times in s).
+#[derive(Debug, thiserror::Error)]
+pub enum StateError {
+    #[error("serialized FMU state is malformed: {0}")]
+    Malformed(#[source] serde_json::Error),
+    #[error("serialized FMU state has format \"{found}\", expected \"{STATE_FORMAT}\"")]
+    Format { found: String },
+    #[error("serialized FMU state has version {found}, this FMU reads versions {OLDEST_STATE_VERSION} to {STATE_VERSION}")]
+    Version { found: u32 },
+    #[error("serialized FMU state has a non-finite time")]
+    NonFiniteTime,
+    #[error("the state's time {time} s or start time {start} s is not finite")]
+    ClockNotFinite { time: f64, start: f64 },
+    #[error("the state's time {time} s is before its start time {start} s")]
+    BeforeStart { time: f64, start: f64 },
+    #[error("the state's stop time {stop} s is not after its start time {start} s")]
+    StopNotAfterStart { stop: f64, start: f64 },
+    #[error("the state's time {time} s is past its stop time {stop} s")]
+    PastStop { time: f64, stop: f64 },
+    #[error("the state was saved in {mode:?} mode at time {time} s, but before stepping the time must equal the start time {start} s")]
+    NotAtStart { mode: Mode, time: f64, start: f64 },
 }
 
 /// Status kinds of fmi2Get*Status.
@@ -696,8 +709,8 @@ impl<M: Model> Instance<M> {
         if state.mode == Mode::Error {
             return Err(self.fail(CALL, "a state saved in the Error mode cannot be restored"));
         }
-        if let Err(reason) = state.check_clock() {
-            return Err(self.fail(CALL, &reason));
+        if let Err(e) = state.check_clock() {
+            return Err(self.fail(CALL, &e.to_string()));
         }
         if let Err(reason) = self
             .model
@@ -725,6 +738,6 @@ impl<M: Model> Instance<M> {
     pub fn deserialize_state(&mut self, bytes: &[u8]) -> CallResult<SavedState> {
         self.check(Call::SerializeState)?;
         SavedState::from_bytes(bytes)
-            .map_err(|reason| self.fail("fmi2DeSerializeFMUstate", &reason))
+            .map_err(|e| self.fail("fmi2DeSerializeFMUstate", &e.to_string()))
     }
 }

@@ -45,6 +45,10 @@ pub struct ModelInfo {
 
 /// A model behind an FMU. Plain Rust: no C types. The `instance` module drives it
 /// through the FMI state machine.
+///
+/// Failures are plain strings here: each is the reason the instance logs (the FMI
+/// boundary). The models keep typed errors up to this point (`beam::BuildError`,
+/// `friction::EvaluateError`, `networks::NetworkError`, the physics' errors).
 pub trait Model: Send + Sized + 'static {
     const INFO: ModelInfo;
 

@@ -1,7 +1,7 @@
 //! The network weights an FMU reads from its `resources/` folder, read once per name.
 
 use std::path::{Path, PathBuf};
-use stickslip::neural::NeuralLaw;
+use stickslip::neural::{NeuralError, NeuralLaw};
 
 /// The weights read at instantiation (the paper's network, see `neural`).
 pub const DEFAULT_WEIGHTS: &str = "paper-plain.json";
@@ -20,6 +20,18 @@ pub fn weights_name(value: &str) -> Result<String, String> {
     }
 }
 
+/// Why a network could not be had.
+#[derive(Debug, thiserror::Error)]
+pub enum NetworkError {
+    #[error("weights file {path} is missing")]
+    Missing { path: PathBuf },
+    /// A relative name before any resources folder was given.
+    #[error("weights \"{name}\": no resources folder is known")]
+    NoFolder { name: String },
+    #[error("weights file {path}: {source}")]
+    Unreadable { path: PathBuf, source: NeuralError },
+}
+
 /// Networks read so far, by the name they were asked for.
 #[derive(Default)]
 pub struct Networks {
@@ -31,19 +43,19 @@ impl Networks {
     /// Remembers the unpacked `resources/` folder and checks that the default weights
     /// file is there, so that a missing resources folder fails instantiation. Nothing is
     /// parsed: a model whose law needs no network never pays for one.
-    pub fn open(&mut self, folder: &Path) -> Result<(), String> {
+    pub fn open(&mut self, folder: &Path) -> Result<(), NetworkError> {
         self.folder = Some(folder.to_path_buf());
         let default = folder.join(DEFAULT_WEIGHTS);
         if default.is_file() {
             Ok(())
         } else {
-            Err(format!("weights file {} is missing", default.display()))
+            Err(NetworkError::Missing { path: default })
         }
     }
 
     /// [`Self::open`], then reads the default weights, so that a corrupted file fails
     /// instantiation: for an FMU whose default law is the network.
-    pub fn open_and_read_default(&mut self, folder: &Path) -> Result<(), String> {
+    pub fn open_and_read_default(&mut self, folder: &Path) -> Result<(), NetworkError> {
         self.open(folder)?;
         self.get(DEFAULT_WEIGHTS).map(|_| ())
     }
@@ -54,7 +66,7 @@ impl Networks {
     }
 
     /// Weights `name`: a file in `resources/`, or an absolute path.
-    pub fn get(&mut self, name: &str) -> Result<&mut NeuralLaw, String> {
+    pub fn get(&mut self, name: &str) -> Result<&mut NeuralLaw, NetworkError> {
         let k = match self.loaded.iter().position(|(n, _)| n == name) {
             Some(k) => k,
             None => {
@@ -66,19 +78,24 @@ impl Networks {
         Ok(&mut self.loaded[k].1)
     }
 
-    fn read(&self, name: &str) -> Result<NeuralLaw, String> {
+    fn read(&self, name: &str) -> Result<NeuralLaw, NetworkError> {
         let path = Path::new(name);
         let full = if path.is_absolute() {
             path.to_path_buf()
         } else {
             match &self.folder {
                 Some(dir) => dir.join(path),
-                None => return Err(format!("weights \"{name}\": no resources folder is known")),
+                None => {
+                    return Err(NetworkError::NoFolder {
+                        name: name.to_owned(),
+                    })
+                }
             }
         };
         if !full.is_file() {
-            return Err(format!("weights file {} is missing", full.display()));
+            return Err(NetworkError::Missing { path: full });
         }
-        NeuralLaw::from_file(&full).map_err(|e| format!("weights file {}: {e}", full.display()))
+        NeuralLaw::from_file(&full)
+            .map_err(|source| NetworkError::Unreadable { path: full, source })
     }
 }

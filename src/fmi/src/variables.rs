@@ -244,42 +244,24 @@ pub const UNITS: &[Unit] = &[
 ];
 
 /// Why a get or set was refused.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum AccessError {
+    #[error("no variable has value reference {0}")]
     UnknownReference(u32),
+    #[error("{name} is of type {expected:?}; it cannot be accessed as {called:?}")]
     WrongType {
         name: &'static str,
         expected: BaseType,
         called: BaseType,
     },
+    #[error("{name} is an {} and cannot be set", .causality.as_str())]
     NotSettable {
         name: &'static str,
         causality: Causality,
     },
-    Refused {
-        name: &'static str,
-        reason: String,
-    },
-}
-
-impl std::fmt::Display for AccessError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            AccessError::UnknownReference(vr) => write!(f, "no variable has value reference {vr}"),
-            AccessError::WrongType {
-                name,
-                expected,
-                called,
-            } => write!(
-                f,
-                "{name} is of type {expected:?}; it cannot be accessed as {called:?}"
-            ),
-            AccessError::NotSettable { name, causality } => {
-                write!(f, "{name} is an {} and cannot be set", causality.as_str())
-            }
-            AccessError::Refused { name, reason } => write!(f, "{name}: {reason}"),
-        }
-    }
+    /// The setter refused the value; `reason` is its message (see [`Setter`]).
+    #[error("{name}: {reason}")]
+    Refused { name: &'static str, reason: String },
 }
 
 /// Finds variable `vr` and checks that it is accessed with its own base type.

@@ -22,8 +22,10 @@
 //! calibration costs the runs it made (at most the chosen point's partner and the
 //! points before it); the result says how long it took.
 
-use crate::scene::{FidelityLevel, Scene};
-use crate::study::{measure, rms_difference, Configuration, FrontPoint, Measured};
+use crate::scene::{FidelityLevel, Scene, SceneError};
+use crate::study::{
+    measure, rms_difference, Configuration, Failed, FrontPoint, MeasureError, Measured,
+};
 use std::time::Instant;
 
 /// The front measured on the paper scene by `stickslip study --write-front`.
@@ -33,26 +35,65 @@ pub const PAPER_FRONT_JSON: &str = include_str!("../../../data/pareto_front.json
 /// whose error it estimates.
 pub const PARTNER_ACCURACY_RATIO: f64 = 10.0;
 
+/// Why `fidelity = auto` could not choose (or, in [`verify`], check its choice).
+#[derive(Debug, thiserror::Error)]
+pub enum AutoError {
+    /// The shipped front is not valid JSON of front points.
+    #[error("data/pareto_front.json: {0}")]
+    FrontJson(#[source] serde_json::Error),
+    #[error("the front needs at least two points")]
+    FrontTooShort,
+    /// `first` comes before `second` on the front but is not cheaper and less accurate.
+    #[error(
+        "the front is not ordered: {} ({} s, {} m) before {} ({} s, {} m)",
+        .first.configuration, .first.seconds, .first.rms_error,
+        .second.configuration, .second.seconds, .second.rms_error
+    )]
+    FrontUnordered {
+        first: FrontPoint,
+        second: FrontPoint,
+    },
+    /// The tolerance (m) is not finite and positive.
+    #[error("fidelity tolerance = {tolerance} m; it must be finite and > 0")]
+    Tolerance { tolerance: f64 },
+    /// A calibration run of a front point failed.
+    #[error("fidelity = auto, running {0}")]
+    Calibration(#[source] Failed),
+    /// No point with a partner meets `tolerance` (m); `best` is the smallest estimated
+    /// RMS error (m).
+    #[error("fidelity = auto: no configuration of the front is verified to meet the tolerance {tolerance:e} m on this scene; the best estimated RMS tip-deflection error is {best:.3e} m. Choose a larger tolerance or a fidelity by hand.")]
+    Unmet { tolerance: f64, best: f64 },
+    /// [`verify`] could not run the choice or the next cheaper point.
+    #[error(transparent)]
+    Verification(MeasureError),
+    /// The scene to choose for is itself invalid.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// An `auto` scene without `fidelity.tolerance`.
+    #[error("fidelity = auto needs fidelity.tolerance: the RMS tip-deflection error allowed (m)")]
+    NoTolerance,
+}
+
 /// The paper-scene front, cheapest first.
-pub fn paper_front() -> Result<Vec<FrontPoint>, String> {
-    let front: Vec<FrontPoint> = serde_json::from_str(PAPER_FRONT_JSON)
-        .map_err(|e| format!("data/pareto_front.json: {e}"))?;
+pub fn paper_front() -> Result<Vec<FrontPoint>, AutoError> {
+    let front: Vec<FrontPoint> =
+        serde_json::from_str(PAPER_FRONT_JSON).map_err(AutoError::FrontJson)?;
     check_front(&front)?;
     Ok(front)
 }
 
 /// A usable front: at least two points, cost rising and error falling along it.
-pub fn check_front(front: &[FrontPoint]) -> Result<(), String> {
+pub fn check_front(front: &[FrontPoint]) -> Result<(), AutoError> {
     if front.len() < 2 {
-        return Err("the front needs at least two points".into());
+        return Err(AutoError::FrontTooShort);
     }
     for pair in front.windows(2) {
         let (a, b) = (&pair[0], &pair[1]);
         if !(a.seconds <= b.seconds && a.rms_error > b.rms_error) {
-            return Err(format!(
-                "the front is not ordered: {} ({} s, {} m) before {} ({} s, {} m)",
-                a.configuration, a.seconds, a.rms_error, b.configuration, b.seconds, b.rms_error
-            ));
+            return Err(AutoError::FrontUnordered {
+                first: *a,
+                second: *b,
+            });
         }
     }
     Ok(())
@@ -96,20 +137,17 @@ pub struct Choice {
 
 /// Picks the cheapest point of `front` whose tip-deflection error on `scene` (RMS over
 /// the scene's time span, m) is estimated at or below `tolerance` (m).
-pub fn choose(scene: &Scene, tolerance: f64, front: &[FrontPoint]) -> Result<Choice, String> {
+pub fn choose(scene: &Scene, tolerance: f64, front: &[FrontPoint]) -> Result<Choice, AutoError> {
     if !(tolerance.is_finite() && tolerance > 0.0) {
-        return Err(format!(
-            "fidelity tolerance = {tolerance} m; it must be finite and > 0"
-        ));
+        return Err(AutoError::Tolerance { tolerance });
     }
     check_front(front)?;
     let started = Instant::now();
     let mut runs: Vec<Option<Measured>> = vec![None; front.len()];
-    let mut run = |k: usize| -> Result<Measured, String> {
+    let mut run = |k: usize| -> Result<Measured, AutoError> {
         if runs[k].is_none() {
-            let measured = measure(scene, front[k].configuration).map_err(|f| {
-                format!("fidelity = auto, running {}: {}", f.configuration, f.reason)
-            })?;
+            let measured =
+                measure(scene, front[k].configuration).map_err(AutoError::Calibration)?;
             runs[k] = Some(measured);
         }
         Ok(runs[k].clone().expect("just measured"))
@@ -139,26 +177,21 @@ pub fn choose(scene: &Scene, tolerance: f64, front: &[FrontPoint]) -> Result<Cho
         .iter()
         .map(|c| c.estimated_error)
         .fold(f64::INFINITY, f64::min);
-    Err(format!(
-        "fidelity = auto: no configuration of the front is verified to meet the tolerance {tolerance:e} m on this scene; the best estimated RMS tip-deflection error is {best:.3e} m. Choose a larger tolerance or a fidelity by hand."
-    ))
+    Err(AutoError::Unmet { tolerance, best })
 }
 
 /// The choice for a scene at its own `fidelity.tolerance` (m). The scene is checked
 /// first, so that a bad scene is reported as such, not as a failed calibration run.
-pub fn choose_for(scene: &Scene, front: &[FrontPoint]) -> Result<Choice, String> {
-    let checked = scene.clone().check().map_err(|e| e.to_string())?;
-    let tolerance = checked.fidelity.tolerance.ok_or_else(|| {
-        "fidelity = auto needs fidelity.tolerance: the RMS tip-deflection error allowed (m)"
-            .to_string()
-    })?;
+pub fn choose_for(scene: &Scene, front: &[FrontPoint]) -> Result<Choice, AutoError> {
+    let checked = scene.clone().check()?;
+    let tolerance = checked.fidelity.tolerance.ok_or(AutoError::NoTolerance)?;
     choose(scene, tolerance, front)
 }
 
 /// Resolves `fidelity.level = auto`: the scene with the fidelity, time step and
 /// integrator of the choice (every other field kept), and the choice. A scene with a
 /// concrete level comes back as it is, with no choice.
-pub fn resolve(scene: Scene, front: &[FrontPoint]) -> Result<(Scene, Option<Choice>), String> {
+pub fn resolve(scene: Scene, front: &[FrontPoint]) -> Result<(Scene, Option<Choice>), AutoError> {
     if scene.fidelity.level != FidelityLevel::Auto {
         return Ok((scene, None));
     }
@@ -225,10 +258,10 @@ pub fn verify(
     tolerance: f64,
     front: &[FrontPoint],
     reference: &Measured,
-) -> Result<Verification, String> {
+) -> Result<Verification, AutoError> {
     let choice = choose(scene, tolerance, front)?;
-    let error_of = |configuration: Configuration| -> Result<f64, String> {
-        let run = measure(scene, configuration).map_err(|f| f.reason)?;
+    let error_of = |configuration: Configuration| -> Result<f64, AutoError> {
+        let run = measure(scene, configuration).map_err(|f| AutoError::Verification(f.reason))?;
         Ok(rms_difference(&run.tip, &reference.tip))
     };
     let true_error = error_of(choice.configuration)?;
@@ -280,12 +313,18 @@ mod tests {
     #[test]
     fn an_unordered_front_or_a_bad_tolerance_is_refused() {
         let unordered = [point(1, 1.0, 1.0), point(2, 2.0, 2.0)];
-        assert!(check_front(&unordered).unwrap_err().contains("not ordered"));
-        assert!(check_front(&unordered[..1]).is_err());
+        let e = check_front(&unordered).unwrap_err();
+        assert!(matches!(e, AutoError::FrontUnordered { .. }), "{e}");
+        assert!(e.to_string().contains("not ordered"), "{e}");
+        assert!(matches!(
+            check_front(&unordered[..1]),
+            Err(AutoError::FrontTooShort)
+        ));
         let front = [point(1, 1.0, 1.0), point(2, 2.0, 0.5)];
         for tolerance in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             let e = choose(&Scene::default(), tolerance, &front).unwrap_err();
-            assert!(e.contains("tolerance"), "{e}");
+            assert!(matches!(e, AutoError::Tolerance { .. }), "{e}");
+            assert!(e.to_string().contains("tolerance"), "{e}");
         }
     }
 

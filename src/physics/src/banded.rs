@@ -6,8 +6,6 @@
 //! O(n b) per solve, with no fill outside the band and no allocation after construction
 //! (Golub and Van Loan, Matrix Computations, 4th ed., Alg. 4.3.5).
 
-use std::fmt;
-
 /// A symmetric n x n matrix with half-bandwidth `b`: a_ij = 0 when |i - j| > b.
 /// Only the lower band is stored, row by row: row i holds a_{i, i-b} ... a_{i, i}.
 #[derive(Clone, Debug, PartialEq)]
@@ -19,25 +17,14 @@ pub struct SymBandMatrix {
 }
 
 /// Error of a factorisation: the matrix is not positive definite.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("matrix is not positive definite: pivot {pivot:e} at row {row}")]
 pub struct NotPositiveDefinite {
     /// Row at which a non-positive pivot appeared.
     pub row: usize,
     /// The pivot.
     pub pivot: f64,
 }
-
-impl fmt::Display for NotPositiveDefinite {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "matrix is not positive definite: pivot {:e} at row {}",
-            self.pivot, self.row
-        )
-    }
-}
-
-impl std::error::Error for NotPositiveDefinite {}
 
 impl SymBandMatrix {
     /// The zero matrix of size `n` with half-bandwidth `half_bandwidth`.

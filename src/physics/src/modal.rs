@@ -129,10 +129,7 @@ pub fn lowest_modes(model: &StructuralModel, count: usize) -> Result<Modes, Mode
         let cross = DMatrix::from_fn(p, p, |i, j| rows[i][j]);
         let kr = DMatrix::from_fn(p, p, |i, j| 0.5 * (cross[(i, j)] + cross[(j, i)]));
         let mr = gram(&model.mass, &y, &y);
-        let (values, q) = dense_generalized(&kr, &mr).ok_or(ModelError::Singular {
-            matrix: "reduced mass",
-            detail: "subspace vectors became linearly dependent".into(),
-        })?;
+        let (values, q) = dense_generalized(&kr, &mr).ok_or(ModelError::DependentSubspace)?;
         x = combine(&y, &q, p);
         let converged = values[..count]
             .iter()

@@ -23,7 +23,6 @@
 
 use crate::choice::Choice;
 use serde::{Deserialize, Serialize};
-use std::fmt;
 use std::path::Path;
 
 /// Beam geometry (m). Plane stress with out-of-plane width `width`.
@@ -393,35 +392,21 @@ pub struct Scene {
 }
 
 /// A scene field outside its allowed range, or a file that does not parse.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SceneError {
     /// `field` holds `value`, which violates `requirement`.
+    #[error("invalid scene: {field} = {value}; it must be {requirement}")]
     Invalid {
         field: &'static str,
         value: String,
         requirement: String,
     },
-    /// The scene text could not be read or parsed.
+    /// The scene text could not be read or parsed. The message is kept rather than the
+    /// I/O or parser error, so that the error stays `Clone` and `PartialEq` and the
+    /// file's path can be put in front of a parser's message.
+    #[error("scene file: {0}")]
     Parse(String),
 }
-
-impl fmt::Display for SceneError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SceneError::Invalid {
-                field,
-                value,
-                requirement,
-            } => write!(
-                f,
-                "invalid scene: {field} = {value}; it must be {requirement}"
-            ),
-            SceneError::Parse(msg) => write!(f, "scene file: {msg}"),
-        }
-    }
-}
-
-impl std::error::Error for SceneError {}
 
 impl SceneError {
     /// The offending field's dotted name, when the error is about one field.

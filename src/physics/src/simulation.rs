@@ -11,7 +11,6 @@ use crate::integrator::{Coefficients, Integrator, Kinematics};
 use crate::scene::{CheckedScene, InitialState};
 use crate::structure::{singular, ModelError, StructuralModel};
 use serde::{Deserialize, Serialize};
-use std::fmt;
 
 /// Everything that evolves in time; plain data, so that it can be saved and restored.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -59,37 +58,17 @@ pub struct Sample {
 }
 
 /// A simulation that cannot go on.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SimulationError {
-    Model(ModelError),
+    #[error(transparent)]
+    Model(#[from] ModelError),
     /// The state became NaN or infinite.
-    NonFinite {
-        time: f64,
-        quantity: &'static str,
-    },
+    #[error("{quantity} became non-finite at t = {time} s")]
+    NonFinite { time: f64, quantity: &'static str },
     /// A requested end time that is not finite or lies in the past.
-    InvalidTarget {
-        time: f64,
-        target: f64,
-    },
+    #[error("cannot advance to t = {target} s from t = {time} s: the target must be finite and not in the past")]
+    InvalidTarget { time: f64, target: f64 },
 }
-
-impl fmt::Display for SimulationError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SimulationError::Model(e) => write!(f, "{e}"),
-            SimulationError::NonFinite { time, quantity } => {
-                write!(f, "{quantity} became non-finite at t = {time} s")
-            }
-            SimulationError::InvalidTarget { time, target } => write!(
-                f,
-                "cannot advance to t = {target} s from t = {time} s: the target must be finite and not in the past"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for SimulationError {}
 
 /// Friction supplied from outside (a coupled friction model), held constant over a step.
 /// It replaces the law and the static limit mu_s F_n of the scene.
@@ -102,20 +81,9 @@ pub struct ExternalFriction {
 }
 
 /// Why a saved state does not fit a simulator.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("saved state does not fit this model: {0}")]
 pub struct StateMismatch(pub String);
-
-impl fmt::Display for StateMismatch {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "saved state does not fit this model: {}", self.0)
-    }
-}
-
-impl From<ModelError> for SimulationError {
-    fn from(e: ModelError) -> Self {
-        SimulationError::Model(e)
-    }
-}
 
 /// The stick-slip simulation of one scene.
 pub struct Simulator {

@@ -20,7 +20,6 @@ use crate::banded::{BandCholesky, NotPositiveDefinite, SymBandMatrix};
 use crate::element::{hermite_beam, q8_plane_stress};
 use crate::mesh::StripMesh;
 use crate::scene::{plane_stress_divisions, CheckedScene, Clamp, FidelityLevel};
-use std::fmt;
 
 /// A linear structural model M u'' + C u' + K u = c F(t).
 #[derive(Clone, Debug)]
@@ -38,51 +37,34 @@ pub struct StructuralModel {
 }
 
 /// A model that could not be built.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ModelError {
     /// A matrix that must be positive definite is not.
+    #[error("{matrix} matrix is singular: {source}")]
     Singular {
         matrix: &'static str,
-        detail: String,
+        source: NotPositiveDefinite,
     },
+    /// The subspace iteration's vectors became linearly dependent, so that the reduced
+    /// mass matrix (their Gram matrix in M) is singular.
+    #[error("reduced mass matrix is singular: subspace vectors became linearly dependent")]
+    DependentSubspace,
     /// More modes were asked for than the full model has.
+    #[error(
+        "fidelity.modes = {asked} exceeds the {available} degrees of freedom of the full model"
+    )]
     TooManyModes { asked: usize, available: usize },
     /// The eigen solver did not converge.
+    #[error("eigen solver did not converge in {iterations} iterations")]
     NoConvergence { iterations: usize },
     /// The scene's fidelity level is still `auto`, a request that `auto::resolve` turns
     /// into a concrete level; it names no model.
+    #[error("fidelity.level = auto names no model: it must be resolved (stickslip::auto::resolve, which the command line and the FMU call) into modal, beam or plane-stress before a model is built")]
     UnresolvedAuto,
 }
 
-impl fmt::Display for ModelError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ModelError::Singular { matrix, detail } => {
-                write!(f, "{matrix} matrix is singular: {detail}")
-            }
-            ModelError::TooManyModes { asked, available } => write!(
-                f,
-                "fidelity.modes = {asked} exceeds the {available} degrees of freedom of the full model"
-            ),
-            ModelError::NoConvergence { iterations } => write!(
-                f,
-                "eigen solver did not converge in {iterations} iterations"
-            ),
-            ModelError::UnresolvedAuto => write!(
-                f,
-                "fidelity.level = auto names no model: it must be resolved (stickslip::auto::resolve, which the command line and the FMU call) into modal, beam or plane-stress before a model is built"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for ModelError {}
-
 pub(crate) fn singular(matrix: &'static str) -> impl Fn(NotPositiveDefinite) -> ModelError {
-    move |e| ModelError::Singular {
-        matrix,
-        detail: e.to_string(),
-    }
+    move |source| ModelError::Singular { matrix, source }
 }
 
 impl StructuralModel {

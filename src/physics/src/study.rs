@@ -18,8 +18,8 @@
 
 use crate::choice::Choice;
 use crate::metrics::Summary;
-use crate::run::run_scene;
-use crate::scene::{CheckedScene, FidelityLevel, Scene, Scheme};
+use crate::run::{run_scene, RunError};
+use crate::scene::{CheckedScene, FidelityLevel, Scene, SceneError, Scheme};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -190,34 +190,50 @@ pub struct Measured {
     pub tip: Vec<f64>,
 }
 
+/// Why a configuration could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum MeasureError {
+    /// The scene with this configuration applied does not pass [`Scene::check`].
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// The time step does not divide [`COMPARISON_INTERVAL`], so that the run's samples
+    /// would miss the comparison grid.
+    #[error("time step {dt} s does not divide the comparison interval {COMPARISON_INTERVAL} s")]
+    Interval { dt: f64 },
+    /// The friction law could not be built or the simulation failed.
+    #[error(transparent)]
+    Run(#[from] RunError),
+}
+
 /// A configuration that could not run, and why.
-#[derive(Clone, Debug)]
+#[derive(Debug, thiserror::Error)]
+#[error("{configuration}: {reason}")]
 pub struct Failed {
     pub configuration: Configuration,
-    pub reason: String,
+    #[source]
+    pub reason: MeasureError,
 }
 
 /// Runs `configuration` on `scene` (checked), timing it.
 pub fn measure(scene: &Scene, configuration: Configuration) -> Result<Measured, Failed> {
-    let failed = |reason: String| Failed {
+    let failed = |reason: MeasureError| Failed {
         configuration,
         reason,
     };
     let checked: CheckedScene = configuration
         .apply(scene)
         .check()
-        .map_err(|e| failed(e.to_string()))?;
+        .map_err(|e| failed(e.into()))?;
     let every = COMPARISON_INTERVAL / configuration.dt;
     if (every - every.round()).abs() > 1e-9 * every || every.round() < 1.0 {
-        return Err(failed(format!(
-            "time step {} s does not divide the comparison interval {COMPARISON_INTERVAL} s",
-            configuration.dt
-        )));
+        return Err(failed(MeasureError::Interval {
+            dt: configuration.dt,
+        }));
     }
     let every = every.round() as usize;
     // Every step is kept so that the summary (corridor, slip detection) does not depend
     // on the time step through its sampling.
-    let run = run_scene(checked, 1).map_err(|e| failed(e.to_string()))?;
+    let run = run_scene(checked, 1).map_err(|e| failed(e.into()))?;
     let tip = run
         .samples
         .iter()

@@ -16,8 +16,8 @@
 use nalgebra::DMatrix;
 
 use crate::data::{Dataset, Quantity};
+use crate::TrainError;
 use stickslip::neural::FeatureRole;
-use stickslip::neural::NeuralError;
 
 /// Which columns to read and what they mean to the beam.
 #[derive(Clone, Debug, PartialEq)]
@@ -59,9 +59,8 @@ fn split_fields(line: &str) -> Vec<&str> {
 pub fn read_csv_file(
     path: &std::path::Path,
     selection: &ColumnSelection,
-) -> Result<Dataset, NeuralError> {
-    let text =
-        std::fs::read_to_string(path).map_err(|e| NeuralError::io("cannot read", path, e))?;
+) -> Result<Dataset, TrainError> {
+    let text = std::fs::read_to_string(path).map_err(|e| TrainError::io("cannot read", path, e))?;
     parse_csv(&text, &path.display().to_string(), selection)
 }
 
@@ -70,8 +69,8 @@ pub fn parse_csv(
     text: &str,
     source_name: &str,
     selection: &ColumnSelection,
-) -> Result<Dataset, NeuralError> {
-    let error = |line: usize, message: String| NeuralError::Csv {
+) -> Result<Dataset, TrainError> {
+    let error = |line: usize, message: String| TrainError::Csv {
         source_name: source_name.to_string(),
         line,
         message,
@@ -98,7 +97,7 @@ pub fn parse_csv(
             return Err(error(header_line, format!("column '{name}' appears twice")));
         }
     }
-    let find = |name: &str| -> Result<usize, NeuralError> {
+    let find = |name: &str| -> Result<usize, TrainError> {
         columns.iter().position(|(n, _)| n == name).ok_or_else(|| {
             let known: Vec<&str> = columns.iter().map(|(n, _)| n.as_str()).collect();
             error(
@@ -111,19 +110,19 @@ pub fn parse_csv(
         })
     };
     if selection.features.is_empty() {
-        return Err(NeuralError::InvalidInput(
+        return Err(TrainError::InvalidInput(
             "select at least one feature column".to_string(),
         ));
     }
     let mut selected = Vec::with_capacity(selection.features.len() + 1);
     for name in &selection.features {
         if selection.features.iter().filter(|n| *n == name).count() > 1 {
-            return Err(NeuralError::InvalidInput(format!(
+            return Err(TrainError::InvalidInput(format!(
                 "feature '{name}' is selected twice"
             )));
         }
         if *name == selection.target {
-            return Err(NeuralError::InvalidInput(format!(
+            return Err(TrainError::InvalidInput(format!(
                 "'{name}' cannot be both a feature and the target"
             )));
         }
@@ -142,12 +141,12 @@ pub fn parse_csv(
                 .iter()
                 .position(|n| n == wanted)
                 .ok_or_else(|| {
-                    NeuralError::InvalidInput(format!(
+                    TrainError::InvalidInput(format!(
                         "'{wanted}' is given a role but is not among the features"
                     ))
                 })?;
             if roles[index] != FeatureRole::Other {
-                return Err(NeuralError::InvalidInput(format!(
+                return Err(TrainError::InvalidInput(format!(
                     "'{wanted}' cannot be both the sliding velocity and the normal force"
                 )));
             }

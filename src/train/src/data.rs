@@ -11,8 +11,8 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal, Uniform};
 use serde::{Deserialize, Serialize};
 
+use crate::TrainError;
 use stickslip::friction::signum_or_zero;
-use stickslip::neural::NeuralError;
 use stickslip::neural::{FeatureRole, SyntheticSpec};
 
 /// Random streams drawn from one seed: ChaCha8 streams are independent, so changing how
@@ -99,16 +99,16 @@ impl Dataset {
 
     /// Shuffles with `seed` and splits off `test_fraction` of the samples (rounded to the
     /// nearest integer) as the test set; the rest is the training set.
-    pub fn split(&self, test_fraction: f64, seed: u64) -> Result<Split, NeuralError> {
+    pub fn split(&self, test_fraction: f64, seed: u64) -> Result<Split, TrainError> {
         if !(test_fraction > 0.0 && test_fraction < 1.0) {
-            return Err(NeuralError::InvalidInput(format!(
+            return Err(TrainError::InvalidInput(format!(
                 "the test fraction must lie strictly between 0 and 1, got {test_fraction}"
             )));
         }
         let n = self.len();
         let n_test = (n as f64 * test_fraction).round() as usize;
         if n_test == 0 || n_test >= n {
-            return Err(NeuralError::InvalidInput(format!(
+            return Err(TrainError::InvalidInput(format!(
                 "{n} samples cannot be split {:.0}/{:.0} into non-empty training and test sets",
                 100.0 * (1.0 - test_fraction),
                 100.0 * test_fraction
@@ -128,7 +128,7 @@ impl Dataset {
     /// Writes the set as CSV: a header of `name[unit]` columns (features, then target)
     /// and one row per sample, every number in Rust's shortest round-trip form, so that
     /// another program parses back exactly the same f64 values.
-    pub fn write_csv(&self, path: &Path) -> Result<(), NeuralError> {
+    pub fn write_csv(&self, path: &Path) -> Result<(), TrainError> {
         let mut text = String::new();
         let header: Vec<String> = self
             .features
@@ -144,7 +144,7 @@ impl Dataset {
             }
             let _ = writeln!(text, "{target}");
         }
-        std::fs::write(path, text).map_err(|e| NeuralError::io("cannot write", path, e))
+        std::fs::write(path, text).map_err(|e| TrainError::io("cannot write", path, e))
     }
 
     /// Minimum and maximum of feature `index` over the samples.
@@ -185,14 +185,14 @@ pub trait Synthetic {
     fn exact_force(&self, sliding_velocity: f64, normal_force: f64) -> f64;
     /// All samples, features (sliding_velocity [m/s], normal_force [N]) and target
     /// friction_force [N], reproducible from `seed`.
-    fn generate(&self, seed: u64) -> Result<Dataset, NeuralError>;
+    fn generate(&self, seed: u64) -> Result<Dataset, TrainError>;
     /// `generate`, split into training and test sets by `test_fraction`.
-    fn generate_split(&self, seed: u64) -> Result<Split, NeuralError>;
+    fn generate_split(&self, seed: u64) -> Result<Split, TrainError>;
 }
 
 /// The settings' ranges, checked before any sample is drawn.
-fn check(spec: &SyntheticSpec) -> Result<(), NeuralError> {
-    let bad = |what: &str| Err(NeuralError::InvalidInput(format!("synthetic data: {what}")));
+fn check(spec: &SyntheticSpec) -> Result<(), TrainError> {
+    let bad = |what: &str| Err(TrainError::InvalidInput(format!("synthetic data: {what}")));
     let all_finite = [
         spec.normal_force_min,
         spec.normal_force_max,
@@ -239,14 +239,19 @@ impl Synthetic for SyntheticSpec {
 
     /// All samples, features (sliding_velocity [m/s], normal_force [N]) and target
     /// friction_force [N], reproducible from `seed`.
-    fn generate(&self, seed: u64) -> Result<Dataset, NeuralError> {
+    fn generate(&self, seed: u64) -> Result<Dataset, TrainError> {
         check(self)?;
         let mut rng = seeded_rng(seed, DATA_STREAM);
         let normal_force = Uniform::new(self.normal_force_min, self.normal_force_max);
-        let velocity = Normal::new(0.0, self.velocity_std)
-            .map_err(|e| NeuralError::InvalidInput(format!("velocity distribution: {e}")))?;
-        let noise = Normal::new(0.0, self.noise_std)
-            .map_err(|e| NeuralError::InvalidInput(format!("noise distribution: {e}")))?;
+        let velocity =
+            Normal::new(0.0, self.velocity_std).map_err(|e| TrainError::Distribution {
+                quantity: "velocity",
+                source: e,
+            })?;
+        let noise = Normal::new(0.0, self.noise_std).map_err(|e| TrainError::Distribution {
+            quantity: "noise",
+            source: e,
+        })?;
         let mut inputs = DMatrix::zeros(2, self.samples);
         let mut targets = Vec::with_capacity(self.samples);
         for sample in 0..self.samples {
@@ -277,7 +282,7 @@ impl Synthetic for SyntheticSpec {
     }
 
     /// The generated set split `1 - test_fraction` / `test_fraction` (70/30 by default).
-    fn generate_split(&self, seed: u64) -> Result<Split, NeuralError> {
+    fn generate_split(&self, seed: u64) -> Result<Split, TrainError> {
         self.generate(seed)?.split(self.test_fraction, seed)
     }
 }

@@ -14,7 +14,7 @@
 
 use std::collections::VecDeque;
 
-use stickslip::neural::NeuralError;
+use crate::TrainError;
 
 /// Settings of `minimize`.
 #[derive(Clone, Debug, PartialEq)]
@@ -92,7 +92,7 @@ pub fn minimize<F, C>(
     x: &mut [f64],
     options: &LbfgsOptions,
     mut callback: C,
-) -> Result<LbfgsResult, NeuralError>
+) -> Result<LbfgsResult, TrainError>
 where
     F: FnMut(&[f64], &mut [f64]) -> f64,
     C: FnMut(&IterationInfo, &[f64]),
@@ -102,7 +102,7 @@ where
     let mut value = objective(x, &mut gradient);
     let mut evaluations = 1;
     if !value.is_finite() || gradient.iter().any(|g| !g.is_finite()) {
-        return Err(NeuralError::Training(format!(
+        return Err(TrainError::Training(format!(
             "the loss at the initial weights is {value}; check the data for extreme values"
         )));
     }

@@ -1,6 +1,7 @@
 //! Trains the neural friction law (the paper's Sec. 3) and writes the weights files that
 //! `stickslip::neural` reads.
 //!
+//! - `error`: [`TrainError`], the one error type of the trainer;
 //! - `data`: the paper's synthetic friction data (seeded) and data sets in general;
 //!   `csv`: measured data from CSV files with named columns and units.
 //! - `objective`: the training loss on standardised data and its gradient;
@@ -14,10 +15,12 @@
 
 pub mod csv;
 pub mod data;
+mod error;
 pub mod lbfgs;
 pub mod objective;
 pub mod search;
 pub mod train;
 
 pub use data::{Dataset, Quantity, Split, Synthetic};
+pub use error::TrainError;
 pub use train::{train, train_synthetic, TrainConfig, TrainReport};

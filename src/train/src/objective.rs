@@ -2,11 +2,11 @@
 //! penalty, with its gradient by backpropagation (`Network::backward`), evaluated on
 //! blocks of samples in parallel with a fixed summation order.
 
+use crate::TrainError;
 use rand::Rng;
 use stickslip::neural::network::{Network, Workspace};
 #[cfg(test)]
 use stickslip::neural::Activation;
-use stickslip::neural::NeuralError;
 
 /// Glorot (Xavier) uniform weights, W ~ U(-r, r) with r = sqrt(6 / (inputs + outputs)),
 /// and zero biases: MATLAB fitrnet's default initialisers.
@@ -63,19 +63,19 @@ impl<'a> Objective<'a> {
         targets: &'a [f64],
         penalties: &[f64],
         blocks: usize,
-    ) -> Result<Self, NeuralError> {
+    ) -> Result<Self, TrainError> {
         let samples = targets.len();
         if penalties.len() != network.layers().len()
             || penalties.iter().any(|p| p.is_nan() || *p < 0.0)
         {
-            return Err(NeuralError::InvalidInput(format!(
+            return Err(TrainError::InvalidInput(format!(
                 "{} penalty coefficients (>= 0) for {} layers",
                 penalties.len(),
                 network.layers().len()
             )));
         }
         if samples == 0 || inputs.len() != samples * network.inputs() {
-            return Err(NeuralError::InvalidInput(format!(
+            return Err(TrainError::InvalidInput(format!(
                 "training data: {} input values for {samples} samples of {} features",
                 inputs.len(),
                 network.inputs()

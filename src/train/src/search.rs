@@ -12,8 +12,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::data::{seeded_rng, Dataset, FOLD_STREAM};
 use crate::train::{mse_and_r2, train, DataSource, TrainConfig};
+use crate::TrainError;
 use rand::seq::SliceRandom;
-use stickslip::neural::NeuralError;
 
 /// The grid and how to score it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -71,16 +71,16 @@ pub fn grid_search(
     data: &Dataset,
     config: &SearchConfig,
     mut on_row: impl FnMut(&SearchRow),
-) -> Result<Vec<SearchRow>, NeuralError> {
+) -> Result<Vec<SearchRow>, TrainError> {
     let k = config.folds;
     if k < 2 || k > data.len() {
-        return Err(NeuralError::InvalidInput(format!(
+        return Err(TrainError::InvalidInput(format!(
             "k-fold cross-validation needs 2 <= k <= {} samples, got k = {k}",
             data.len()
         )));
     }
     if config.depths.is_empty() || config.widths.is_empty() || config.lambdas.is_empty() {
-        return Err(NeuralError::InvalidInput("the search grid is empty".into()));
+        return Err(TrainError::InvalidInput("the search grid is empty".into()));
     }
     let mut order: Vec<usize> = (0..data.len()).collect();
     order.shuffle(&mut seeded_rng(config.base.seed, FOLD_STREAM));
@@ -131,8 +131,8 @@ fn score_folds(
     folds: &[(Dataset, Dataset)],
     config: &TrainConfig,
     threads: usize,
-) -> Result<Vec<(f64, f64)>, NeuralError> {
-    let score = |fold: &(Dataset, Dataset)| -> Result<(f64, f64), NeuralError> {
+) -> Result<Vec<(f64, f64)>, TrainError> {
+    let score = |fold: &(Dataset, Dataset)| -> Result<(f64, f64), TrainError> {
         let split = crate::data::Split {
             train: fold.0.clone(),
             test: fold.1.clone(),
@@ -149,7 +149,7 @@ fn score_folds(
             &fold.1.targets,
         ))
     };
-    let mut results: Vec<Option<Result<(f64, f64), NeuralError>>> =
+    let mut results: Vec<Option<Result<(f64, f64), TrainError>>> =
         (0..folds.len()).map(|_| None).collect();
     std::thread::scope(|scope| {
         let score = &score;
@@ -176,7 +176,7 @@ fn score_folds(
     });
     results
         .into_iter()
-        .map(|r| r.unwrap_or_else(|| Err(NeuralError::Training("a fold was not trained".into()))))
+        .map(|r| r.unwrap_or_else(|| Err(TrainError::Training("a fold was not trained".into()))))
         .collect()
 }
 

@@ -41,12 +41,12 @@ use serde::{Deserialize, Serialize};
 use crate::data::{seeded_rng, Dataset, Split, Synthetic, INIT_STREAM};
 use crate::lbfgs::{minimize, LbfgsOptions, StopReason};
 use crate::objective::{initial_parameters, Objective};
+use crate::TrainError;
 use stickslip::neural::network::{Activation, Network, Workspace};
 use stickslip::neural::weights::{
     FeatureSpec, Metrics, NeuralModel, TargetSpec, TrainingInfo, Variant, FORMAT_NAME,
     FORMAT_VERSION,
 };
-use stickslip::neural::NeuralError;
 use stickslip::neural::{FeatureRole, SyntheticSpec};
 
 /// Default seed of data generation, split and initial weights.
@@ -186,8 +186,8 @@ pub struct DataSource {
     pub test_fraction: f64,
 }
 
-fn check_config(config: &TrainConfig, data: &Dataset) -> Result<(), NeuralError> {
-    let bad = |m: String| Err(NeuralError::InvalidInput(m));
+fn check_config(config: &TrainConfig, data: &Dataset) -> Result<(), TrainError> {
+    let bad = |m: String| Err(TrainError::InvalidInput(m));
     if !(config.lambda >= 0.0 && config.lambda.is_finite()) {
         return bad(format!(
             "lambda must be a finite number >= 0, got {}",
@@ -226,7 +226,7 @@ pub fn train(
     config: &TrainConfig,
     source: &DataSource,
     mut on_iteration: impl FnMut(&HistoryRecord),
-) -> Result<(NeuralModel, TrainReport), NeuralError> {
+) -> Result<(NeuralModel, TrainReport), TrainError> {
     let data = &split.train;
     check_config(config, data)?;
     let d = data.features.len();
@@ -430,7 +430,7 @@ pub fn train_synthetic(
     spec: &SyntheticSpec,
     config: &TrainConfig,
     on_iteration: impl FnMut(&HistoryRecord),
-) -> Result<(NeuralModel, TrainReport, Split), NeuralError> {
+) -> Result<(NeuralModel, TrainReport, Split), TrainError> {
     let split = spec.generate_split(config.seed)?;
     let source = DataSource {
         description: "synthetic (Vater et al. 2023, Sec. 3.1)".to_string(),
@@ -443,7 +443,7 @@ pub fn train_synthetic(
 }
 
 /// Evaluates a model on a data set: (MSE, R^2) of the law's force.
-pub fn evaluate_model(model: &NeuralModel, data: &Dataset) -> Result<(f64, f64), NeuralError> {
+pub fn evaluate_model(model: &NeuralModel, data: &Dataset) -> Result<(f64, f64), TrainError> {
     let predictions = model.predict_columns(&data.inputs)?;
     Ok(mse_and_r2(&predictions, &data.targets))
 }

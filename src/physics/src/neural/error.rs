@@ -1,4 +1,5 @@
-//! The one error type of the neural friction law: data, training, weights files, inference.
+//! The one error type of the neural friction law: networks, weights files, inference.
+//! (Training data and training have their own, `stickslip_train::TrainError`.)
 
 use std::path::PathBuf;
 
@@ -14,14 +15,6 @@ pub enum NeuralError {
         path: PathBuf,
         #[source]
         source: std::io::Error,
-    },
-
-    /// A CSV file is malformed; `line` is 1-based as shown by an editor.
-    #[error("{source_name}, line {line}: {message}")]
-    Csv {
-        source_name: String,
-        line: usize,
-        message: String,
     },
 
     /// A weights file is not valid JSON or does not have the expected fields
@@ -75,13 +68,9 @@ pub enum NeuralError {
     #[error("this model cannot be used as the beam's friction law: {0}")]
     NotAFrictionLaw(String),
 
-    /// Training data or settings are unusable (too few samples, bad option values...).
+    /// A network's layer sizes or a fixed feature value are unusable.
     #[error("{0}")]
     InvalidInput(String),
-
-    /// The optimiser produced a non-finite loss at its starting point.
-    #[error("training failed: {0}")]
-    Training(String),
 }
 
 impl NeuralError {

@@ -1,0 +1,95 @@
+//! The command line's one error type: its own cases (flags that do not go together, flag
+//! values, output files) and the errors of the physics and the trainer, whose messages
+//! it passes on unchanged. `main` prints it as `error: {e}`.
+
+use std::path::PathBuf;
+use stickslip::auto::AutoError;
+use stickslip::neural::NeuralError;
+use stickslip::run::RunError;
+use stickslip::scene::SceneError;
+use stickslip::structure::ModelError;
+use stickslip::study::Failed;
+use stickslip_train::TrainError;
+
+/// Why a command failed.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    #[error("--tolerance applies to --fidelity auto only")]
+    ToleranceWithoutAuto,
+    /// `by` is "--fidelity auto" or "the scene's fidelity.level = auto".
+    #[error("{by} needs --tolerance M: the RMS tip-deflection error allowed (m)")]
+    AutoWithoutTolerance { by: &'static str },
+    /// A flag whose value `fidelity = auto` chooses.
+    #[error("{flag} is chosen by {by}; leave it out")]
+    ChosenByAuto {
+        flag: &'static str,
+        by: &'static str,
+    },
+    /// `--damping-ratio` is negative or not finite.
+    #[error("--damping-ratio = {0}; it must be finite and >= 0")]
+    DampingRatio(f64),
+    /// `--rayleigh-ratio` is negative or not finite.
+    #[error("--rayleigh-ratio = {0}; it must be finite and >= 0")]
+    RayleighRatio(f64),
+    /// `--load` (N) is zero or not finite.
+    #[error("--load = {0}; it must be finite and non-zero")]
+    Load(f64),
+    /// `study` was given no resolution or no time step.
+    #[error("the grid is empty: give at least one resolution and one time step")]
+    EmptyGrid,
+    #[error("--features and --target select columns of --data; give --data FILE.csv")]
+    ColumnsWithoutData,
+    #[error("--data needs --target NAME (the force column)")]
+    DataWithoutTarget,
+    #[error("--data needs --features A,B,... (the input columns)")]
+    DataWithoutFeatures,
+
+    /// An output file or folder of `simulate`, `static` or `study`.
+    #[error("{path}: {source}")]
+    Output {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// An output file or folder of `train` or `search`, worded as the trainer words the
+    /// files it reads and writes itself.
+    #[error("{action} '{path}': {source}")]
+    TrainOutput {
+        action: &'static str,
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// Checked before training, so that minutes of training are not lost at the end.
+    #[error("cannot write '{path}': its directory does not exist")]
+    MissingDirectory { path: PathBuf },
+    /// A summary, report or table that could not be put into JSON.
+    #[error("{path}: {source}")]
+    Json {
+        path: PathBuf,
+        source: serde_json::Error,
+    },
+
+    /// The reference run of `study` failed, so nothing can be compared with it. (The
+    /// run errors are boxed to keep `Result<(), CliError>` small.)
+    #[error("the reference {} failed: {}", .0.configuration, .0.reason)]
+    Reference(#[source] Box<Failed>),
+    /// The reference run of a `study --verify-auto` scene failed.
+    #[error("{scene}: the reference failed: {}", .source.reason)]
+    VerificationReference {
+        scene: &'static str,
+        source: Box<Failed>,
+    },
+
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error(transparent)]
+    Auto(#[from] AutoError),
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    #[error(transparent)]
+    Run(#[from] RunError),
+    /// Writing the trained model's weights file.
+    #[error(transparent)]
+    Neural(#[from] NeuralError),
+    #[error(transparent)]
+    Train(#[from] TrainError),
+}
