@@ -12,13 +12,26 @@
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
-use criterion::{Criterion, SamplingMode};
+use criterion::measurement::WallTime;
+use criterion::{BenchmarkGroup, Criterion, SamplingMode};
 use stickslip::run::run_scene;
 use stickslip::scene::{FidelityLevel, Scene};
 use stickslip::structure::StructuralModel;
 use stickslip_tests::bench::{ratio, shown, table_note, Samples};
 
 const SAMPLE_SIZE: usize = 10;
+
+/// A group of costly routines: a few iterations per sample, each sample the same count
+/// (flat sampling), a short warm-up, `seconds` of measurement.
+fn flat_group<'a>(c: &'a mut Criterion, name: &str, seconds: u64) -> BenchmarkGroup<'a, WallTime> {
+    let mut group = c.benchmark_group(name);
+    group
+        .sample_size(SAMPLE_SIZE)
+        .sampling_mode(SamplingMode::Flat)
+        .warm_up_time(Duration::from_millis(200))
+        .measurement_time(Duration::from_secs(seconds));
+    group
+}
 
 fn main() {
     let mut c = Criterion::default().without_plots().configure_from_args();
@@ -33,14 +46,8 @@ fn main() {
         (FidelityLevel::PlaneStress, 100, 0.01),
     ];
     let mut models = Vec::new();
-    let mut group = c.benchmark_group("paper_scene");
-    // A run takes 15 ms (modal) to about 2 s (the finest plane-stress mesh): one run
-    // per iteration, ten of them.
-    group
-        .sample_size(SAMPLE_SIZE)
-        .sampling_mode(SamplingMode::Flat)
-        .warm_up_time(Duration::from_millis(200))
-        .measurement_time(Duration::from_secs(2));
+    // A run takes 15 ms (modal) to about 2 s (the finest plane-stress mesh).
+    let mut group = flat_group(&mut c, "paper_scene", 2);
     for (level, elements, size) in cases {
         let mut scene = Scene::default();
         scene.fidelity.level = level;
@@ -70,12 +77,7 @@ fn main() {
     let dense_chol = dense.clone().cholesky().unwrap();
     let b_dense = nalgebra::DVector::from_vec(rhs.clone());
 
-    let mut group = c.benchmark_group("effective_matrix_factorisation");
-    group
-        .sample_size(SAMPLE_SIZE)
-        .sampling_mode(SamplingMode::Flat)
-        .warm_up_time(Duration::from_millis(200))
-        .measurement_time(Duration::from_secs(1));
+    let mut group = flat_group(&mut c, "effective_matrix_factorisation", 1);
     group.bench_function("banded", |b| {
         b.iter_custom(|iters| times.time("factor banded", iters, || s.cholesky().unwrap()))
     });

@@ -335,23 +335,31 @@ mod tests {
         assert_eq!(data.inputs.column(1).as_slice(), &[-0.2, 90.0]);
     }
 
+    /// The error for `text` is on `line` (None: not checked) and contains `needle`.
+    fn assert_error(text: &str, line: Option<usize>, needle: &str) {
+        let m = message(text);
+        let at = line.map_or(String::new(), |l| format!("t.csv, line {l}: "));
+        assert!(m.starts_with(&at) && m.contains(needle), "{text:?}: {m}");
+    }
+
     #[test]
     fn bad_files_name_the_line() {
-        assert!(message("").contains("empty"));
-        assert!(message("v,Fn,F\n").contains("no data rows"));
-        assert!(message("v,F\n1,2\n").contains("no column named 'Fn'"));
-        let m = message("v,Fn,F\n0.1,100,20\n0.2,abc,20\n");
-        assert!(
-            m.contains("line 3") && m.contains("'abc' is not a number"),
-            "{m}"
-        );
-        let m = message("v,Fn,F\n0.1,100,NaN\n");
-        assert!(m.contains("line 2") && m.contains("not a finite"), "{m}");
-        let m = message("v,Fn,F\n0.1,100,inf\n");
-        assert!(m.contains("not a finite"), "{m}");
-        let m = message("v,Fn,F\n0.1,100,20\n0.1,100\n");
-        assert!(m.contains("line 3") && m.contains("2 field(s)"), "{m}");
-        assert!(message("v,v,F\n1,2,3\n").contains("twice"));
+        for (text, line, needle) in [
+            ("", Some(1), "empty"),
+            ("v,Fn,F\n", Some(1), "no data rows"),
+            ("v,F\n1,2\n", Some(1), "no column named 'Fn'"),
+            (
+                "v,Fn,F\n0.1,100,20\n0.2,abc,20\n",
+                Some(3),
+                "'abc' is not a number",
+            ),
+            ("v,Fn,F\n0.1,100,NaN\n", Some(2), "not a finite"),
+            ("v,Fn,F\n0.1,100,inf\n", None, "not a finite"),
+            ("v,Fn,F\n0.1,100,20\n0.1,100\n", Some(3), "2 field(s)"),
+            ("v,v,F\n1,2,3\n", None, "twice"),
+        ] {
+            assert_error(text, line, needle);
+        }
     }
 
     #[test]
@@ -359,20 +367,14 @@ mod tests {
         // BOM, CRLF, an indented comment, a whitespace-only line, a quoted note spanning
         // lines 6 and 7: the bad value is on line 9 as an editor shows it.
         let text = "\u{feff}# measured\r\n\r\nv, Fn, F, note\r\n  # indented comment\r\n \t \r\n0.1, 100, 20,\"two\nlines\"\r\n0.2, 100, 21, x\r\n0.3, 100, oops, x\r\n";
-        let m = message(text);
-        assert!(m.contains("t.csv, line 9") && m.contains("'oops'"), "{m}");
-        let m = message("v,Fn,F\n\n\"a\nb\",1,2\n0.1,100\n");
-        assert!(
-            m.contains("line 3") && m.contains("'a\nb' is not a number"),
-            "{m}"
+        assert_error(text, Some(9), "'oops'");
+        assert_error(
+            "v,Fn,F\n\n\"a\nb\",1,2\n0.1,100\n",
+            Some(3),
+            "'a\nb' is not a number",
         );
-        let m = message("# x\nv,Fn,F\n\"a\nb\",1,2,3\n");
-        assert!(m.contains("line 3") && m.contains("4 field(s)"), "{m}");
-        let m = message("\n\n# x\nv,,F\n");
-        assert!(
-            m.contains("line 4") && m.contains("column 2 has no name"),
-            "{m}"
-        );
+        assert_error("# x\nv,Fn,F\n\"a\nb\",1,2,3\n", Some(3), "4 field(s)");
+        assert_error("\n\n# x\nv,,F\n", Some(4), "column 2 has no name");
     }
 
     #[test]
