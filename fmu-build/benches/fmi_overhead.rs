@@ -5,23 +5,31 @@
 //!     communication step 1e-3 s, reading all 7 outputs after each step;
 //! (c) the same at communication step 1e-4 s (one internal step per fmi2DoStep).
 //!
-//! For each fidelity (modal, beam, plane stress) it prints the median over repetitions
-//! (interleaved a, b, c, a, b, c, ...) and the ratio against (a) measured in the same
-//! run. "whole" is build + run: Simulator::new, or fmi2Instantiate through
-//! fmi2ExitInitializationMode (which builds the model) and fmi2Terminate/fmi2FreeInstance.
-//! "stepping" is the step loop alone. Unzipping the FMU (once per import) and
-//! fmi2Instantiate alone are shown separately.
+//! Criterion measures each of (a), (b), (c) per fidelity (modal, beam, plane stress; group
+//! `fmi_overhead_<fidelity>`, one whole run per iteration), and fmi2Instantiate +
+//! fmi2FreeInstance alone (group `fmi_instantiate`). "whole" is build + run:
+//! Simulator::new, or fmi2Instantiate through fmi2ExitInitializationMode (which builds
+//! the model) and fmi2Terminate/fmi2FreeInstance; it is what criterion reports. "stepping"
+//! is the step loop alone, timed inside the same runs. The table then gives, per
+//! fidelity, the median of both over criterion's samples and the ratio against (a)
+//! measured in the same run (see `stickslip_tests::bench`); the variants run one after
+//! the other, not interleaved. Unzipping the FMU (once per import) is timed once. The
+//! last tip deflection of (a), (b) and (c) must agree to the bit.
 //!
 //! `cargo run --release -p fmu-build` first, then `cargo bench -p fmu-build --bench
 //! fmi_overhead` (same CARGO_TARGET_DIR).
 
+use criterion::{Criterion, SamplingMode};
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common};
 use fmi::traits::FmiImport;
+use std::cell::RefCell;
+use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 use stickslip::scene::{CheckedScene, FidelityLevel};
 use stickslip::simulation::Simulator;
 use stickslip_fmi::FmuKind;
+use stickslip_tests::bench::{ratio, shown, table_note, Samples};
 
 const STOP: f64 = 1.2;
 /// Internal step of the paper scene (s).
@@ -32,7 +40,6 @@ struct Case {
     level: FidelityLevel,
     /// fidelity.level enumeration value.
     fmu_level: i32,
-    repetitions: usize,
 }
 
 const CASES: [Case; 3] = [
@@ -40,19 +47,16 @@ const CASES: [Case; 3] = [
         name: "modal",
         level: FidelityLevel::Modal,
         fmu_level: 1,
-        repetitions: 21,
     },
     Case {
         name: "beam",
         level: FidelityLevel::Beam,
         fmu_level: 2,
-        repetitions: 11,
     },
     Case {
         name: "plane-stress",
         level: FidelityLevel::PlaneStress,
         fmu_level: 3,
-        repetitions: 7,
     },
 ];
 
@@ -147,17 +151,16 @@ fn through_fmu(import: &Fmi2Import, vrs: &Vrs, level: i32, h: f64) -> (Timing, f
     )
 }
 
-fn median(mut values: Vec<Duration>) -> Duration {
-    values.sort();
-    values[values.len() / 2]
-}
+/// The variants of one fidelity: (a), (b), (c).
+const VARIANTS: [&str; 3] = ["(a) direct", "(b) FMU h=1e-3", "(c) FMU h=1e-4"];
+const SAMPLE_SIZE: usize = 10;
 
-fn ms(d: Duration) -> f64 {
-    d.as_secs_f64() * 1e3
+fn ms(seconds: Option<f64>) -> String {
+    shown(seconds, 1e3, 2)
 }
 
 fn main() {
-    let quick = !std::env::args().any(|a| a == "--bench");
+    let mut c = Criterion::default().without_plots().configure_from_args();
     let path = fmu_build::fmu_path(FmuKind::StickSlipBeam);
     assert!(
         path.is_file(),
@@ -186,66 +189,78 @@ fn main() {
     };
 
     let bench_started = Instant::now();
+    let times = Samples::new(SAMPLE_SIZE);
+    // The last tip deflection of each (case, variant), as bits.
+    let last: RefCell<BTreeMap<(&str, &str), u64>> = RefCell::new(BTreeMap::new());
+
     // fmi2Instantiate alone (it checks resources/ but reads no network).
-    let instantiate = median(
-        (0..11)
-            .map(|_| {
-                let started = Instant::now();
+    let mut group = c.benchmark_group("fmi_instantiate");
+    group.sample_size(SAMPLE_SIZE);
+    group.bench_function("fmi2Instantiate + fmi2FreeInstance", |b| {
+        b.iter_custom(|iters| {
+            times.time("instantiate", iters, || {
                 let inst = import
                     .instantiate_cs("bench-instantiate", false, false)
                     .expect("fmi2Instantiate");
                 drop(std::hint::black_box(inst));
-                started.elapsed()
             })
-            .collect(),
-    );
-    let mut rows = Vec::new();
-    for case in &CASES {
-        // Warm-up, and a check that all three compute the same run.
-        let (_, a) = direct(case.level);
-        let (_, b) = through_fmu(&import, &vrs, case.fmu_level, 1e-3);
-        let (_, c) = through_fmu(&import, &vrs, case.fmu_level, 1e-4);
-        assert_eq!(
-            a.to_bits(),
-            b.to_bits(),
-            "{}: FMU h = 1e-3 s differs",
-            case.name
-        );
-        assert_eq!(
-            a.to_bits(),
-            c.to_bits(),
-            "{}: FMU h = 1e-4 s differs",
-            case.name
-        );
+        })
+    });
+    group.finish();
 
-        let mut times: [Vec<Timing>; 3] = Default::default();
-        // `cargo test --all-targets` runs this bench without `--bench`: one repetition
-        // each, as a smoke test of the measuring code.
-        let repetitions = if quick { 1 } else { case.repetitions };
-        for _ in 0..repetitions {
-            times[0].push(direct(case.level).0);
-            times[1].push(through_fmu(&import, &vrs, case.fmu_level, 1e-3).0);
-            times[2].push(through_fmu(&import, &vrs, case.fmu_level, 1e-4).0);
+    for case in &CASES {
+        let mut group = c.benchmark_group(format!("fmi_overhead_{}", case.name));
+        // A run takes from 15 ms (modal) to about a second (plane stress).
+        group
+            .sample_size(SAMPLE_SIZE)
+            .sampling_mode(SamplingMode::Flat)
+            .warm_up_time(Duration::from_millis(200))
+            .measurement_time(Duration::from_secs(1));
+        for (k, variant) in VARIANTS.into_iter().enumerate() {
+            let run = || match k {
+                0 => direct(case.level),
+                1 => through_fmu(&import, &vrs, case.fmu_level, 1e-3),
+                _ => through_fmu(&import, &vrs, case.fmu_level, 1e-4),
+            };
+            group.bench_function(variant, |b| {
+                b.iter_custom(|iters| {
+                    let (mut whole, mut stepping) = (Duration::ZERO, Duration::ZERO);
+                    for _ in 0..iters {
+                        let (timing, tip) = run();
+                        whole += timing.whole;
+                        stepping += timing.stepping;
+                        last.borrow_mut()
+                            .insert((case.name, variant), tip.to_bits());
+                    }
+                    let per = |d: Duration| d.as_secs_f64() / iters as f64;
+                    times.record(&format!("{}/{variant}/whole", case.name), per(whole));
+                    times.record(&format!("{}/{variant}/stepping", case.name), per(stepping));
+                    whole
+                })
+            });
         }
-        let whole: Vec<Duration> = times
-            .iter()
-            .map(|t| median(t.iter().map(|x| x.whole).collect()))
-            .collect();
-        let stepping: Vec<Duration> = times
-            .iter()
-            .map(|t| median(t.iter().map(|x| x.stepping).collect()))
-            .collect();
-        rows.push((case, whole, stepping));
+        group.finish();
+        // All three compute the same run.
+        let last = last.borrow();
+        if let Some(a) = last.get(&(case.name, VARIANTS[0])) {
+            for variant in &VARIANTS[1..] {
+                if let Some(other) = last.get(&(case.name, *variant)) {
+                    assert_eq!(a, other, "{}: {variant} differs from (a)", case.name);
+                }
+            }
+        }
     }
+    c.final_summary();
 
     println!();
     println!(
         "FMI overhead, paper scene 0..{STOP} s at dt = {DT} s; StickSlipBeam.fmu via the fmi crate, 7 outputs read per communication step"
     );
     println!(
-        "median of N repetitions; ratio = time / (a) of the same fidelity in this run; unzip of the FMU (once per import): {:.1} ms; fmi2Instantiate + fmi2FreeInstance: {:.2} ms",
-        ms(unzip),
-        ms(instantiate)
+        "{}; ratio = time / (a) of the same fidelity; unzip of the FMU (once per import): {:.1} ms; fmi2Instantiate + fmi2FreeInstance: {} ms",
+        table_note(&times),
+        unzip.as_secs_f64() * 1e3,
+        ms(times.median("instantiate"))
     );
     println!();
     println!(
@@ -254,29 +269,40 @@ fn main() {
     println!(
         "| ------------ | -- | -------- | ------------- | ----------------- | ----- | ----------------- | ----- |"
     );
-    for (case, whole, stepping) in &rows {
-        for (part, t) in [("whole", whole), ("stepping", stepping)] {
+    let time = |case: &Case, k: usize, part: &str| {
+        times.median(&format!("{}/{}/{part}", case.name, VARIANTS[k]))
+    };
+    for case in &CASES {
+        let n = times.count(&format!("{}/{}/whole", case.name, VARIANTS[0]));
+        for part in ["whole", "stepping"] {
+            let t = [
+                time(case, 0, part),
+                time(case, 1, part),
+                time(case, 2, part),
+            ];
             println!(
-                "| {:<12} | {:>2} | {:<8} | {:>13.2} | {:>17.2} | {:>5.2} | {:>17.2} | {:>5.2} |",
+                "| {:<12} | {:>2} | {:<8} | {:>13} | {:>17} | {:>5} | {:>17} | {:>5} |",
                 case.name,
-                case.repetitions,
+                n,
                 part,
                 ms(t[0]),
                 ms(t[1]),
-                t[1].as_secs_f64() / t[0].as_secs_f64(),
+                ratio(t[1], t[0], 2),
                 ms(t[2]),
-                t[2].as_secs_f64() / t[0].as_secs_f64(),
+                ratio(t[2], t[0], 2),
             );
         }
     }
     println!();
     let steps = (STOP / DT).round();
-    for (case, _, stepping) in &rows {
-        println!(
-            "{}: interface cost per fmi2DoStep + 3 get calls at h = 1e-4 s: {:.2} us (stepping (c) - (a), over {steps} calls)",
-            case.name,
-            (stepping[2].as_secs_f64() - stepping[0].as_secs_f64()) / steps * 1e6
-        );
+    for case in &CASES {
+        if let (Some(c), Some(a)) = (time(case, 2, "stepping"), time(case, 0, "stepping")) {
+            println!(
+                "{}: interface cost per fmi2DoStep + 3 get calls at h = 1e-4 s: {:.2} us (stepping (c) - (a), over {steps} calls)",
+                case.name,
+                (c - a) / steps * 1e6
+            );
+        }
     }
     println!(
         "bench wall time {:.1} s",

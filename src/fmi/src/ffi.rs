@@ -227,37 +227,63 @@ fn null_argument(component: &mut Component, call: &str, what: &str) -> Status {
     fail(component, call, &format!("{what} is NULL"))
 }
 
-/// The folder named by fmuResourceLocation: a file URI (file:///p, file:/p or
-/// file://localhost/p, percent-encoded). Other schemes give None.
-pub fn resource_folder(uri: &str) -> Option<PathBuf> {
-    let rest = uri.strip_prefix("file:")?;
-    let path = if let Some(after) = rest.strip_prefix("//") {
-        let slash = after.find('/')?;
-        let host = &after[..slash];
-        if !(host.is_empty() || host.eq_ignore_ascii_case("localhost")) {
-            return None;
-        }
-        &after[slash..]
-    } else {
-        rest
+/// The folder named by fmuResourceLocation, or why it cannot be used.
+///
+/// FMI 2.0 (sec. 2.1.6, fmi2Instantiate) passes the unpacked `resources/` folder as a
+/// URI (RFC 3986) and requires only the file scheme. Accepted: `file:///p`,
+/// `file://localhost/p` and `file:/p`, with or without a trailing slash, percent-encoded
+/// or raw (importers send spaces and non-ASCII characters unencoded too). The `url`
+/// crate parses it (the WHATWG URL Standard, which encodes a raw path as a browser
+/// would) and decodes the path (`Url::to_file_path`); on top of it this refuses what
+/// would silently name another folder: a malformed percent escape (the standard keeps
+/// `%zz` as text), a query or fragment (a raw `?` or `#` in a path would cut it there),
+/// a path that decodes to bytes that are not UTF-8, and a host other than localhost.
+pub fn resource_folder(uri: &str) -> Result<PathBuf, String> {
+    let refuse = |why: String| {
+        format!("fmuResourceLocation \"{uri}\" is not a file URI of a local folder: {why}")
     };
-    let bytes = path.as_bytes();
-    let mut decoded = Vec::with_capacity(bytes.len());
-    let mut k = 0;
-    while k < bytes.len() {
-        if bytes[k] == b'%' && k + 2 < bytes.len() {
-            let hex = std::str::from_utf8(&bytes[k + 1..k + 3]).ok()?;
-            decoded.push(u8::from_str_radix(hex, 16).ok()?);
-            k += 3;
-        } else if bytes[k] == b'%' {
-            return None;
-        } else {
-            decoded.push(bytes[k]);
-            k += 1;
-        }
+    let url = url::Url::parse(uri).map_err(|e| refuse(e.to_string()))?;
+    if url.scheme() != "file" {
+        return Err(refuse(format!(
+            "the scheme is {}:, and only file: is supported",
+            url.scheme()
+        )));
     }
-    let text = String::from_utf8(decoded).ok()?;
-    Some(PathBuf::from(text))
+    // file://localhost/p parses with an empty host.
+    if let Some(host) = url.host_str().filter(|h| !h.is_empty()) {
+        return Err(refuse(format!(
+            "host \"{host}\" is not this machine (use file:///path or file://localhost/path)"
+        )));
+    }
+    if url.query().is_some() || url.fragment().is_some() {
+        return Err(refuse(
+            "it has a query or fragment; write '?' as %3F and '#' as %23 in a path".into(),
+        ));
+    }
+    if let Some(bad) = bad_percent_escape(url.path()) {
+        return Err(refuse(format!(
+            "\"{bad}\" is not a percent escape (%XX, two hex digits)"
+        )));
+    }
+    let path = url
+        .to_file_path()
+        .map_err(|()| refuse("its path is not an absolute local path".into()))?;
+    if path.to_str().is_none() {
+        return Err(refuse(
+            "its path decodes to bytes that are not UTF-8".into(),
+        ));
+    }
+    Ok(path)
+}
+
+/// The first `%` in `path` (a URL's serialised path, which is ASCII) that is not
+/// followed by two hex digits, with what follows it (at most two characters).
+fn bad_percent_escape(path: &str) -> Option<&str> {
+    path.match_indices('%').find_map(|(k, _)| {
+        let escape = &path[k..(k + 3).min(path.len())];
+        let hex_digits = escape.bytes().skip(1).filter(u8::is_ascii_hexdigit).count();
+        (hex_digits != 2).then_some(escape)
+    })
 }
 
 unsafe fn text(s: fmi2String) -> Option<String> {
@@ -338,7 +364,11 @@ pub unsafe extern "C" fn fmi2Instantiate(
             ));
         };
         let location = unsafe { text(fmuResourceLocation) };
-        let resources = location.as_deref().and_then(resource_folder);
+        let resources = match location.as_deref().map(resource_folder) {
+            None => None,
+            Some(Ok(dir)) => Some(dir),
+            Some(Err(reason)) => return fail(reason),
+        };
         let logging_on = loggingOn != FMI2_FALSE;
         let boxed_logger: Logger =
             Box::new(move |status, category, message| logger.log(status, category, message));
@@ -939,7 +969,7 @@ mod tests {
 
     #[test]
     fn resource_uris() {
-        let p = |s: &str| resource_folder(s).map(|p| p.display().to_string());
+        let p = |s: &str| resource_folder(s).ok().map(|p| p.display().to_string());
         assert_eq!(
             p("file:///tmp/a%20b/resources"),
             Some("/tmp/a b/resources".into())
@@ -949,9 +979,45 @@ mod tests {
             Some("/tmp/x/resources/".into())
         );
         assert_eq!(p("file://localhost/tmp/x"), Some("/tmp/x".into()));
+        assert_eq!(p("file://LOCALHOST/tmp/x"), Some("/tmp/x".into()));
+        // Raw (unencoded) spaces and non-ASCII characters, and their encoded form.
+        assert_eq!(p("file:///tmp/a b/Größe/"), Some("/tmp/a b/Größe/".into()));
+        assert_eq!(
+            p("file:///tmp/a%20b/Gr%C3%B6%C3%9Fe/"),
+            Some("/tmp/a b/Größe/".into())
+        );
+        // Encoded '?', '#' and '%' are path characters.
+        assert_eq!(p("file:///tmp/a%3Fb%23c%25d"), Some("/tmp/a?b#c%d".into()));
         assert_eq!(p("file://server/tmp/x"), None);
         assert_eq!(p("http://x/y"), None);
         assert_eq!(p("file:///bad%zz"), None);
         assert_eq!(p("file:///cut%2"), None);
+        assert_eq!(p("file:///cut%"), None);
+        assert_eq!(p("file:///not-utf8%C3"), None);
+        assert_eq!(p("file:///tmp/a?b"), None);
+        assert_eq!(p("file:///tmp/a#b"), None);
+        assert_eq!(p("/tmp/x"), None);
+        assert_eq!(p(""), None);
+    }
+
+    #[test]
+    fn refused_resource_uris_say_why() {
+        let why = |s: &str| resource_folder(s).unwrap_err();
+        for (uri, reason) in [
+            ("http://x/y", "scheme is http:"),
+            ("file://server/tmp/x", "host \"server\""),
+            ("file:///bad%zzz", "\"%zz\" is not a percent escape"),
+            ("file:///cut%2", "\"%2\" is not a percent escape"),
+            ("file:///tmp/a#b", "query or fragment"),
+            ("file:///x%C3", "not UTF-8"),
+            ("resources", "relative URL without a base"),
+        ] {
+            let message = why(uri);
+            assert!(
+                message.starts_with(&format!("fmuResourceLocation \"{uri}\" is not a file URI"))
+                    && message.contains(reason),
+                "{uri}: {message}"
+            );
+        }
     }
 }

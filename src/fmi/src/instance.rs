@@ -262,7 +262,7 @@ impl<M: Model> Instance<M> {
         let mut model = M::with_defaults();
         let loaded = match resources {
             Some(dir) => model.load_resources(dir),
-            None => Err("no resource location was given (fmuResourceLocation is NULL or not a file URI); the FMU reads its network weights from resources/".into()),
+            None => Err("fmuResourceLocation is NULL: no resource location was given; the FMU reads its network weights from its resources/ folder".into()),
         };
         if let Err(reason) = loaded {
             let message = format!("fmi2Instantiate: {reason}");

@@ -1,17 +1,26 @@
-//! A small reader for measured friction data in CSV form.
+//! A reader for measured friction data in CSV form.
 //!
-//! Format (deliberately simple, no dependency):
-//! - comma-separated; fields are trimmed; a field may be wrapped in double quotes, which
-//!   are removed (quoted commas are not supported);
+//! The `csv` crate splits the text into records (RFC 4180 quoting, so a quoted field may
+//! hold commas, doubled quotes and line breaks; lines end at `\n` or `\r\n`) and tells
+//! where each record starts; this module adds the training-data rules on top:
+//! - comma-separated; fields are trimmed; a field wrapped in double quotes after trimming
+//!   (`1, "2.5"`) has them removed, as the hand-written reader this replaced did;
 //! - the first non-blank, non-comment line is the header: one name per column, with an
 //!   optional unit in square brackets, `sliding_velocity[m/s]`; a column without brackets
 //!   has an empty unit. Names must be unique;
 //! - every later line is one sample with exactly as many fields as the header; blank lines
-//!   and lines starting with `#` are skipped;
+//!   and lines starting with `#` (after leading blanks) are skipped;
 //! - only the selected feature and target columns must hold numbers; each must parse as a
 //!   finite f64 (NaN and infinities are refused). Other columns may hold anything.
 //!
-//! Every error names the source and the 1-based line number.
+//! Every error names the source and the 1-based line number (of the record's first line).
+//!
+//! Speed, measured against the hand-written splitter it replaced, both in one process,
+//! parses interleaved (100 000 rows, 7.7 MB, two features and a target selected out of
+//! five columns; median of 31 parses each, `--release`, a shared 2-core machine): csv
+//! crate / hand-written = 0.88 to 0.93 over three runs (about 50 ms against 55 ms), 0.90
+//! at 10^6 rows. Fields are trimmed here rather than with `csv::Trim`, which rebuilds
+//! every record and made the reader 1.6x slower than the hand-written one.
 
 use nalgebra::DMatrix;
 
@@ -44,15 +53,74 @@ pub fn parse_header_field(field: &str) -> (String, String) {
     }
 }
 
-fn split_fields(line: &str) -> Vec<&str> {
-    line.split(',')
-        .map(|f| {
-            let f = f.trim();
-            f.strip_prefix('"')
-                .and_then(|g| g.strip_suffix('"'))
-                .unwrap_or(f)
-        })
-        .collect()
+/// A field's text: trimmed (not with `csv::Trim`, see the module doc), and unwrapped from
+/// double quotes that the `csv` crate kept (` "2.5"`: the quote is not the field's first
+/// byte).
+fn field_text(field: &str) -> &str {
+    let field = field.trim();
+    field
+        .strip_prefix('"')
+        .and_then(|f| f.strip_suffix('"'))
+        .unwrap_or(field)
+}
+
+/// Blank (only whitespace) and comment (`#` after leading blanks) lines; the `csv` crate
+/// skips empty lines and lines starting with `#` by itself.
+fn skipped(record: &csv::StringRecord) -> bool {
+    match record.get(0) {
+        None => true,
+        Some(first) => {
+            let first = first.trim_start();
+            (record.len() == 1 && first.is_empty()) || first.starts_with('#')
+        }
+    }
+}
+
+/// 1-based line numbers of records, counted here: the `csv` crate's `Position::line` is
+/// the line where reading started, before the blank and comment lines it skipped, and
+/// misses `\r\n` ends (rust-csv issues 208 and 395, open). Its `Position::byte` is right,
+/// so from there this skips what csv-core skips before a record (empty lines, and `#`
+/// lines up to their end; the terminator is `\n`) and counts the `\n` bytes before the
+/// record's first byte.
+struct LineCounter<'a> {
+    text: &'a [u8],
+    /// Where the last counted record starts, and its line.
+    offset: usize,
+    line: usize,
+}
+
+impl<'a> LineCounter<'a> {
+    fn new(text: &'a [u8]) -> Self {
+        Self {
+            text,
+            offset: 0,
+            line: 1,
+        }
+    }
+
+    /// The line of the record whose reading started at byte `from`; records come in order.
+    fn line_of(&mut self, from: usize) -> usize {
+        let line_end = |b: &u8| *b == b'\n';
+        let mut start = from.clamp(self.offset, self.text.len());
+        loop {
+            match self.text.get(start) {
+                Some(b) if line_end(b) => start += 1,
+                Some(b'#') => {
+                    start += self.text[start..]
+                        .iter()
+                        .position(line_end)
+                        .unwrap_or(self.text.len() - start)
+                }
+                _ => break,
+            }
+        }
+        self.line += self.text[self.offset..start]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        self.offset = start;
+        self.line
+    }
 }
 
 /// Reads a CSV file; see the module documentation for the format.
@@ -76,18 +144,39 @@ pub fn parse_csv(
         message,
     };
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l))
-        .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .comment(Some(b'#'))
+        // Lines end at '\n' only, as they did for the hand-written reader (`str::lines`): a
+        // '\r' before it is trimmed with the field, a lone '\r' is no line end.
+        .terminator(csv::Terminator::Any(b'\n'))
+        .from_reader(text.as_bytes());
+    let mut record = csv::StringRecord::new();
+    let mut lines = LineCounter::new(text.as_bytes());
+    // The next record that is not blank or a comment, with its 1-based line number.
+    let mut next_record = |record: &mut csv::StringRecord| -> Result<Option<usize>, TrainError> {
+        loop {
+            let more = reader.read_record(record).map_err(|e| {
+                // Input from a &str cannot fail to read or decode; kept for safety.
+                let from = e.position().map_or(0, csv::Position::byte);
+                error(lines.line_of(from as usize), e.to_string())
+            })?;
+            if !more {
+                return Ok(None);
+            }
+            if !skipped(record) {
+                let from = record.position().map_or(0, csv::Position::byte);
+                return Ok(Some(lines.line_of(from as usize)));
+            }
+        }
+    };
 
-    let (header_line, header) = lines
-        .next()
+    let header_line = next_record(&mut record)?
         .ok_or_else(|| error(1, "the file is empty (no header line)".to_string()))?;
-    let columns: Vec<(String, String)> = split_fields(header)
-        .into_iter()
-        .map(parse_header_field)
+    let columns: Vec<(String, String)> = record
+        .iter()
+        .map(|field| parse_header_field(field_text(field)))
         .collect();
     for (i, (name, _)) in columns.iter().enumerate() {
         if name.is_empty() {
@@ -156,20 +245,19 @@ pub fn parse_csv(
 
     let mut values: Vec<f64> = Vec::new();
     let mut targets: Vec<f64> = Vec::new();
-    for (line_number, line) in lines {
-        let fields = split_fields(line);
-        if fields.len() != columns.len() {
+    while let Some(line_number) = next_record(&mut record)? {
+        if record.len() != columns.len() {
             return Err(error(
                 line_number,
                 format!(
                     "{} field(s), but the header has {} columns",
-                    fields.len(),
+                    record.len(),
                     columns.len()
                 ),
             ));
         }
         for (k, &column) in selected.iter().enumerate() {
-            let text = fields[column];
+            let text = field_text(&record[column]);
             let value: f64 = text.parse().map_err(|_| {
                 error(
                     line_number,
@@ -246,22 +334,56 @@ mod tests {
         assert_eq!(data.inputs.column(1).as_slice(), &[-0.2, 90.0]);
     }
 
+    /// The error for `text` is on `line` (None: not checked) and contains `needle`.
+    fn assert_error(text: &str, line: Option<usize>, needle: &str) {
+        let m = message(text);
+        let at = line.map_or(String::new(), |l| format!("t.csv, line {l}: "));
+        assert!(m.starts_with(&at) && m.contains(needle), "{text:?}: {m}");
+    }
+
     #[test]
     fn bad_files_name_the_line() {
-        assert!(message("").contains("empty"));
-        assert!(message("v,Fn,F\n").contains("no data rows"));
-        assert!(message("v,F\n1,2\n").contains("no column named 'Fn'"));
-        let m = message("v,Fn,F\n0.1,100,20\n0.2,abc,20\n");
-        assert!(
-            m.contains("line 3") && m.contains("'abc' is not a number"),
-            "{m}"
+        for (text, line, needle) in [
+            ("", Some(1), "empty"),
+            ("v,Fn,F\n", Some(1), "no data rows"),
+            ("v,F\n1,2\n", Some(1), "no column named 'Fn'"),
+            (
+                "v,Fn,F\n0.1,100,20\n0.2,abc,20\n",
+                Some(3),
+                "'abc' is not a number",
+            ),
+            ("v,Fn,F\n0.1,100,NaN\n", Some(2), "not a finite"),
+            ("v,Fn,F\n0.1,100,inf\n", None, "not a finite"),
+            ("v,Fn,F\n0.1,100,20\n0.1,100\n", Some(3), "2 field(s)"),
+            ("v,v,F\n1,2,3\n", None, "twice"),
+        ] {
+            assert_error(text, line, needle);
+        }
+    }
+
+    #[test]
+    fn line_numbers_count_blank_comment_and_quoted_lines() {
+        // BOM, CRLF, an indented comment, a whitespace-only line, a quoted note spanning
+        // lines 6 and 7: the bad value is on line 9 as an editor shows it.
+        let text = "\u{feff}# measured\r\n\r\nv, Fn, F, note\r\n  # indented comment\r\n \t \r\n0.1, 100, 20,\"two\nlines\"\r\n0.2, 100, 21, x\r\n0.3, 100, oops, x\r\n";
+        assert_error(text, Some(9), "'oops'");
+        assert_error(
+            "v,Fn,F\n\n\"a\nb\",1,2\n0.1,100\n",
+            Some(3),
+            "'a\nb' is not a number",
         );
-        let m = message("v,Fn,F\n0.1,100,NaN\n");
-        assert!(m.contains("line 2") && m.contains("not a finite"), "{m}");
-        let m = message("v,Fn,F\n0.1,100,inf\n");
-        assert!(m.contains("not a finite"), "{m}");
-        let m = message("v,Fn,F\n0.1,100,20\n0.1,100\n");
-        assert!(m.contains("line 3") && m.contains("2 field(s)"), "{m}");
-        assert!(message("v,v,F\n1,2,3\n").contains("twice"));
+        assert_error("# x\nv,Fn,F\n\"a\nb\",1,2,3\n", Some(3), "4 field(s)");
+        assert_error("\n\n# x\nv,,F\n", Some(4), "column 2 has no name");
+    }
+
+    #[test]
+    fn quoted_fields_may_hold_commas_and_quoted_numbers_read() {
+        let text =
+            "\"v [m/s]\",\"Fn[N]\", \"F[N]\",note\n\"0.5\", 100 , \"-2.5\",\"a, \"\"b\"\"\"\n";
+        let data = parse_csv(text, "t.csv", &selection()).unwrap();
+        assert_eq!(data.features[0], Quantity::new("v", "m/s"));
+        assert_eq!(data.target, Quantity::new("F", "N"));
+        assert_eq!(data.inputs.column(0).as_slice(), &[0.5, 100.0]);
+        assert_eq!(data.targets, vec![-2.5]);
     }
 }

@@ -11,6 +11,17 @@
 //! Written here rather than taken from `argmin` because training needs a deterministic,
 //! allocation-light loop over one flat `Vec<f64>` with a per-iteration callback (history,
 //! progress, test loss) and no extra dependency tree; the algorithm is short.
+//!
+//! And kept because it reproduces the shipped weights byte for byte: retraining with the
+//! defaults writes `weights/paper-plain.json` and `weights/paper-signed.json` exactly
+//! (tests `training_with_defaults_regenerates_the_shipped_plain_weights` and
+//! `training_the_signed_variant_regenerates_the_shipped_signed_weights` in
+//! `tests/neural/training.rs`, opt-in with `--ignored`). argmin's L-BFGS would change
+//! those weights: its line searches are More-Thuente, Hager-Zhang or backtracking (not
+//! the Alg. 3.5 / 3.6 zoom used here), it has its own stopping rules, and its vector
+//! arithmetic (argmin-math) sums the two-loop dot products in its own order; any one of
+//! these moves the iterates by an ulp at first, and 200 to 1000 iterations of a
+//! non-convex loss carry that into different weights.
 
 use std::collections::VecDeque;
 
