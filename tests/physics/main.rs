@@ -1,9 +1,12 @@
-//! Physics: statics and frequencies against beam theory, dynamics (orbits, energy, convergence), the extremes, scene validation, the choice enums, fidelity = auto and the error messages.
+//! Physics: statics and frequencies against beam theory, dynamics (orbits, energy,
+//! convergence), the extremes, scene validation, the choice enums, fidelity = auto, the
+//! error messages, and the layering of the crates.
 
 mod auto;
 mod choices;
 mod dynamics;
 mod errors;
 mod extremes;
+mod layering;
 mod scene_validation;
 mod statics;
