@@ -26,6 +26,8 @@ pub struct Estimates {
     pub omega: Vec<f64>,
     /// Beam mass rho A L (kg).
     pub mass: f64,
+    /// Static tip stiffness k = 3 EI / L^3 (N/m).
+    pub tip_stiffness: f64,
     /// Rayleigh a (1/s) of the damping used below.
     pub mass_proportional: f64,
     /// Rayleigh b (s) of the damping used below.
@@ -59,6 +61,7 @@ pub fn estimates(args: &EstimatesArgs) -> Result<(), CliError> {
             .filter_map(|n| cantilever_omega(&scene, n))
             .collect(),
         mass: scene.mass_per_length() * scene.geometry.length,
+        tip_stiffness: scene.euler_bernoulli_tip_stiffness(),
         mass_proportional: scene.damping.mass_proportional,
         stiffness_proportional: scene.damping.stiffness_proportional,
         sliding_stability_speed: speed,
