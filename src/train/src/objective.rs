@@ -1,8 +1,9 @@
 //! The training objective: mean squared error of the standardised network plus an L2
-//! penalty, with its gradient by backpropagation (`Network::backward`), evaluated on
+//! penalty, with its gradient by backpropagation (`crate::backprop`), evaluated on
 //! blocks of samples in parallel with a fixed summation order.
 
-use crate::TrainError;
+use crate::backprop::Deltas;
+use crate::error::TrainError;
 use rand::Rng;
 use stickslip::neural::network::{Network, Workspace};
 #[cfg(test)]
@@ -28,6 +29,7 @@ struct Block {
     start: usize,
     len: usize,
     workspace: Workspace,
+    deltas: Deltas,
     gradient: Vec<f64>,
     squared_error: f64,
 }
@@ -90,6 +92,7 @@ impl<'a> Objective<'a> {
                     start,
                     len: per_block.min(samples - start.min(samples)),
                     workspace: Workspace::default(),
+                    deltas: Deltas::default(),
                     gradient: vec![0.0; network.parameter_count()],
                     squared_error: 0.0,
                 }
@@ -120,9 +123,9 @@ impl<'a> Objective<'a> {
         let run = |block: &mut Block| {
             let x = &inputs[block.start * d..(block.start + block.len) * d];
             let t = &targets[block.start..block.start + block.len];
-            network.forward(params, x, block.len, &mut block.workspace);
+            let outputs = network.forward(params, x, block.len, &mut block.workspace);
+            let delta = block.deltas.output_mut(network, block.len);
             let mut squared_error = 0.0;
-            let (outputs, delta) = block.workspace.outputs_and_output_delta(block.len);
             // Output layer is 1 wide: outputs and deltas are per-sample vectors.
             let scale = 2.0 / n as f64;
             for ((dz, f), t) in delta.iter_mut().zip(outputs.iter()).zip(t) {
@@ -131,13 +134,9 @@ impl<'a> Objective<'a> {
                 *dz = scale * r;
             }
             block.squared_error = squared_error;
-            network.backward(
-                params,
-                x,
-                block.len,
-                &mut block.workspace,
-                &mut block.gradient,
-            );
+            block
+                .deltas
+                .backward(network, params, x, &block.workspace, &mut block.gradient);
         };
         if self.blocks.len() == 1 {
             run(&mut self.blocks[0]);
@@ -255,7 +254,13 @@ mod tests {
             .map(|(f, t)| (f - t).powi(2))
             .sum::<f64>()
             / 50.0;
-        let expected = mse + 0.25 * network.squared_weight_norm(&params);
+        let squared_weight_norm: f64 = network
+            .layers()
+            .iter()
+            .flat_map(|l| params[l.weight_range()].iter())
+            .map(|w| w * w)
+            .sum();
+        let expected = mse + 0.25 * squared_weight_norm;
         assert!((value - expected).abs() < 1e-12 * expected.abs().max(1.0));
     }
 }

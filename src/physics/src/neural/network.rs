@@ -1,6 +1,7 @@
 //! A fully connected feed-forward network y = f(x) with one output, evaluated on whole
-//! batches with matrix-matrix products, and its parameter gradient by backpropagation
-//! (the trainer's objective, `stickslip_train::objective`, is built on `backward`).
+//! batches with matrix-matrix products (inference only). The trainer's backpropagation
+//! (`stickslip_train::backprop`) reads a forward pass's activations through
+//! `Workspace::activations` and multiplies with the same `gemm`.
 //!
 //! Layer l (1-based) maps a_{l-1} to z_l = W_l a_{l-1} + b_l; hidden layers apply the
 //! activation, a_l = phi(z_l); the last layer is linear (regression output).
@@ -45,23 +46,6 @@ impl Activation {
             Activation::Tanh => tanh(z),
             Activation::Sigmoid => 1.0 / (1.0 + (-z).exp()),
             Activation::Relu => z.max(0.0),
-        }
-    }
-
-    /// phi'(z) written in terms of a = phi(z), so the backward pass needs only the stored
-    /// activations: tanh' = 1 - a^2, sigmoid' = a (1 - a), relu' = [a > 0].
-    #[inline]
-    pub fn derivative_from_output(self, a: f64) -> f64 {
-        match self {
-            Activation::Tanh => 1.0 - a * a,
-            Activation::Sigmoid => a * (1.0 - a),
-            Activation::Relu => {
-                if a > 0.0 {
-                    1.0
-                } else {
-                    0.0
-                }
-            }
         }
     }
 }
@@ -147,17 +131,9 @@ impl Network {
         self.layers.last().map_or(0, |l| l.biases + l.outputs)
     }
 
-    /// Sum of squared weights (biases excluded), ||W||^2.
-    pub fn squared_weight_norm(&self, params: &[f64]) -> f64 {
-        self.layers
-            .iter()
-            .flat_map(|l| params[l.weight_range()].iter())
-            .map(|w| w * w)
-            .sum()
-    }
-
     /// Forward pass of `samples` columns of `inputs` (inputs x samples, column-major);
-    /// returns the outputs (one per sample), which live in `workspace`.
+    /// returns the outputs (one per sample), which live in `workspace` (as do every
+    /// layer's activations, see `Workspace::activations`).
     pub fn forward<'w>(
         &self,
         params: &[f64],
@@ -202,61 +178,6 @@ impl Network {
         }
         &workspace.activations[last][..samples]
     }
-
-    /// Backward pass after `forward` on the same workspace. On entry the workspace's
-    /// output delta holds dJ/dz_L per sample; writes dJ/dparams (data term only) into
-    /// `gradient` (overwritten).
-    pub fn backward(
-        &self,
-        params: &[f64],
-        inputs: &[f64],
-        samples: usize,
-        workspace: &mut Workspace,
-        gradient: &mut [f64],
-    ) {
-        for (l, layer) in self.layers.iter().enumerate().rev() {
-            let input: &[f64] = if l == 0 {
-                inputs
-            } else {
-                &workspace.activations[l - 1][..layer.inputs * samples]
-            };
-            let (lower, upper) = workspace.deltas.split_at_mut(l);
-            let delta = &upper[0][..layer.outputs * samples];
-            // dJ/dW_l = Delta_l A_{l-1}^T: A^T is A's buffer read with swapped strides.
-            gemm(
-                (layer.outputs, samples, layer.inputs),
-                delta,
-                (1, layer.outputs),
-                input,
-                (layer.inputs, 1),
-                &mut gradient[layer.weight_range()],
-            );
-            // dJ/db_l = Delta_l 1 (row sums).
-            let bias_gradient = &mut gradient[layer.bias_range()];
-            bias_gradient.iter_mut().for_each(|g| *g = 0.0);
-            for column in delta.chunks_exact(layer.outputs) {
-                for (g, d) in bias_gradient.iter_mut().zip(column) {
-                    *g += d;
-                }
-            }
-            if l > 0 {
-                // Delta_{l-1} = (W_l^T Delta_l) .* phi'(A_{l-1})
-                let below = &mut lower[l - 1][..layer.inputs * samples];
-                gemm(
-                    (layer.inputs, layer.outputs, samples),
-                    &params[layer.weight_range()],
-                    (layer.outputs, 1),
-                    delta,
-                    (1, layer.outputs),
-                    below,
-                );
-                let activation = self.activation;
-                for (d, a) in below.iter_mut().zip(input) {
-                    *d *= activation.derivative_from_output(*a);
-                }
-            }
-        }
-    }
 }
 
 /// Products with a dimension at or below this go through `small_gemm`: nalgebra 0.33
@@ -265,9 +186,12 @@ impl Network {
 /// `matrixmultiply`, which honours any strides.
 const SMALL_DIMENSION: usize = 5;
 
-/// C = A B for column-major C (m x n); A (m x k) and B (k x n) are given by their buffers
-/// and (row stride, column stride), so a transpose is just swapped strides.
-fn gemm(
+/// C = A B for column-major C (m x n, overwritten); A (m x k) and B (k x n) are given by
+/// their buffers and (row stride, column stride), so a transpose is just swapped strides
+/// (the trainer's backward pass multiplies by W^T and A^T this way). The summation order
+/// is fixed for given sizes, which the byte-for-byte reproduction of the shipped weights
+/// relies on.
+pub fn gemm(
     (m, k, n): (usize, usize, usize),
     a: &[f64],
     a_strides: (usize, usize),
@@ -307,43 +231,53 @@ fn small_gemm(
     }
 }
 
-/// Buffers for one batch: activations and deltas of every layer, reused across calls.
+/// Buffers of one batch's forward pass: every layer's activations, reused across calls.
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
+    /// Samples the buffers hold room for.
+    capacity: usize,
+    /// Samples of the last `forward`.
     samples: usize,
+    /// Per layer, outputs x capacity, column-major.
     activations: Vec<Vec<f64>>,
-    deltas: Vec<Vec<f64>>,
+    /// Per layer, its number of outputs.
+    widths: Vec<usize>,
 }
 
 impl Workspace {
-    /// After `forward` over `samples` samples: the network outputs, and the output
-    /// layer's delta (dJ/dz_L per sample) that `backward` reads.
-    pub fn outputs_and_output_delta(&mut self, samples: usize) -> (&[f64], &mut [f64]) {
-        let last = self.activations.len() - 1;
-        (
-            &self.activations[last][..samples],
-            &mut self.deltas[last][..samples],
-        )
+    /// Samples of the last forward pass.
+    pub fn samples(&self) -> usize {
+        self.samples
+    }
+
+    /// Layer `layer`'s (0-based) activations from the last forward pass, column-major
+    /// (outputs x samples): a_l = phi(z_l) for hidden layers, z_L (the network's output)
+    /// for the last. Read-only: what backpropagation needs besides the parameters.
+    pub fn activations(&self, layer: usize) -> &[f64] {
+        &self.activations[layer][..self.widths[layer] * self.samples]
     }
 
     fn ensure(&mut self, network: &Network, samples: usize) {
-        if self.samples >= samples && self.activations.len() == network.layers.len() {
+        self.samples = samples;
+        if self.capacity >= samples && self.activations.len() == network.layers.len() {
             let fits = network
                 .layers
                 .iter()
                 .zip(&self.activations)
                 .all(|(l, a)| a.len() >= l.outputs * samples);
             if fits {
+                self.widths.clear();
+                self.widths.extend(network.layers.iter().map(|l| l.outputs));
                 return;
             }
         }
-        self.samples = samples;
+        self.capacity = samples;
         self.activations = network
             .layers
             .iter()
             .map(|l| vec![0.0; l.outputs * samples])
             .collect();
-        self.deltas = self.activations.clone();
+        self.widths = network.layers.iter().map(|l| l.outputs).collect();
     }
 }
 
@@ -360,5 +294,37 @@ mod tests {
         assert_eq!(tanh(800.0), 1.0);
         assert_eq!(tanh(-800.0), -1.0);
         assert!(tanh(f64::NAN).is_nan());
+    }
+
+    /// The workspace exposes each layer's activations of the last pass: tanh(W_1 x + b_1)
+    /// for the hidden layer and the linear output, for exactly the pass's samples even
+    /// when its buffers were sized for a larger batch before.
+    #[test]
+    fn workspace_holds_every_layer_of_the_last_forward_pass() {
+        let network = Network::new(&[2, 3, 1], Activation::Tanh).unwrap();
+        let params: Vec<f64> = (0..network.parameter_count())
+            .map(|i| 0.1 * i as f64 - 0.6)
+            .collect();
+        let hidden = network.layers()[0];
+        let output = network.layers()[1];
+        let mut workspace = Workspace::default();
+        network.forward(&params, &[0.0; 2 * 5], 5, &mut workspace);
+        let inputs = [0.3, -0.8, 1.1, 0.4];
+        let outputs = network
+            .forward(&params, &inputs, 2, &mut workspace)
+            .to_vec();
+        assert_eq!(workspace.samples(), 2);
+        assert_eq!(workspace.activations(0).len(), 3 * 2);
+        assert_eq!(workspace.activations(1), outputs.as_slice());
+        for (j, x) in inputs.chunks_exact(2).enumerate() {
+            let mut z = params[output.biases];
+            for i in 0..3 {
+                let w = &params[hidden.weight_range()];
+                let a = tanh(w[i] * x[0] + w[3 + i] * x[1] + params[hidden.biases + i]);
+                assert!((workspace.activations(0)[3 * j + i] - a).abs() < 1e-15);
+                z += params[output.weights + i] * a;
+            }
+            assert!((outputs[j] - z).abs() < 1e-14);
+        }
     }
 }
