@@ -25,7 +25,7 @@
 use nalgebra::DMatrix;
 
 use crate::data::{Dataset, Quantity};
-use crate::TrainError;
+use crate::error::TrainError;
 use stickslip::neural::FeatureRole;
 
 /// Which columns to read and what they mean to the beam.

@@ -11,7 +11,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal, Uniform};
 use serde::{Deserialize, Serialize};
 
-use crate::TrainError;
+use crate::error::TrainError;
 use stickslip::friction::signum_or_zero;
 use stickslip::neural::{FeatureRole, SyntheticSpec};
 

@@ -25,7 +25,7 @@
 
 use std::collections::VecDeque;
 
-use crate::TrainError;
+use crate::error::TrainError;
 
 /// Settings of `minimize`.
 #[derive(Clone, Debug, PartialEq)]

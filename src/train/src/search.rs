@@ -11,8 +11,8 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use crate::data::{seeded_rng, Dataset, FOLD_STREAM};
+use crate::error::TrainError;
 use crate::train::{mse_and_r2, train, DataSource, TrainConfig};
-use crate::TrainError;
 use rand::seq::SliceRandom;
 
 /// The grid and how to score it.

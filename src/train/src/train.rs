@@ -39,9 +39,9 @@ use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
 use crate::data::{seeded_rng, Dataset, Split, Synthetic, INIT_STREAM};
+use crate::error::TrainError;
 use crate::lbfgs::{minimize, LbfgsOptions, StopReason};
 use crate::objective::{initial_parameters, Objective};
-use crate::TrainError;
 use stickslip::neural::network::{Activation, Network, Workspace};
 use stickslip::neural::weights::{
     FeatureSpec, Metrics, NeuralModel, TargetSpec, TrainingInfo, Variant, FORMAT_NAME,

@@ -22,10 +22,10 @@ use std::path::Path;
 
 use nalgebra::DMatrix;
 
+use super::error::NeuralError;
 use super::network::Activation;
 use super::weights::FeatureRole;
 use super::weights::{network_input_range, NeuralModel, Variant};
-use super::NeuralError;
 use crate::friction::{signum_or_zero, FrictionLaw};
 
 /// One layer in inference layout: weights row-major (outputs x inputs), so output o is

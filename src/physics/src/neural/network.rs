@@ -13,7 +13,7 @@
 
 use nalgebra::{DMatrixView, DMatrixViewMut};
 
-use super::NeuralError;
+use super::error::NeuralError;
 
 crate::choice! {
     /// Hidden-layer activation function.

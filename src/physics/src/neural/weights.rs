@@ -15,8 +15,8 @@ use std::path::Path;
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
+use super::error::NeuralError;
 use super::network::{Activation, Network, Workspace};
-use super::NeuralError;
 use crate::friction::signum_or_zero;
 
 /// What a feature means to the beam. The beam's `FrictionLaw` interface passes the
