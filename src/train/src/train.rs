@@ -35,7 +35,6 @@
 
 use std::time::Instant;
 
-use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
 use crate::data::{seeded_rng, Dataset, Split, Synthetic, INIT_STREAM};
@@ -446,12 +445,4 @@ pub fn train_synthetic(
 pub fn evaluate_model(model: &NeuralModel, data: &Dataset) -> Result<(f64, f64), TrainError> {
     let predictions = model.predict_columns(&data.inputs)?;
     Ok(mse_and_r2(&predictions, &data.targets))
-}
-
-/// Raw feature matrix helper for callers that have rows of samples.
-pub fn columns_from_rows(rows: &[Vec<f64>]) -> DMatrix<f64> {
-    let d = rows.first().map_or(0, Vec::len);
-    DMatrix::from_fn(d, rows.len(), |k, i| {
-        rows[i].get(k).copied().unwrap_or(f64::NAN)
-    })
 }
