@@ -1,13 +1,18 @@
 //! The physics of the stick-slip beam: plain Rust, with no C types, no command line and
 //! no training.
 //!
-//! A scene (`scene`) is checked once into a `CheckedScene`. It builds a structural
-//! model (`structure`: Hermite beam or Q8 plane stress from `element` and `mesh`, or a
-//! `modal` reduction of either), which the `integrator` steps and the `contact` switches
-//! between stick and slip under a `friction` law (analytical, or a trained network from
-//! `neural`). `simulation` ties these together step by step; `run` runs a scene to its
-//! end; `metrics` reads breakaway, slips and period off a run; `study` measures speed
-//! against accuracy and `auto` picks the cheapest fidelity that meets a tolerance.
+//! A scene (`scene`) is checked once into a `CheckedScene`. Its fidelity level
+//! (`fidelity`) builds a structural model (`structure`: Hermite beam or Q8 plane stress
+//! from `element` and `mesh` with `banded` solves, or a `modal` reduction of either),
+//! which the `integrator` steps and the `contact` switches between stick and slip under
+//! a `friction` law (analytical, or a trained network from `neural`, inference only).
+//! `simulation` ties these together step by step; `run` runs a scene to its end;
+//! `metrics` reads breakaway, slips and period off a run; `study` measures speed against
+//! accuracy and `auto` picks the cheapest fidelity that meets a tolerance. Beside the
+//! dynamics: `statics`, the paper's static tip-load case and its mesh convergence
+//! (Sec. 2.1); `stability`, closed-form cantilever frequencies, Rayleigh damping at two
+//! modes and the belt speed above which steady sliding is stable. `choice` is the
+//! `Choice` trait and `choice!` macro that every enumerated setting is declared with.
 //!
 //! The FMI adapter (`stickslip-fmi`), the command line (`stickslip-cli`) and the trainer
 //! (`stickslip-train`) depend on this crate, never the reverse.

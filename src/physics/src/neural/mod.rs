@@ -1,14 +1,15 @@
 //! Neural-network friction law (issue 3), after Vater, Stender & Hoffmann, "Towards
 //! neural network-based numerical friction models", PAMM 2023.
 //!
-//! This crate holds what the simulation needs to *use* a trained network:
-//! - `network`: fully connected network, batched forward pass and its parameter
-//!   gradient (backpropagation);
+//! This module holds what the simulation needs to *use* a trained network:
+//! - `network`: fully connected network and its batched forward pass;
 //! - `weights`: the self-describing JSON weights file; `law`: `NeuralLaw`, the trained
-//!   model as a `crate::friction::FrictionLaw`.
+//!   model as a `crate::friction::FrictionLaw`;
+//! - `error`: `NeuralError`, why a weights file or an evaluation was refused.
 //!
-//! Training (data, CSV, L-BFGS, the objective, search) lives in the `stickslip-train`
-//! crate, and the `stickslip train` / `stickslip search` commands in `stickslip-cli`.
+//! Training (data, CSV, backpropagation, L-BFGS, the objective, search) lives in the
+//! `stickslip-train` crate, and the `stickslip train` / `stickslip search` commands in
+//! `stickslip-cli`.
 //!
 //! # Shipped models
 //! Two models trained on the paper's data with the default seed (2) are embedded:
@@ -26,17 +27,16 @@
 //! biases the smooth magnitude (test MSE 0.0036 N^2 instead of the noise floor 0.0004).
 //!
 //! # Decisions
-//! - Loss: MSE on the raw target plus lambda/2 ||W||^2 of the raw-output network; maps
-//!   to scikit-learn's alpha = n lambda / 2 (see `train` for fitrnet).
-//! - CSV units come from the header, `name[unit]`; a bare `name` has an empty unit.
-//!   Names, units, order and roles of the features travel in the weights file.
+//! - Names, units, order and roles of the features travel in the weights file (see
+//!   `weights`); the trainer's decisions (loss, CSV units) are in `stickslip_train`.
 //! - Inputs outside the training range are clamped to it (see `law`).
 //! - A model is the beam's `FrictionLaw` only if it has a sliding-velocity and a
 //!   normal-force feature and every other feature is given a fixed value (see `law`).
 //! - Matrix products: nalgebra's gemm, i.e. `matrixmultiply`, measured at ~50 GFLOP/s
 //!   per core here (100 x 100 by 100 x 1750); products are under a third of a training
 //!   evaluation (tanh and element-wise work dominate), so faer could not be clearly
-//!   faster and was not added.
+//!   faster and was not added. The trainer's backward pass uses the same
+//!   `network::gemm`.
 
 mod error;
 pub mod law;

@@ -177,7 +177,7 @@ pub struct TrainingInfo {
     pub test_fraction: f64,
     pub train_samples: usize,
     pub test_samples: usize,
-    /// lambda of the loss (see `train::TrainConfig::lambda`).
+    /// lambda of the loss (see `stickslip_train::train::TrainConfig::lambda`).
     pub lambda: f64,
     /// Words for the minimised objective.
     pub loss: String,
