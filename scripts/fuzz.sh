@@ -20,9 +20,11 @@
 # while the coverage instrumentation libFuzzer needs (SanitizerCoverage, plain -C
 # flags) works on stable Rust, so no RUSTC_BOOTSTRAP is needed. Safe Rust does not need
 # AddressSanitizer to catch out-of-bounds accesses, and the code these targets reach
-# has one unsafe block (a target_feature call in neural::law); the pointer handling of
-# the C interface (fmu::ffi) is not reached: the FMU-state target enters one layer
-# below it, at `Instance`, which the ffi functions forward to.
+# has two unsafe blocks, both target_feature calls taken only when the CPU reports the
+# features (AVX2 and FMA in stickslip::neural::law, AVX2 in stickslip::banded); the
+# pointer handling of the C interface (stickslip_fmi::ffi) is not reached: the
+# FMU-state target enters one layer below it, at `Instance`, which the ffi functions
+# forward to.
 #
 # Environment: CARGO_TARGET_DIR (default: cargo fuzz's fuzz/target), FUZZ_LOG_DIR
 # (libFuzzer output, default: a temporary folder, printed), FUZZ_NO_CMIN=1 to keep the

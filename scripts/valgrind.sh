@@ -10,8 +10,9 @@
 # call: canNotUseMemoryManagementFunctions = true). One FMU state per life is left for
 # fmi2FreeInstance to free.
 #
-# Not part of scripts/test.sh. Honours CARGO_TARGET_DIR. STICKSLIP_VALGRIND_ROUNDS sets
-# the lives per FMU and kind of callbacks (default 2; about 10 s under valgrind).
+# scripts/test.sh runs it after the Rust tests; it also runs on its own. Honours
+# CARGO_TARGET_DIR. STICKSLIP_VALGRIND_ROUNDS sets the lives per FMU and kind of
+# callbacks (default 2; about 10 s under valgrind).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"

@@ -9,7 +9,10 @@ choices map to FMI value references and integer codes.
 - Value references, types, start values and the choices of every variable are read from
   each FMU's modelDescription.xml; nothing here is hard-coded. A choice variable (today
   an FMI Enumeration) is set as an integer code; `choices` is the only function that
-  knows how the codes are declared.
+  knows how the codes are declared. The structural models are fidelity.level's items
+  without `auto` (`fidelities`).
+- The shipped network: <repo>/weights/paper-plain.json; its `training` section records
+  the settings it was trained with (`shipped_training`).
 """
 
 from __future__ import annotations
@@ -26,9 +29,9 @@ from fmpy.fmi2 import FMU2Slave
 
 BEAM = "StickSlipBeam"
 FRICTION = "NeuralFriction"
-# The structural models (items of StickSlipBeam's fidelity.level) the scripts run; `auto`
-# picks one of them by itself and is not among them.
-FIDELITIES = ("modal", "beam", "plane-stress")
+# The item of StickSlipBeam's fidelity.level that is not a structural model: it picks one
+# of the others (and a time step and integrator) by itself. See `fidelities`.
+AUTO = "auto"
 BUILD_HINT = "run `cargo run --release -p fmu-build` first (it writes <target dir>/fmu/*.fmu)"
 
 
@@ -48,6 +51,13 @@ def _repo_root() -> Path:
 
 REPO = _repo_root()
 DEFAULT_OUT = REPO / "out"
+SHIPPED_WEIGHTS = REPO / "weights" / "paper-plain.json"
+
+
+def shipped_training() -> dict:
+    """The `training` section of the shipped weights file: the settings `stickslip train`
+    ran with (`max_iterations`, `seed`, `lambda`, the data set, ...)."""
+    return json.loads(SHIPPED_WEIGHTS.read_text())["training"]
 
 
 def fmu_dir() -> Path:
@@ -132,6 +142,11 @@ class Model:
             raise KeyError(f"{name}: no choice with code {value}")
         return int(value)
 
+    def real_start(self, name: str) -> float:
+        """The start value of the Real variable `name` (the model description holds it as
+        text)."""
+        return float(self.variables[name].start)
+
     def kind(self, name: str) -> str:
         """How the variable is set and read: Real, Integer, Boolean or String (a choice
         variable is an Integer: its code)."""
@@ -164,6 +179,13 @@ class Model:
             "String": slave.getString,
         }[kind]
         return lambda: read(vr)[0]
+
+
+def fidelities(beam: Model) -> tuple[str, ...]:
+    """The structural models the scripts run: StickSlipBeam's fidelity.level items in the
+    order of their codes, without `auto` (which picks one of them by itself)."""
+    items = beam.choices["fidelity.level"]
+    return tuple(name for name in sorted(items, key=items.get) if name != AUTO)
 
 
 class Fmu:

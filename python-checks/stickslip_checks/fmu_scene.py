@@ -3,9 +3,9 @@
 1. Validates StickSlipBeam.fmu and NeuralFriction.fmu with fmpy.validation.validate_fmu
    (every problem is printed; there must be none).
 2. Runs the paper's scene (0 .. 1.2 s, output every 1 ms) through StickSlipBeam.fmu with
-   simulate_fmu, at every fidelity (modal, beam, plane-stress) and with the analytical
-   exponential law and the neural law (friction.weights = paper-plain.json and
-   paper-signed.json).
+   simulate_fmu, at every structural fidelity (fidelity.level's items but auto, read from
+   the model description by artifacts.fidelities) and with the analytical exponential
+   law and the neural law (friction.weights = paper-plain.json and paper-signed.json).
 3. Couples StickSlipBeam (friction.model = external) with NeuralFriction.fmu (law neural
    with paper-plain.json, and law exponential) with the Gauss-Seidel master (master.run,
    beam first; cosim_convergence compares with Jacobi) over FMU2Slave at 1 ms: beam
@@ -17,12 +17,13 @@
    force handed to the beam at t is the law at v_rel(t).
 4. For every run: breakaway (first sample with stick false), number of stick/slip
    transitions at 1.2 s, the tip-deflection corridor after breakaway, the sawtooth period
-   (mean spacing of major-slip onsets, the idea of src/metrics.rs on the 1 ms samples) and
-   the RMS and largest deviation of the tip deflection from the analytical-law run at the
-   same fidelity.
+   (mean spacing of major-slip onsets, the idea of src/physics/src/metrics.rs on the 1 ms
+   samples) and the RMS and largest deviation of the tip deflection from the
+   analytical-law run at the same fidelity.
 5. Prints the table, writes it to out/fmu_validation.csv, and plots
    out/fmu_tip_deflection.png and out/fmu_friction_law.png (NeuralFriction.fmu stepped
-   with its velocity input swept from -0.35 to 0.35 m/s at 100 N).
+   with its velocity input swept from -0.35 to 0.35 m/s at its start normal force,
+   100 N), and compares its exponential law with paper Eq. 6 (exponential_law).
 
 Exits with status 1 if validation reports a problem or if a run's breakaway is not within
 1 ms of 0.400 s.
@@ -49,12 +50,11 @@ from fmpy import simulate_fmu
 from fmpy.validation import validate_fmu
 
 from . import master, plots, slip_metrics
-from .artifacts import BEAM, FIDELITIES, FRICTION, Fmus
+from .artifacts import BEAM, FRICTION, Fmus, Model, fidelities
 from .runner import find_fmus, out_dir, report_failures
 
 T_END = 1.2
 DT = 1e-3  # communication step and output interval (s)
-BELT_SPEED = 0.02  # m/s (paper)
 BREAKAWAY_EXPECTED = 0.400  # s: mu_s F_n = 50 N reached at 8 mm = v_b * 0.4 s
 BREAKAWAY_TOLERANCE = 1e-3  # s
 PRE_SLIP_TOLERANCE = 1e-12  # m
@@ -220,12 +220,15 @@ def drive_friction(
 
 
 def friction_sweep(
-    fmus: Fmus, law: str, weights: str | None = None, normal_force=100.0, velocities=None
+    fmus: Fmus, law: str, weights: str | None = None, normal_force=None, velocities=None
 ):
     """NeuralFriction.fmu stepped at DT with sliding_velocity swept (default -0.35 .. 0.35
-    m/s in steps of 1 mm/s); returns (velocities, signed friction_force)."""
+    m/s in steps of 1 mm/s) at `normal_force` (N; default: the start value of its
+    normal_force input); returns (velocities, signed friction_force)."""
     if velocities is None:
         velocities = np.linspace(-0.35, 0.35, 701)
+    if normal_force is None:
+        normal_force = fmus.models[FRICTION].real_start("normal_force")
     inputs = {
         "normal_force": np.full(len(velocities), float(normal_force)),
         "sliding_velocity": velocities,
@@ -233,9 +236,19 @@ def friction_sweep(
     return velocities, drive_friction(fmus, law, weights, inputs, "sweep")
 
 
-def exponential_law(v, normal_force=100.0, mu_s=0.5, mu_k=0.2, decay=5.0):
-    """Paper Eq. 6, signed with the sliding velocity: the independent formula the FMU's
-    exponential law is checked against (main prints the largest difference)."""
+def exponential_law(v, friction: Model):
+    """Paper Eq. 6, signed with the sliding velocity (N):
+    F(v) = sign(v) F_n (mu_k + (mu_s - mu_k) exp(-alpha |v|)).
+
+    An independent oracle of the FMU's exponential law (main prints the largest
+    difference): only the formula is written here. Its coefficients are the start values
+    of NeuralFriction's model description (`friction`): static_coefficient (mu_s),
+    kinetic_coefficient (mu_k), decay (alpha, s/m) and the normal_force input (F_n, N),
+    the values friction_sweep runs the FMU at."""
+    mu_s, mu_k, decay, normal_force = (
+        friction.real_start(name)
+        for name in ("static_coefficient", "kinetic_coefficient", "decay", "normal_force")
+    )
     return np.sign(v) * normal_force * (mu_k + (mu_s - mu_k) * np.exp(-decay * np.abs(v)))
 
 
@@ -383,7 +396,7 @@ def validate(paths: dict[str, Path]) -> dict[str, list[str]]:
 
 def run_all(fmus: Fmus) -> list[Run]:
     runs: list[Run] = []
-    for fidelity in FIDELITIES:
+    for fidelity in fidelities(fmus.models[BEAM]):
         reference = run_embedded(fmus, fidelity, "exponential")
         batch = [reference]
         for weights in WEIGHTS:
@@ -414,6 +427,7 @@ def main(argv: list[str] | None = None) -> int:
             failures.append(f"{name}.fmu: {len(problems)} validation problem(s)")
 
     fmus = Fmus(paths)
+    friction_model = fmus.models[FRICTION]
     try:
         runs = run_all(fmus)
         laws = {
@@ -449,9 +463,12 @@ def main(argv: list[str] | None = None) -> int:
     print_slips(runs, PLOT_FIDELITY)
 
     print()
-    print("== NeuralFriction.fmu, friction force at F_n = 100 N, -0.35 .. 0.35 m/s")
+    normal_force = friction_model.real_start("normal_force")
+    print(
+        f"== NeuralFriction.fmu, friction force at F_n = {normal_force:g} N, -0.35 .. 0.35 m/s"
+    )
     v, f_exp = sweeps["exponential (paper Eq. 6)"]
-    law_error = float(np.max(np.abs(f_exp - exponential_law(v))))
+    law_error = float(np.max(np.abs(f_exp - exponential_law(v, friction_model))))
     print(f"  law exponential vs paper Eq. 6: max |difference| {law_error:.2e} N")
     away = np.abs(v) >= 0.01  # Eq. 6 jumps by 2 mu_s F_n = 100 N at v = 0
     for label in ("neural, paper-plain.json", "neural, paper-signed.json"):

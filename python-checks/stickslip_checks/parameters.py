@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .artifacts import Model, choices
+from .artifacts import Model, choices, fidelities
 
 # The scene file calls the FMU's two inputs loading.*; accept both spellings.
 ALIASES = {"loading.belt_speed": "belt_speed", "loading.normal_force": "normal_force"}
@@ -30,7 +30,6 @@ class Variable:
     """One settable variable of the model description."""
 
     name: str
-    vr: int
     kind: str  # the model description's type: Real, Integer, Boolean, Enumeration or String
     causality: str
     unit: str | None
@@ -40,17 +39,19 @@ class Variable:
 
 
 class Catalogue:
-    """The settable variables of StickSlipBeam's model description, by name."""
+    """The settable variables of StickSlipBeam's model description, by name, read through
+    artifacts.Model (which keeps the value references and sets the values)."""
 
     def __init__(self, fmu: Path):
         model = Model.read(fmu)
+        # The structural models --fidelity accepts (fidelity.level without auto).
+        self.fidelities = fidelities(model)
         self.variables: dict[str, Variable] = {}
         for v in model.variables.values():
             if v.causality not in SETTABLE:
                 continue
             var = Variable(
                 v.name,
-                v.valueReference,
                 v.type,
                 v.causality,
                 v.unit,
@@ -74,7 +75,8 @@ class Catalogue:
         close += [k for k in self.variables if k.split(".")[-1] == name and k not in close]
         hint = f"; close matches: {', '.join(close)}" if close else ""
         raise SweepError(
-            f"unknown parameter '{name}'{hint} (`sweep.py --list` prints every settable name)"
+            f"unknown parameter '{name}'{hint} "
+            "(`stickslip-sweep --list` prints every settable name)"
         )
 
     def value(self, name: str, text) -> tuple[str, object]:

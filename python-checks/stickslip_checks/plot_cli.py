@@ -1,15 +1,19 @@
 """Plots of the command-line main job: tip deflection of the paper scene at every
 fidelity (paper Fig. 6a) and the static mesh convergence (paper Fig. 1b).
 
-Usage: python -m stickslip_checks.plot_cli OUT_DIR   (or stickslip-plot-cli; reads the
-CSV files the main job wrote there: paper_*_*.csv, mesh_convergence.csv)
+Usage: python -m stickslip_checks.plot_cli [OUT_DIR]   (or stickslip-plot-cli; default
+<repo>/out). Reads the CSV files the main job wrote there (paper_*_*.csv,
+mesh_convergence.csv) and plots those it finds; exits with status 1 if it finds none.
 """
+
+from __future__ import annotations
 
 import csv
 import sys
 from pathlib import Path
 
 from . import plots
+from .runner import out_dir
 
 
 def read_columns(path):
@@ -18,7 +22,7 @@ def read_columns(path):
     return {key: [float(r[key]) if key != "clamp" else r[key] for r in rows] for key in rows[0]}
 
 
-def plot_deflection(out):
+def plot_deflection(out: Path) -> Path | None:
     runs = {
         path.stem.removeprefix("paper_").replace("_", ", "): read_columns(path)
         for path in sorted(out.glob("paper_*_*.csv"))
@@ -30,7 +34,7 @@ def plot_deflection(out):
     return target
 
 
-def plot_convergence(out):
+def plot_convergence(out: Path) -> Path | None:
     path = out / "mesh_convergence.csv"
     if not path.exists():
         return None
@@ -39,12 +43,16 @@ def plot_convergence(out):
     return target
 
 
-def main():
-    out = Path(sys.argv[1] if len(sys.argv) > 1 else "out")
-    for target in (plot_deflection(out), plot_convergence(out)):
-        if target is not None:
-            print(f"wrote {target}")
+def main(argv: list[str] | None = None) -> int:
+    out = out_dir(argv, create=False)  # only reads what the main job wrote
+    written = [t for t in (plot_deflection(out), plot_convergence(out)) if t is not None]
+    for target in written:
+        print(f"wrote {target}")
+    if not written:
+        print(f"plot_cli: no paper_*_*.csv or mesh_convergence.csv in {out}", file=sys.stderr)
+        return 1
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

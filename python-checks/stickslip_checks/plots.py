@@ -13,6 +13,7 @@ to draw; the entry points compute and pass them.
 from __future__ import annotations
 
 import math
+from itertools import cycle
 from pathlib import Path
 
 import numpy as np
@@ -450,10 +451,11 @@ def cli_deflection(runs: dict[str, dict], path: Path) -> None:
 
 
 def mesh_convergence(data: dict, path: Path) -> None:
-    """Static tip-deflection error against nodes, per clamp (the CSV's columns)."""
+    """Static tip-deflection error against nodes, per clamp (the CSV's columns; the clamps
+    in the order the CSV lists them)."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    for clamp in ("neutral-axis", "full"):
+    for clamp in dict.fromkeys(data["clamp"]):
         idx = [i for i, c in enumerate(data["clamp"]) if c == clamp]
         nodes = [data["nodes"][i] for i in idx]
         err = [100 * abs(data["error_euler_bernoulli"][i]) for i in idx]
@@ -472,8 +474,10 @@ def mesh_convergence(data: dict, path: Path) -> None:
 
 # ----------------------------------------------------------------------------- study_plot
 
-MARKERS = {"modal": "o", "beam": "s", "plane-stress": "^"}
-COLOURS = {"generalized-alpha": "tab:blue", "moreau-jean": "tab:orange"}
+# One marker per fidelity level and one colour per integrator, handed out in the order
+# study.csv lists them (the binary's words, not retyped here).
+MARKERS = ("o", "s", "^", "D", "v")
+COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:red")
 
 
 def pareto(rows: list[dict], front: list[dict], front_labels: list[str], path: Path) -> None:
@@ -481,8 +485,10 @@ def pareto(rows: list[dict], front: list[dict], front_labels: list[str], path: P
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(10, 6.5))
     floor = min(float(r["err_rms_m"]) for r in rows if float(r["err_rms_m"]) > 0) / 2
-    for level, marker in MARKERS.items():
-        for scheme, colour in COLOURS.items():
+    levels = dict.fromkeys(r["level"] for r in rows)
+    schemes = dict.fromkeys(r["integrator"] for r in rows)
+    for level, marker in zip(levels, cycle(MARKERS)):
+        for scheme, colour in zip(schemes, cycle(COLOURS)):
             pts = [r for r in rows if r["level"] == level and r["integrator"] == scheme]
             if not pts:
                 continue

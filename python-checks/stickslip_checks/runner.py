@@ -9,10 +9,11 @@ from pathlib import Path
 from .artifacts import DEFAULT_OUT, fmu_paths
 
 
-def out_dir(argv: list[str] | None, create: bool = True) -> Path:
-    """OUT_DIR, the first argument (sys.argv[1:] when `argv` is None), else <repo>/out."""
+def out_dir(argv: list[str] | None, create: bool = True, default: Path = DEFAULT_OUT) -> Path:
+    """OUT_DIR, the first argument (sys.argv[1:] when `argv` is None), else `default`
+    (<repo>/out)."""
     argv = sys.argv[1:] if argv is None else argv
-    out = Path(argv[0]) if argv else DEFAULT_OUT
+    out = Path(argv[0]) if argv else default
     if create:
         out.mkdir(parents=True, exist_ok=True)
     return out

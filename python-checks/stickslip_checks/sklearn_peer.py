@@ -14,9 +14,11 @@ generation and I/O excluded); scikit-learn's is the wall time of `fit` alone
 (standardisation excluded). Both run in this one invocation on the same machine.
 
 Usage: python -m stickslip_checks.sklearn_peer (or stickslip-sklearn-peer)
-       [--iterations 200] [--seed 2] [--lambda 0.004] [--binary PATH] [--json OUT.json]
-The binary defaults to $STICKSLIP_BIN, else it is built with `cargo build --release`
-(artifacts.find_binary).
+       [--iterations N] [--seed S] [--lambda L] [--binary PATH] [--json OUT.json]
+The iteration limit, seed and lambda default to the settings the shipped network was
+trained with (the `training` section of weights/paper-plain.json: max_iterations, seed,
+lambda). The binary defaults to $STICKSLIP_BIN, else it is built with
+`cargo build --release` (artifacts.find_binary).
 """
 
 from __future__ import annotations
@@ -33,7 +35,14 @@ import numpy as np
 from sklearn.neural_network import MLPRegressor
 from sklearn.preprocessing import StandardScaler
 
-from .artifacts import find_binary
+from .artifacts import find_binary, shipped_training
+
+
+def shipped_settings() -> tuple[int, int, float]:
+    """(iteration limit, seed, lambda) the shipped network was trained with: its weights
+    file's `training` section (max_iterations, seed, lambda)."""
+    training = shipped_training()
+    return int(training["max_iterations"]), int(training["seed"]), float(training["lambda"])
 
 
 def read_split(path: Path) -> tuple[np.ndarray, np.ndarray, list[str]]:
@@ -174,10 +183,11 @@ def print_table(result: dict) -> None:
 
 
 def main(argv: list[str] | None = None) -> dict:
+    iterations, seed, lam = shipped_settings()
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--iterations", type=int, default=200)
-    parser.add_argument("--seed", type=int, default=2)
-    parser.add_argument("--lambda", dest="lam", type=float, default=0.004)
+    parser.add_argument("--iterations", type=int, default=iterations)
+    parser.add_argument("--seed", type=int, default=seed)
+    parser.add_argument("--lambda", dest="lam", type=float, default=lam)
     parser.add_argument("--binary", type=Path, default=None)
     parser.add_argument("--json", type=Path, default=None, help="also write the result here")
     args = parser.parse_args(argv)

@@ -1,8 +1,8 @@
 """Stick-slip metrics of a sampled run: the numbers a reviewer compares between two
 friction laws (paper Sec. 4). Pure numpy; no FMU needed.
 
-The definitions follow src/metrics.rs (the command line's summary), applied to the
-samples an FMU returns (every 1 ms) instead of the exact transition times:
+The definitions follow src/physics/src/metrics.rs (the command line's summary), applied
+to the samples an FMU returns (every 1 ms) instead of the exact transition times:
 
 - breakaway: the first sample with stick false (s);
 - major slips: the sawtooth's drops. The tip deflection crosses the corridor's
@@ -20,7 +20,7 @@ samples an FMU returns (every 1 ms) instead of the exact transition times:
   Positive: the run lags behind the reference. In degrees: 360 tau / P_ref.
 
 A sampled onset is at most one sample after the exact one, so these agree with
-src/metrics.rs to within one output interval.
+src/physics/src/metrics.rs to within one output interval.
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ deflection, the stick fraction and the regime: "stick-slip" if the tip sticks ag
 a slip within the window, "steady sliding" if it slips and does not stick again, "stuck"
 if it sticks through the whole window.
 
-The map (sweep.py without --grid) runs MAP_SPEEDS for three cases: the FMU's default
+The map (stickslip-sweep without --grid) runs MAP_SPEEDS for three cases: the FMU's default
 damping, 2 % Rayleigh damping at modes 1 and 3, and the same from rest.
 
 The beam-theory numbers the map needs (the Rayleigh coefficients of the 2 % case and the
@@ -166,10 +166,11 @@ def _scene_of(params: dict) -> dict:
 
 def beam_estimates(params: dict, rayleigh_ratio: float | None = None) -> dict:
     """`stickslip estimates` for the scene of `params`: bending frequencies `omega`
-    (rad/s), `mass` (kg), the Rayleigh `mass_proportional` (1/s) and
-    `stiffness_proportional` (s) in use, and `sliding_stability_speed` (m/s, None where it
-    does not apply). With `rayleigh_ratio`, the damping is Rayleigh damping with that ratio
-    at modes 1 and 3. Raises ValueError with the binary's message for a bad scene."""
+    (rad/s), `mass` (kg), the static tip stiffness `tip_stiffness` (3 EI / L^3, N/m), the
+    Rayleigh `mass_proportional` (1/s) and `stiffness_proportional` (s) in use, and
+    `sliding_stability_speed` (m/s, None where it does not apply). With `rayleigh_ratio`,
+    the damping is Rayleigh damping with that ratio at modes 1 and 3. Raises ValueError
+    with the binary's message for a bad scene."""
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "scene.json"
         path.write_text(json.dumps(_scene_of(params)))

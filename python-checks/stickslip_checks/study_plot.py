@@ -5,15 +5,19 @@ against wall time, log-log, one marker per fidelity level and colour per integra
 with the Pareto front (no run both faster and more accurate) joined by a line.
 Also prints the front and, if present, the fidelity = auto verification table.
 
-Usage: python -m stickslip_checks.study_plot OUT_DIR   (or stickslip-study-plot;
-default out/study)
+Usage: python -m stickslip_checks.study_plot [OUT_DIR]   (or stickslip-study-plot;
+default <repo>/out/study). Exits with status 1 if study.csv is missing or its pareto
+column disagrees with the front computed here.
 """
+
+from __future__ import annotations
 
 import csv
 import sys
-from pathlib import Path
 
 from . import plots
+from .artifacts import DEFAULT_OUT
+from .runner import out_dir
 
 
 def read_rows(path):
@@ -22,6 +26,12 @@ def read_rows(path):
 
 
 def label(row):
+    """The configuration of a study.csv row: the front's annotations, and the key that
+    compares the front with the CSV's pareto column.
+
+    This re-spells the Display of stickslip::study::Configuration because study.csv has
+    no label column, only its fields (level, modes, beam_elements, element_size_m, dt_s,
+    integrator); the time step is written with :g where the Rust uses {:e}."""
     level = row["level"]
     if level == "modal":
         resolution = f"modal {row['modes']} modes"
@@ -47,13 +57,19 @@ def pareto(rows):
     return sorted(front, key=lambda r: float(r["wall_s"]))
 
 
-def main():
-    out = Path(sys.argv[1]) if len(sys.argv) > 1 else Path("out/study")
-    rows = read_rows(out / "study.csv")
+def main(argv: list[str] | None = None) -> int:
+    out = out_dir(argv, create=False, default=DEFAULT_OUT / "study")
+    study = out / "study.csv"
+    if not study.is_file():
+        print(f"study_plot: no {study}: run `stickslip study --out {out}` first", file=sys.stderr)
+        return 1
+    rows = read_rows(study)
     front = pareto(rows)
     marked = sorted((r for r in rows if r["pareto"] == "1"), key=lambda r: float(r["wall_s"]))
     if [label(r) for r in front] != [label(r) for r in marked]:
-        raise SystemExit("study.csv's pareto column disagrees with the front computed here")
+        print("study_plot: study.csv's pareto column disagrees with the front computed here",
+              file=sys.stderr)
+        return 1
     path = out / "pareto.png"
     plots.pareto(rows, front, [label(r) for r in front], path)
     print(f"{len(rows)} runs, {len(front)} on the Pareto front; plot {path}")
@@ -62,7 +78,8 @@ def main():
         cases = read_rows(verification)
         holding = sum(c["holds"] == "1" for c in cases)
         print(f"fidelity = auto: {holding} of {len(cases)} verification cases hold")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -20,8 +20,11 @@ Usage:
   python -m stickslip_checks.sweep (or stickslip-sweep)
                   [--scheduler tcp://host:port] [--workers 2] [--set name=value ...]
                   [--grid name=start:stop:count[:log] | name=v1,v2,...] ...
-                  [--case LABEL:name=value,name=value ...] [--fidelity modal|beam|plane-stress]
+                  [--case LABEL:name=value,name=value ...] [--fidelity LEVEL]
                   [--t-end S] [--step S] [--window F] [--out DIR] [--name BASENAME] [--list]
+
+LEVEL is a structural model: an item of the FMU's fidelity.level other than auto (read
+from its model description; --help lists them).
 
 Several --grid options span their Cartesian product; --set applies to every run. Writes
 <out>/<name>.csv (one row per run) and <out>/<name>.png (default out/stick_slip_map.*).
@@ -48,7 +51,7 @@ from itertools import product
 from pathlib import Path
 
 from . import plots
-from .artifacts import DEFAULT_OUT, FIDELITIES
+from .artifacts import DEFAULT_OUT
 from .parameters import ALIASES, Catalogue, SweepError, parse_assignment, parse_case, parse_grid
 from .stick_slip_map import (
     DEFAULT_WINDOW,
@@ -70,6 +73,7 @@ from .sweep_engine import (
 )
 
 DEFAULT_BASENAME = "stick_slip_map"
+PROG = "stickslip-sweep"  # the console script; also `python -m stickslip_checks.sweep`
 
 # ----------------------------------------------------------------------------- output
 
@@ -168,9 +172,11 @@ def write_csv(
 # ----------------------------------------------------------------------------- command line
 
 
-def _parser() -> argparse.ArgumentParser:
+def _parser(fidelities: tuple[str, ...] | None) -> argparse.ArgumentParser:
+    """The options; `fidelities` are the choices of --fidelity (None when the FMU is
+    missing: --help still works, and a run then stops with the build hint)."""
     p = argparse.ArgumentParser(
-        prog="sweep.py",
+        prog=PROG,
         description="Sweep StickSlipBeam.fmu over parameters on Dask; by default the "
         "stick-slip map "
         "(peak-to-peak tip deflection against belt speed).",
@@ -205,7 +211,9 @@ def _parser() -> argparse.ArgumentParser:
         metavar="LABEL:NAME=VALUE[,...]",
         help="a named set of values; every case runs the whole grid (repeatable)",
     )
-    p.add_argument("--fidelity", default="modal", choices=list(FIDELITIES))
+    p.add_argument(
+        "--fidelity", default="modal", choices=list(fidelities) if fidelities else None
+    )
     p.add_argument(
         "--t-end",
         type=float,
@@ -280,10 +288,13 @@ def list_parameters(catalogue: Catalogue) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = _parser().parse_args(argv)
+    try:
+        catalogue = Catalogue(beam_fmu(None))
+    except SweepError:
+        catalogue = None  # reported below, after --help had its chance
+    args = _parser(catalogue.fidelities if catalogue else None).parse_args(argv)
     try:
         fmu = beam_fmu(None)
-        catalogue = Catalogue(fmu)
         if args.list:
             list_parameters(catalogue)
             return 0
@@ -301,7 +312,7 @@ def main(argv: list[str] | None = None) -> int:
             )
         wall = time.perf_counter() - began
     except SweepError as error:
-        raise SystemExit(f"sweep.py: {error}") from None
+        raise SystemExit(f"{PROG}: {error}") from None
 
     defaults = catalogue.defaults()
     fixed_names = sorted({n for _, p in runs for n in p} - set(swept))

@@ -29,7 +29,7 @@ from pathlib import Path
 from distributed.diagnostics.plugin import WorkerPlugin
 
 from . import master
-from .artifacts import BEAM, FIDELITIES, Fmu, fmu_paths
+from .artifacts import BEAM, Fmu, fmu_paths
 from .parameters import Catalogue, SweepError
 from .stick_slip_map import DEFAULT_WINDOW, FAILED, run_metrics
 
@@ -224,7 +224,8 @@ class SweepResults(list):
 
 def _check_sets(param_sets, fidelity: str, t_end: float, step: float, window: float, fmu: Path):
     """Validated copies of the parameter sets (canonical names, typed values)."""
-    levels = FIDELITIES
+    catalogue = Catalogue(fmu)
+    levels = catalogue.fidelities
     if fidelity not in levels:
         raise SweepError(f"unknown fidelity '{fidelity}'; one of {', '.join(levels)}")
     if not (t_end > 0 and step > 0 and math.isfinite(t_end)):
@@ -234,7 +235,6 @@ def _check_sets(param_sets, fidelity: str, t_end: float, step: float, window: fl
         raise SweepError(f"t_end {t_end} s must be a multiple (>= 3) of the step {step} s")
     if not 0 < window <= 1:
         raise SweepError(f"window {window} must be in (0, 1]")
-    catalogue = Catalogue(fmu)
     checked = []
     for params in param_sets:
         typed = dict(catalogue.value(name, value) for name, value in params.items())

@@ -1,8 +1,10 @@
 """The network's training, its accuracy through NeuralFriction.fmu, and its peer.
 
-1. Trains the paper's network with `stickslip train` at the paper's settings (synthetic
+1. Trains the paper's network with `stickslip train` into OUT/training/ (weights,
+   report, history and the exact split), with the iteration limit, seed and lambda that
+   the `training` section of weights/paper-plain.json records (the paper's: synthetic
    data N = 5000, 70/30 split, 3 x 100 tanh, lambda = 0.004, 200 L-BFGS iterations,
-   seed 2) into OUT/training/: weights, report, history and the exact split.
+   seed 2; the rest are `stickslip train`'s defaults).
 2. Checks that the weights equal the shipped weights/paper-plain.json byte for byte
    (the network inside the FMUs is the one trained here).
 3. Evaluates NeuralFriction.fmu (law neural, its default paper-plain.json) on every
@@ -31,12 +33,10 @@ from pathlib import Path
 import numpy as np
 
 from . import plots, sklearn_peer
-from .artifacts import REPO, Fmus, find_binary
+from .artifacts import REPO, SHIPPED_WEIGHTS, Fmus, find_binary
 from .fmu_scene import drive_friction, friction_sweep
 from .runner import find_fmus, out_dir, report_failures
 
-ITERATIONS, SEED, LAMBDA = 200, 2, 0.004  # the paper's settings (src/train/src/train.rs)
-SHIPPED = REPO / "weights" / "paper-plain.json"
 FMU_AGREEMENT = 1e-9  # relative MSE difference FMU vs trainer
 
 
@@ -65,16 +65,17 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     binary = find_binary()
 
+    iterations, seed, lam = sklearn_peer.shipped_settings()
     print(f"== stickslip train, the paper's settings -> {workdir}")
-    report = sklearn_peer.train_rust(ITERATIONS, SEED, LAMBDA, binary, workdir)
+    report = sklearn_peer.train_rust(iterations, seed, lam, binary, workdir)
     print(
         f"  {report['iterations']} iterations in {report['seconds']:.2f} s: MSE test "
         f"{report['mse_test']:.4f} N^2, R2 test {report['r2_test']:.5f} (paper: 4.52, 0.9974)"
     )
-    same = (workdir / "weights.json").read_bytes() == SHIPPED.read_bytes()
-    print(f"  weights equal the shipped {SHIPPED.relative_to(REPO)} byte for byte: {same}")
+    same = (workdir / "weights.json").read_bytes() == SHIPPED_WEIGHTS.read_bytes()
+    print(f"  weights equal the shipped {SHIPPED_WEIGHTS.relative_to(REPO)} byte for byte: {same}")
     if not same:
-        failures.append(f"retrained weights differ from {SHIPPED}")
+        failures.append(f"retrained weights differ from {SHIPPED_WEIGHTS}")
 
     x_train, y_train, _ = sklearn_peer.read_split(workdir / "split" / "train.csv")
     x_test, y_test, _ = sklearn_peer.read_split(workdir / "split" / "test.csv")
@@ -99,8 +100,8 @@ def main(argv: list[str] | None = None) -> int:
         failures.append(f"FMU MSE {mse} differs from the trainer's {report['mse_test']}")
 
     print("\n== scikit-learn peer on the same split")
-    peer = sklearn_peer.fit_sklearn(workdir / "split", ITERATIONS, SEED, LAMBDA)
-    result = sklearn_peer.side_by_side(report, peer, ITERATIONS, LAMBDA)
+    peer = sklearn_peer.fit_sklearn(workdir / "split", iterations, seed, lam)
+    result = sklearn_peer.side_by_side(report, peer, iterations, lam)
     sklearn_peer.print_table(result)
     (out / "sklearn_peer.json").write_text(json.dumps(result, indent=2) + "\n")
 

@@ -23,6 +23,7 @@ from fmpy.fmi1 import FMICallException
 from fmpy.validation import validate_fmu
 
 from stickslip_checks.artifacts import BEAM, FRICTION, Fmus, find_binary, fmu_paths
+from stickslip_checks.fmu_scene import exponential_law, friction_sweep
 
 FMI2_ERROR = 3
 BELT_SPEED = 0.02  # m/s
@@ -223,3 +224,22 @@ def test_fixed_parameter_after_initialisation_raises(built):
         slave.setReal([fmus.vr[BEAM]["material.youngs_modulus"]], [2.0e11])
     assert error.value.status == FMI2_ERROR
     still_usable(fmus, slave, BEAM)
+
+
+def test_exponential_law_is_paper_eq6_at_the_start_values(built):
+    """NeuralFriction's exponential law against the oracle fmu_scene.exponential_law
+    (Eq. 6 written out in Python, coefficients from the model description's start
+    values): the same formula, so only rounding may differ. Also on both sides of the
+    jump at v = 0, where the sign of v decides."""
+    fmus = need(built)
+    friction = fmus.models[FRICTION]
+    velocities = np.concatenate([np.linspace(-0.35, 0.35, 701), [-1e-9, 1e-9, 2.0]])
+    v, force = friction_sweep(fmus, "exponential", velocities=velocities)
+    expected = exponential_law(v, friction)
+    np.testing.assert_allclose(force, expected, rtol=1e-12, atol=1e-12)
+    # Eq. 6 at its ends: mu_s F_n at v -> 0+, and toward mu_k F_n at large |v|.
+    names = ("static_coefficient", "kinetic_coefficient", "normal_force")
+    mu_s, mu_k, f_n = (friction.real_start(name) for name in names)
+    assert expected[-2] == pytest.approx(mu_s * f_n, rel=1e-7)
+    assert expected[-3] == pytest.approx(-mu_s * f_n, rel=1e-7)
+    assert expected[-1] == pytest.approx(mu_k * f_n, rel=1e-4)

@@ -1,6 +1,7 @@
 """The stick-slip metrics of the validation table (slip_metrics): on a constructed
 sawtooth whose every number is known in closed form, and on the paper scene through the
-FMU against the command line's own summary (src/metrics.rs, exact transition times).
+FMU against the command line's own summary (src/physics/src/metrics.rs, exact transition
+times).
 
 The FMU part needs the FMUs and the release binary (see test_fmu.py); runs in ~2 s.
 """

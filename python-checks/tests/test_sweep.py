@@ -15,12 +15,14 @@ import pytest
 from conftest import need
 
 from stickslip_checks import sweep
-from stickslip_checks.parameters import Catalogue
+from stickslip_checks.artifacts import AUTO, BEAM
+from stickslip_checks.parameters import Catalogue, SweepError
 from stickslip_checks.stick_slip_map import (
     FAILED,
     MAP_SPEEDS,
     SLIDING,
     STICK_SLIP,
+    beam_estimates,
     default_cases,
     sliding_stability_speed,
 )
@@ -94,7 +96,9 @@ def test_map_stick_slip_at_paper_speed_and_sliding_at_top(built):
       stable (0.61 m/s), so it cannot be the end state from either start.
     - 10.24 m/s: far above where stick-slip stops (measured ~1.1 and ~6 m/s for the two
       dampings). The tip slides without sticking again; on average it rests where the
-      spring holds kinetic friction: mu(v) F_n / k = 0.2 * 100 N / 6250 N/m = 3.2 mm.
+      spring holds kinetic friction: mu(v) F_n / k = 0.2 * 100 N / 6250 N/m = 3.2 mm,
+      with mu(v) = mu_k at this speed (exp(-alpha v) < 1e-22), mu_k and F_n the FMU's
+      start values and k = 3 EI / L^3 from `stickslip estimates` (tip_stiffness).
     """
     need(built)
     catalogue = Catalogue(beam_fmu())
@@ -108,7 +112,9 @@ def test_map_stick_slip_at_paper_speed_and_sliding_at_top(built):
             sets.append({**values, "belt_speed": v})
             labels.append((label, v))
     rows = dict(zip(labels, run_serial(sets)))  # the map's defaults: modal, 20 s
-    static_stiffness = 3 * 200e9 * (1.0 * 0.01**3 / 12) / 2.0**3  # 3 EI / L^3 = 6250 N/m
+    defaults = catalogue.defaults()
+    static_stiffness = beam_estimates(defaults)["tip_stiffness"]  # 3 EI / L^3, N/m
+    kinetic_force = defaults["friction.kinetic_coefficient"] * defaults["normal_force"]  # N
     for (label, v), row in rows.items():
         assert row["regime"] != FAILED, row.get("error")
         if v == paper:
@@ -125,9 +131,9 @@ def test_map_stick_slip_at_paper_speed_and_sliding_at_top(built):
             # 2 % damping has decayed the oscillation after breakaway; the default 0.09 %
             # has not (it is still ~+-0.18 m), so its window mean is only close.
             tol = 0.02 if "Rayleigh" in label else 0.3
-            assert mean == pytest.approx(0.2 * 100.0 / static_stiffness, rel=tol), (label, row)
+            assert mean == pytest.approx(kinetic_force / static_stiffness, rel=tol), (label, row)
     # The linear estimate the map draws: 2 % damping gives the notes' ~0.6 m/s.
-    speed = sliding_stability_speed({**catalogue.defaults(), **cases[1][1]})
+    speed = sliding_stability_speed({**defaults, **cases[1][1]})
     assert 0.55 < speed < 0.65
 
 
@@ -180,5 +186,23 @@ def test_bad_names_and_grids_exit_with_a_message(built, argv, message, capsys):
     with pytest.raises(SystemExit) as exit_info:
         sweep.main(argv + ["--workers", "0", "--out", "/nonexistent/never-written"])
     text = str(exit_info.value.code)
-    assert text.startswith("sweep.py: ") and message in text, text
+    assert text.startswith("stickslip-sweep: ") and message in text, text
     assert "Traceback" not in capsys.readouterr().err
+
+
+def test_fidelity_choices_are_the_model_descriptions_levels_without_auto(built, capsys):
+    """--fidelity and the engine accept the structural models the FMU declares
+    (fidelity.level's items in code order) and refuse auto, which picks one itself."""
+    fmus = need(built)
+    items = fmus.models[BEAM].choices["fidelity.level"]
+    levels = Catalogue(beam_fmu()).fidelities
+    assert AUTO in items and len(levels) == len(items) - 1
+    assert list(levels) == sorted(set(items) - {AUTO}, key=items.get)
+    with pytest.raises(SystemExit) as exit_info:
+        sweep.main(["--fidelity", AUTO, "--workers", "0", "--out", "/nonexistent/never-written"])
+    assert exit_info.value.code == 2  # argparse: not one of the choices
+    refusal = capsys.readouterr().err
+    assert f"invalid choice: '{AUTO}'" in refusal, refusal
+    assert all(f"'{level}'" in refusal for level in levels), refusal
+    with pytest.raises(SweepError, match=f"unknown fidelity '{AUTO}'"):
+        run_serial([{"belt_speed": 0.02}], fidelity=AUTO, t_end=0.003)
