@@ -128,6 +128,7 @@ fn generalized_alpha_is_second_order() {
 fn run(scene: CheckedScene) -> Summary {
     let law = analytical_law(&scene).unwrap();
     let mut sim = Simulator::new(scene, law).unwrap();
+    sim.keep_all_transitions();
     let samples = sim.run(1).unwrap();
     assert!(samples
         .iter()
@@ -219,6 +220,7 @@ fn equal_coefficients_give_the_harmonic_orbit() {
         kinetic_coefficient: 0.5,
     });
     let mut sim = Simulator::with_model(scene, model, law).unwrap();
+    sim.keep_all_transitions();
     let samples = sim.run(1).unwrap();
     let t_b = sim.transitions()[0].time;
     let x_b = samples

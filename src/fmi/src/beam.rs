@@ -79,10 +79,11 @@ struct Running {
     simulator: Simulator,
     /// Time (s) at which the simulation's t = 0 lies.
     start_time: f64,
-    transitions_reported: usize,
 }
 
-/// Saved form (FMU state).
+/// Saved form (FMU state). Its size does not grow with simulated time: the
+/// simulation's state is a fixed number of values for a given model, and the
+/// transitions are kept as their count (`SimulationState::transition_count`).
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct Saved {
@@ -97,7 +98,65 @@ struct SavedRun {
     built_from: Settings,
     start_time: f64,
     state: SimulationState,
+}
+
+/// The transitions that state versions 1 and 2 listed beside the simulation state: every
+/// one since the start, so that those states grew with simulated time. Version 3 keeps
+/// only their count, which the list must agree with.
+fn check_listed_transitions(
+    state: &SimulationState,
+    transitions: &[stickslip::contact::Transition],
+) -> Result<(), String> {
+    if transitions.len() as u64 == state.transition_count {
+        Ok(())
+    } else {
+        Err(format!(
+            "{} transitions listed, the count says {}",
+            transitions.len(),
+            state.transition_count
+        ))
+    }
+}
+
+/// The running simulation as state version 2 saved it.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SavedRunV2 {
+    built_from: Settings,
+    start_time: f64,
+    state: SimulationState,
     transitions: Vec<stickslip::contact::Transition>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SavedV2 {
+    settings: Settings,
+    initialized: bool,
+    running: Option<SavedRunV2>,
+}
+
+impl TryFrom<SavedV2> for Saved {
+    type Error = String;
+
+    fn try_from(v2: SavedV2) -> Result<Self, String> {
+        let running = match v2.running {
+            Some(run) => {
+                check_listed_transitions(&run.state, &run.transitions)?;
+                Some(SavedRun {
+                    built_from: run.built_from,
+                    start_time: run.start_time,
+                    state: run.state,
+                })
+            }
+            None => None,
+        };
+        Ok(Saved {
+            settings: v2.settings,
+            initialized: v2.initialized,
+            running,
+        })
+    }
 }
 
 /// Settings as FMU state version 1 saved them: the friction model, the auto flag and
@@ -154,18 +213,20 @@ struct SavedRunV1 {
     transitions: Vec<stickslip::contact::Transition>,
 }
 
-impl From<SavedV1> for Saved {
-    fn from(v1: SavedV1) -> Self {
-        Saved {
+impl TryFrom<SavedV1> for Saved {
+    type Error = String;
+
+    fn try_from(v1: SavedV1) -> Result<Self, String> {
+        Saved::try_from(SavedV2 {
             settings: v1.settings.into(),
             initialized: v1.initialized,
-            running: v1.running.map(|run| SavedRun {
+            running: v1.running.map(|run| SavedRunV2 {
                 built_from: run.built_from.into(),
                 start_time: run.start_time,
                 state: run.state,
                 transitions: run.transitions,
             }),
-        }
+        })
     }
 }
 
@@ -284,7 +345,6 @@ impl StickSlipBeam {
             built_from: self.settings.clone(),
             simulator,
             start_time,
-            transitions_reported: 0,
         });
         Ok(())
     }
@@ -807,9 +867,22 @@ impl Model for StickSlipBeam {
         let Some(running) = &mut self.running else {
             return Err("the simulation was not initialised".into());
         };
+        let before = running.simulator.state().transition_count;
         let result = running.simulator.advance_to(to - running.start_time);
-        let transitions = running.simulator.transitions();
-        for t in &transitions[running.transitions_reported.min(transitions.len())..] {
+        // The simulator keeps at least the last RECENT_TRANSITIONS transitions, so a step
+        // that made no more than that lists them all.
+        let made = running.simulator.state().transition_count - before;
+        let kept = running.simulator.transitions();
+        let listed = kept.len().min(usize::try_from(made).unwrap_or(usize::MAX));
+        if made > listed as u64 {
+            events.push(format!(
+                "{} transitions of this step before t = {:.6} s are not listed (only the last {} are kept)",
+                made - listed as u64,
+                kept[kept.len() - listed].time + running.start_time,
+                listed
+            ));
+        }
+        for t in &kept[kept.len() - listed..] {
             let to_state = match t.to {
                 ContactState::Stick => "stick",
                 ContactState::Slip => "slip",
@@ -819,7 +892,6 @@ impl Model for StickSlipBeam {
                 t.time + running.start_time
             ));
         }
-        running.transitions_reported = transitions.len();
         result.map_err(|e| e.to_string())
     }
 
@@ -835,19 +907,18 @@ impl Model for StickSlipBeam {
                 built_from: r.built_from.clone(),
                 start_time: r.start_time,
                 state: r.simulator.state().clone(),
-                transitions: r.simulator.transitions().to_vec(),
             }),
         };
         serde_json::to_value(saved).unwrap_or(serde_json::Value::Null)
     }
 
     fn restore(&mut self, saved: serde_json::Value, version: u32, time: f64) -> Result<(), String> {
-        let saved: Saved = if version == 1 {
-            serde_json::from_value::<SavedV1>(saved).map(Saved::from)
-        } else {
-            serde_json::from_value(saved)
-        }
-        .map_err(|e| format!("saved StickSlipBeam state is malformed: {e}"))?;
+        let malformed = |e: serde_json::Error| format!("saved StickSlipBeam state is malformed: {e}");
+        let saved: Saved = match version {
+            1 => Saved::try_from(serde_json::from_value::<SavedV1>(saved).map_err(malformed)?)?,
+            2 => Saved::try_from(serde_json::from_value::<SavedV2>(saved).map_err(malformed)?)?,
+            _ => serde_json::from_value(saved).map_err(malformed)?,
+        };
         if let Some(run) = &saved.running {
             // fmi2DoStep lands the simulation exactly on each communication point, so the
             // two clocks agree to rounding; half a time step separates rounding from a
@@ -887,10 +958,9 @@ impl Model for StickSlipBeam {
             let running = self.running.as_mut().ok_or("no simulation")?;
             running
                 .simulator
-                .restore(run.state, run.transitions)
+                .restore(run.state)
                 .map_err(|e| e.to_string())?;
             running.start_time = run.start_time;
-            running.transitions_reported = running.simulator.transitions().len();
             Ok::<(), String>(())
         });
         match restored {

@@ -409,7 +409,7 @@ impl Model for NeuralFriction {
         serde_json::to_value(&self.settings).unwrap_or(serde_json::Value::Null)
     }
 
-    /// Versions 1 and 2 of the state hold the same settings.
+    /// Every state version (1 to 3) holds the same settings.
     fn restore(
         &mut self,
         saved: serde_json::Value,
