@@ -13,7 +13,10 @@
 //! when the communication point is not on that grid (`Simulator::advance_to`).
 
 use crate::networks::{weights_name, NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
-use crate::variables::{choice_at, Access, Causality, EnumerationType, Variability, Variable};
+use crate::variables::{
+    choice_at, Access, Causality, Dependencies, EnumerationType, InitialDependencies, Variability,
+    Variable,
+};
 use crate::{Model, ModelInfo};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -404,6 +407,7 @@ macro_rules! real_parameter {
                     Ok(())
                 }),
             },
+            depends_on: None,
         }
     };
 }
@@ -430,6 +434,7 @@ macro_rules! enum_parameter {
                     Ok(())
                 }),
             },
+            depends_on: None,
         }
     };
 }
@@ -451,6 +456,7 @@ macro_rules! count_parameter {
                     Ok(())
                 }),
             },
+            depends_on: None,
         }
     };
 }
@@ -474,6 +480,7 @@ macro_rules! input {
                     Ok(())
                 }),
             },
+            depends_on: None,
         }
     };
 }
@@ -491,6 +498,7 @@ macro_rules! real_output {
                 get: |m: &StickSlipBeam| m.output($read),
                 set: None,
             },
+            depends_on: Some(BEAM_OUTPUT),
         }
     };
 }
@@ -504,6 +512,21 @@ fn non_negative(v: f64) -> Result<(), String> {
 }
 
 const BELT_SPEED: u32 = 100;
+const NORMAL_FORCE: u32 = 101;
+
+/// What every output of the beam depends on. An output is read off the simulation
+/// state, which only fmi2DoStep advances: an input set at a communication point acts on
+/// the steps to come, so no output follows an input directly (`dependencies=""`, no
+/// direct feedthrough, so no algebraic loop with a friction FMU that feeds the
+/// external inputs). In Initialization Mode an output is the start state, built from
+/// the scene: every parameter, and the two inputs that are scene fields. The
+/// quasi-static start moves at `belt_speed`; with `fidelity.level = auto` the
+/// calibration runs the scene, `normal_force` included, and the model it picks shapes
+/// the start. The external inputs do not enter the start.
+const BEAM_OUTPUT: Dependencies = Dependencies {
+    inputs: &[],
+    initial: InitialDependencies::AllParametersAnd(&[BELT_SPEED, NORMAL_FORCE]),
+};
 
 static VARIABLES: &[Variable<StickSlipBeam>] = &[
     real_parameter!(1, "geometry.length", Some("m"), "Beam length L", |s| s
@@ -585,6 +608,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
                 Ok(())
             }),
         },
+        depends_on: None,
     },
     enum_parameter!(
         20,
@@ -653,6 +677,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
                 Ok(())
             }),
         },
+        depends_on: None,
     },
     count_parameter!(
         51,
@@ -695,6 +720,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
                 Ok(())
             }),
         },
+        depends_on: None,
     },
     enum_parameter!(
         56,
@@ -727,7 +753,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         }
     ),
     input!(
-        101,
+        NORMAL_FORCE,
         "normal_force",
         "Normal force F_n",
         normal_force,
@@ -787,6 +813,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
             get: |m: &StickSlipBeam| m.sample().map(|s| s.stick).unwrap_or(true),
             set: None,
         },
+        depends_on: Some(BEAM_OUTPUT),
     },
     Variable {
         name: "transitions",
@@ -805,6 +832,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
             },
             set: None,
         },
+        depends_on: Some(BEAM_OUTPUT),
     },
 ];
 
