@@ -941,7 +941,8 @@ impl Model for StickSlipBeam {
     }
 
     fn restore(&mut self, saved: serde_json::Value, version: u32, time: f64) -> Result<(), String> {
-        let malformed = |e: serde_json::Error| format!("saved StickSlipBeam state is malformed: {e}");
+        let malformed =
+            |e: serde_json::Error| format!("saved StickSlipBeam state is malformed: {e}");
         let saved: Saved = match version {
             1 => Saved::try_from(serde_json::from_value::<SavedV1>(saved).map_err(malformed)?)?,
             2 => Saved::try_from(serde_json::from_value::<SavedV2>(saved).map_err(malformed)?)?,

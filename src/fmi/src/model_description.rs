@@ -268,7 +268,9 @@ pub fn output_dependencies<M>(variables: &[Variable<M>]) -> Vec<(usize, IndexedD
             .iter()
             .position(|v| v.value_reference == vr)
             .map(|k| k + 1)
-            .unwrap_or_else(|| panic!("a dependency names value reference {vr}, which no variable has"))
+            .unwrap_or_else(|| {
+                panic!("a dependency names value reference {vr}, which no variable has")
+            })
     };
     variables
         .iter()

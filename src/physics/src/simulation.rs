@@ -394,7 +394,8 @@ impl Simulator {
         if resolution.state != state.contact {
             state.transition_count += 1;
             if !self.keep_all_transitions && self.transitions.len() >= 2 * RECENT_TRANSITIONS {
-                self.transitions.drain(..self.transitions.len() - RECENT_TRANSITIONS);
+                self.transitions
+                    .drain(..self.transitions.len() - RECENT_TRANSITIONS);
             }
             self.transitions.push(Transition {
                 time: state.time,
