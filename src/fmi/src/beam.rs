@@ -29,7 +29,9 @@ use stickslip::scene::{
     CheckedScene, Clamp, FidelityLevel, FrictionLawKind, HoldingForce, InitialState, ModalBasis,
     Scene, SceneError, Scheme, SlidingVelocity,
 };
-use stickslip::simulation::{ExternalFriction, SimulationError, SimulationState, Simulator};
+use stickslip::simulation::{
+    ExternalFriction, SimulationError, SimulationState, Simulator, RECENT_TRANSITIONS,
+};
 use stickslip::study::Configuration;
 
 /// Inputs of the beam (SI units).
@@ -904,10 +906,11 @@ impl Model for StickSlipBeam {
         let listed = kept.len().min(usize::try_from(made).unwrap_or(usize::MAX));
         if made > listed as u64 {
             events.push(format!(
-                "{} transitions of this step before t = {:.6} s are not listed (only the last {} are kept)",
+                "{} transitions of this step before t = {:.6} s are not listed: the simulation keeps only its last {} to {} transitions",
                 made - listed as u64,
                 kept[kept.len() - listed].time + running.start_time,
-                listed
+                RECENT_TRANSITIONS,
+                2 * RECENT_TRANSITIONS
             ));
         }
         for t in &kept[kept.len() - listed..] {
