@@ -365,7 +365,7 @@ fn state_errors_are_typed_and_say_what_is_wrong() {
         ),
         (
             state("stickslip-fmu-state", 99, "step-complete", 0.5),
-            "serialized FMU state has version 99, this FMU reads versions 1 to 2",
+            "serialized FMU state has version 99, this FMU reads versions 1 to 3",
         ),
         (
             state("stickslip-fmu-state", 1, "step-complete", 2.0),
@@ -910,4 +910,57 @@ fn a_version_1_beam_state_restores_into_the_scene_fields() {
     mixed.version = STATE_VERSION;
     assert!(b.set_state(&mixed).is_err());
     assert!(logged(&log, "unknown field"), "{:?}", log.lock().unwrap());
+}
+
+/// A version-2 beam state listed every transition beside the simulation state; it
+/// still restores (the list is checked against the count, then dropped) and steps on
+/// exactly as the current state does. A list that disagrees with the count is refused,
+/// and the current version has no list.
+#[test]
+fn a_version_2_beam_state_with_its_transition_list_restores() {
+    let (mut b, log) = initialized_beam(LEVEL_MODAL);
+    run(&mut b, 0.0, 0.6, 1e-2);
+    let mut count = [0];
+    b.get_integer(&[vr::<StickSlipBeam>("transitions")], &mut count)
+        .unwrap();
+    assert!(count[0] > 0);
+    let current = b.get_state().unwrap();
+    assert_eq!(current.version, STATE_VERSION);
+    let running = &current.model["running"];
+    assert_eq!(running["state"]["transition_count"], count[0]);
+    assert!(running.get("transitions").is_none());
+    let expected = run(&mut b, 0.6, 0.8, 1e-2);
+
+    let with_list = |listed: usize| {
+        let mut v2 = current.clone();
+        v2.version = 2;
+        let list: Vec<serde_json::Value> = (0..listed)
+            .map(|k| serde_json::json!({"time": 0.4 + 1e-3 * k as f64, "to": "Slip"}))
+            .collect();
+        v2.model["running"]
+            .as_object_mut()
+            .unwrap()
+            .insert("transitions".into(), list.into());
+        v2
+    };
+    let v2 = b
+        .deserialize_state(&with_list(count[0] as usize).to_bytes())
+        .unwrap();
+    b.set_state(&v2).unwrap();
+    assert_eq!(run(&mut b, 0.6, 0.8, 1e-2), expected);
+    assert_eq!(b.get_state().unwrap().version, STATE_VERSION);
+
+    assert!(b.set_state(&with_list(count[0] as usize + 1)).is_err());
+    assert!(logged(
+        &log,
+        &format!(
+            "{} transitions listed, the count says {}",
+            count[0] + 1,
+            count[0]
+        )
+    ));
+    let mut listed_now = with_list(count[0] as usize);
+    listed_now.version = STATE_VERSION;
+    assert!(b.set_state(&listed_now).is_err());
+    assert!(logged(&log, "unknown field `transitions`"));
 }

@@ -1,8 +1,11 @@
 //! The FMI 2.0 adapter: the instance state machine, the C ABI, the call matrix, threads and resources, fuzz regressions and the generated modelDescription.
 
+mod allocations;
 mod call_matrix;
+mod dependencies;
 mod ffi;
 mod fuzz_regressions;
 mod instance;
+mod long_run;
 mod model_description;
 mod threads_resources;

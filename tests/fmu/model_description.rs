@@ -10,7 +10,7 @@ use stickslip::scene::{
 };
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
-use stickslip_fmi::variables::{Access, Causality, Variable, UNITS};
+use stickslip_fmi::variables::{Access, Causality, InitialDependencies, Variable, UNITS};
 use stickslip_fmi::{FmuKind, Model};
 
 #[test]
@@ -52,6 +52,32 @@ fn check_table<M: Model>(variables: &[Variable<M>]) {
             v.name
         );
         assert!(!v.description.is_empty(), "{}", v.name);
+        // Only outputs declare dependencies, and they name inputs and parameters of the
+        // table (an input at communication points, both in Initialization Mode).
+        assert_eq!(
+            v.depends_on.is_some(),
+            v.causality == Causality::Output,
+            "{}",
+            v.name
+        );
+        let causality_of = |vr: u32| {
+            variables
+                .iter()
+                .find(|w| w.value_reference == vr)
+                .map(|w| w.causality)
+        };
+        if let Some(d) = &v.depends_on {
+            for (vr, _) in d.inputs {
+                assert_eq!(causality_of(*vr), Some(Causality::Input), "{}", v.name);
+            }
+            let (listed, expected) = match d.initial {
+                InitialDependencies::InputsAnd(parameters) => (parameters, Causality::Parameter),
+                InitialDependencies::AllParametersAnd(inputs) => (inputs, Causality::Input),
+            };
+            for vr in listed {
+                assert_eq!(causality_of(*vr), Some(expected), "{}", v.name);
+            }
+        }
     }
 }
 

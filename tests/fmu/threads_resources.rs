@@ -6,8 +6,6 @@
 //! - `valgrind_driver_loop` (ignored): the loop that `scripts/valgrind.sh` runs under
 //!   valgrind.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::ffi::{c_char, c_void, CString};
 use std::path::{Path, PathBuf};
 use std::ptr::{null, null_mut};
@@ -16,6 +14,7 @@ use std::sync::Barrier;
 use stickslip_fmi::ffi::*;
 use stickslip_fmi::FmuKind;
 
+use crate::allocations::live_bytes;
 use stickslip_tests::fmi_log::{record, Entry, Log};
 
 const OK: fmi2Status = 0;
@@ -674,58 +673,7 @@ fn non_file_uris_and_null_fail_instantiation_with_a_reason() {
 }
 
 // ---------------------------------------------------------------------------------------
-// Memory: FMU states left at fmi2FreeInstance.
-
-/// Counts the bytes each thread holds, so that a test can see what one instance's life
-/// leaves behind on its own thread while other tests run in parallel.
-struct PerThreadCount;
-
-thread_local! {
-    static LIVE_BYTES: Cell<isize> = const { Cell::new(0) };
-}
-
-fn count(delta: isize) {
-    // try_with: no panic while the thread's locals are being destroyed.
-    let _ = LIVE_BYTES.try_with(|n| n.set(n.get() + delta));
-}
-
-unsafe impl GlobalAlloc for PerThreadCount {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let p = System.alloc(layout);
-        if !p.is_null() {
-            count(layout.size() as isize);
-        }
-        p
-    }
-
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        let p = System.alloc_zeroed(layout);
-        if !p.is_null() {
-            count(layout.size() as isize);
-        }
-        p
-    }
-
-    unsafe fn dealloc(&self, p: *mut u8, layout: Layout) {
-        System.dealloc(p, layout);
-        count(-(layout.size() as isize));
-    }
-
-    unsafe fn realloc(&self, p: *mut u8, layout: Layout, size: usize) -> *mut u8 {
-        let q = System.realloc(p, layout, size);
-        if !q.is_null() {
-            count(size as isize - layout.size() as isize);
-        }
-        q
-    }
-}
-
-#[global_allocator]
-static ALLOCATOR: PerThreadCount = PerThreadCount;
-
-fn live_bytes() -> isize {
-    LIVE_BYTES.with(Cell::get)
-}
+// Memory: FMU states left at fmi2FreeInstance (counted by `allocations`).
 
 /// An initialised NeuralFriction instance with `left` FMU states (from fmi2GetFMUstate
 /// and fmi2DeSerializeFMUstate) that the importer does not free, freed at once.

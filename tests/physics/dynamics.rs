@@ -6,7 +6,7 @@ use stickslip::friction::{analytical_law, CoulombLaw};
 use stickslip::integrator::{Coefficients, Integrator, Kinematics};
 use stickslip::metrics::Summary;
 use stickslip::scene::{CheckedScene, Damping, FidelityLevel, Scene, Scheme};
-use stickslip::simulation::Simulator;
+use stickslip::simulation::{Simulator, RECENT_TRANSITIONS};
 use stickslip::structure::StructuralModel;
 use stickslip::{modal, scene::FrictionLawKind};
 
@@ -128,6 +128,7 @@ fn generalized_alpha_is_second_order() {
 fn run(scene: CheckedScene) -> Summary {
     let law = analytical_law(&scene).unwrap();
     let mut sim = Simulator::new(scene, law).unwrap();
+    sim.keep_all_transitions();
     let samples = sim.run(1).unwrap();
     assert!(samples
         .iter()
@@ -219,6 +220,7 @@ fn equal_coefficients_give_the_harmonic_orbit() {
         kinetic_coefficient: 0.5,
     });
     let mut sim = Simulator::with_model(scene, model, law).unwrap();
+    sim.keep_all_transitions();
     let samples = sim.run(1).unwrap();
     let t_b = sim.transitions()[0].time;
     let x_b = samples
@@ -253,4 +255,41 @@ fn equal_coefficients_give_the_harmonic_orbit() {
         ((t_min - t_max) - period / 2.0).abs() < 2e-5,
         "{t_max} {t_min} {period}"
     );
+}
+
+/// A simulator keeps the latest transitions only (between `RECENT_TRANSITIONS` and twice
+/// as many) unless asked to keep all; which it does changes nothing else. 100 s of the
+/// paper scene at modal fidelity and dt = 1 ms make about 3000 transitions.
+#[test]
+fn the_transition_list_is_bounded_unless_all_are_asked_for() {
+    let mut s = Scene::default();
+    s.fidelity.level = FidelityLevel::Modal;
+    s.time.step = 1e-3;
+    s.time.end = 100.0;
+    let scene = s.check().unwrap();
+    let run = |keep_all: bool| {
+        let law = analytical_law(&scene).unwrap();
+        let mut sim = Simulator::new(scene.clone(), law).unwrap();
+        if keep_all {
+            sim.keep_all_transitions();
+        }
+        let samples = sim.run(100).unwrap();
+        (samples, sim.state().clone(), sim.transitions().to_vec())
+    };
+    let (samples_all, state_all, all) = run(true);
+    let (samples, state, recent) = run(false);
+    assert_eq!(samples, samples_all);
+    assert_eq!(state, state_all);
+    assert_eq!(all.len() as u64, state.transition_count);
+    assert!(
+        all.len() > 2 * RECENT_TRANSITIONS,
+        "{} transitions",
+        all.len()
+    );
+    assert!(
+        (RECENT_TRANSITIONS..=2 * RECENT_TRANSITIONS).contains(&recent.len()),
+        "{} kept",
+        recent.len()
+    );
+    assert_eq!(recent[..], all[all.len() - recent.len()..]);
 }

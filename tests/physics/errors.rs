@@ -70,7 +70,7 @@ fn a_state_that_does_not_fit_says_why() {
     let mut sim = Simulator::new(scene, law).unwrap();
     let mut state = sim.state().clone();
     state.kinematics.velocity.pop();
-    let e = sim.restore(state, Vec::new()).unwrap_err();
+    let e = sim.restore(state).unwrap_err();
     assert_eq!(
         e,
         StateMismatch("velocity has 9 entries, the model has 10 degrees of freedom".into())

@@ -50,6 +50,7 @@ fn run(edit: impl FnOnce(&mut Scene)) -> Outcome {
         _ => analytical_law(&scene).unwrap(),
     };
     let mut sim = Simulator::new(scene, law).unwrap();
+    sim.keep_all_transitions();
     let samples = sim.run(1).expect("the run completes");
     for x in &samples {
         let values = [

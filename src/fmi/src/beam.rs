@@ -13,7 +13,10 @@
 //! when the communication point is not on that grid (`Simulator::advance_to`).
 
 use crate::networks::{weights_name, NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
-use crate::variables::{choice_at, Access, Causality, EnumerationType, Variability, Variable};
+use crate::variables::{
+    choice_at, Access, Causality, Dependencies, EnumerationType, InitialDependencies, Variability,
+    Variable,
+};
 use crate::{Model, ModelInfo};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -26,7 +29,9 @@ use stickslip::scene::{
     CheckedScene, Clamp, FidelityLevel, FrictionLawKind, HoldingForce, InitialState, ModalBasis,
     Scene, SceneError, Scheme, SlidingVelocity,
 };
-use stickslip::simulation::{ExternalFriction, SimulationError, SimulationState, Simulator};
+use stickslip::simulation::{
+    ExternalFriction, SimulationError, SimulationState, Simulator, RECENT_TRANSITIONS,
+};
 use stickslip::study::Configuration;
 
 /// Inputs of the beam (SI units).
@@ -79,10 +84,11 @@ struct Running {
     simulator: Simulator,
     /// Time (s) at which the simulation's t = 0 lies.
     start_time: f64,
-    transitions_reported: usize,
 }
 
-/// Saved form (FMU state).
+/// Saved form (FMU state). Its size does not grow with simulated time: the
+/// simulation's state is a fixed number of values for a given model, and the
+/// transitions are kept as their count (`SimulationState::transition_count`).
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct Saved {
@@ -97,7 +103,65 @@ struct SavedRun {
     built_from: Settings,
     start_time: f64,
     state: SimulationState,
+}
+
+/// The transitions that state versions 1 and 2 listed beside the simulation state: every
+/// one since the start, so that those states grew with simulated time. Version 3 keeps
+/// only their count, which the list must agree with.
+fn check_listed_transitions(
+    state: &SimulationState,
+    transitions: &[stickslip::contact::Transition],
+) -> Result<(), String> {
+    if transitions.len() as u64 == state.transition_count {
+        Ok(())
+    } else {
+        Err(format!(
+            "{} transitions listed, the count says {}",
+            transitions.len(),
+            state.transition_count
+        ))
+    }
+}
+
+/// The running simulation as state version 2 saved it.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SavedRunV2 {
+    built_from: Settings,
+    start_time: f64,
+    state: SimulationState,
     transitions: Vec<stickslip::contact::Transition>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SavedV2 {
+    settings: Settings,
+    initialized: bool,
+    running: Option<SavedRunV2>,
+}
+
+impl TryFrom<SavedV2> for Saved {
+    type Error = String;
+
+    fn try_from(v2: SavedV2) -> Result<Self, String> {
+        let running = match v2.running {
+            Some(run) => {
+                check_listed_transitions(&run.state, &run.transitions)?;
+                Some(SavedRun {
+                    built_from: run.built_from,
+                    start_time: run.start_time,
+                    state: run.state,
+                })
+            }
+            None => None,
+        };
+        Ok(Saved {
+            settings: v2.settings,
+            initialized: v2.initialized,
+            running,
+        })
+    }
 }
 
 /// Settings as FMU state version 1 saved them: the friction model, the auto flag and
@@ -154,18 +218,20 @@ struct SavedRunV1 {
     transitions: Vec<stickslip::contact::Transition>,
 }
 
-impl From<SavedV1> for Saved {
-    fn from(v1: SavedV1) -> Self {
-        Saved {
+impl TryFrom<SavedV1> for Saved {
+    type Error = String;
+
+    fn try_from(v1: SavedV1) -> Result<Self, String> {
+        Saved::try_from(SavedV2 {
             settings: v1.settings.into(),
             initialized: v1.initialized,
-            running: v1.running.map(|run| SavedRun {
+            running: v1.running.map(|run| SavedRunV2 {
                 built_from: run.built_from.into(),
                 start_time: run.start_time,
                 state: run.state,
                 transitions: run.transitions,
             }),
-        }
+        })
     }
 }
 
@@ -284,7 +350,6 @@ impl StickSlipBeam {
             built_from: self.settings.clone(),
             simulator,
             start_time,
-            transitions_reported: 0,
         });
         Ok(())
     }
@@ -344,6 +409,7 @@ macro_rules! real_parameter {
                     Ok(())
                 }),
             },
+            depends_on: None,
         }
     };
 }
@@ -370,6 +436,7 @@ macro_rules! enum_parameter {
                     Ok(())
                 }),
             },
+            depends_on: None,
         }
     };
 }
@@ -391,6 +458,7 @@ macro_rules! count_parameter {
                     Ok(())
                 }),
             },
+            depends_on: None,
         }
     };
 }
@@ -414,6 +482,7 @@ macro_rules! input {
                     Ok(())
                 }),
             },
+            depends_on: None,
         }
     };
 }
@@ -431,6 +500,7 @@ macro_rules! real_output {
                 get: |m: &StickSlipBeam| m.output($read),
                 set: None,
             },
+            depends_on: Some(BEAM_OUTPUT),
         }
     };
 }
@@ -444,6 +514,21 @@ fn non_negative(v: f64) -> Result<(), String> {
 }
 
 const BELT_SPEED: u32 = 100;
+const NORMAL_FORCE: u32 = 101;
+
+/// What every output of the beam depends on. An output is read off the simulation
+/// state, which only fmi2DoStep advances: an input set at a communication point acts on
+/// the steps to come, so no output follows an input directly (`dependencies=""`, no
+/// direct feedthrough, so no algebraic loop with a friction FMU that feeds the
+/// external inputs). In Initialization Mode an output is the start state, built from
+/// the scene: every parameter, and the two inputs that are scene fields. The
+/// quasi-static start moves at `belt_speed`; with `fidelity.level = auto` the
+/// calibration runs the scene, `normal_force` included, and the model it picks shapes
+/// the start. The external inputs do not enter the start.
+const BEAM_OUTPUT: Dependencies = Dependencies {
+    inputs: &[],
+    initial: InitialDependencies::AllParametersAnd(&[BELT_SPEED, NORMAL_FORCE]),
+};
 
 static VARIABLES: &[Variable<StickSlipBeam>] = &[
     real_parameter!(1, "geometry.length", Some("m"), "Beam length L", |s| s
@@ -525,6 +610,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
                 Ok(())
             }),
         },
+        depends_on: None,
     },
     enum_parameter!(
         20,
@@ -593,6 +679,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
                 Ok(())
             }),
         },
+        depends_on: None,
     },
     count_parameter!(
         51,
@@ -635,6 +722,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
                 Ok(())
             }),
         },
+        depends_on: None,
     },
     enum_parameter!(
         56,
@@ -667,7 +755,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         }
     ),
     input!(
-        101,
+        NORMAL_FORCE,
         "normal_force",
         "Normal force F_n",
         normal_force,
@@ -727,6 +815,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
             get: |m: &StickSlipBeam| m.sample().map(|s| s.stick).unwrap_or(true),
             set: None,
         },
+        depends_on: Some(BEAM_OUTPUT),
     },
     Variable {
         name: "transitions",
@@ -745,6 +834,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
             },
             set: None,
         },
+        depends_on: Some(BEAM_OUTPUT),
     },
 ];
 
@@ -807,9 +897,23 @@ impl Model for StickSlipBeam {
         let Some(running) = &mut self.running else {
             return Err("the simulation was not initialised".into());
         };
+        let before = running.simulator.state().transition_count;
         let result = running.simulator.advance_to(to - running.start_time);
-        let transitions = running.simulator.transitions();
-        for t in &transitions[running.transitions_reported.min(transitions.len())..] {
+        // The simulator keeps at least the last RECENT_TRANSITIONS transitions, so a step
+        // that made no more than that lists them all.
+        let made = running.simulator.state().transition_count - before;
+        let kept = running.simulator.transitions();
+        let listed = kept.len().min(usize::try_from(made).unwrap_or(usize::MAX));
+        if made > listed as u64 {
+            events.push(format!(
+                "{} transitions of this step before t = {:.6} s are not listed: the simulation keeps only its last {} to {} transitions",
+                made - listed as u64,
+                kept[kept.len() - listed].time + running.start_time,
+                RECENT_TRANSITIONS,
+                2 * RECENT_TRANSITIONS
+            ));
+        }
+        for t in &kept[kept.len() - listed..] {
             let to_state = match t.to {
                 ContactState::Stick => "stick",
                 ContactState::Slip => "slip",
@@ -819,7 +923,6 @@ impl Model for StickSlipBeam {
                 t.time + running.start_time
             ));
         }
-        running.transitions_reported = transitions.len();
         result.map_err(|e| e.to_string())
     }
 
@@ -835,19 +938,19 @@ impl Model for StickSlipBeam {
                 built_from: r.built_from.clone(),
                 start_time: r.start_time,
                 state: r.simulator.state().clone(),
-                transitions: r.simulator.transitions().to_vec(),
             }),
         };
         serde_json::to_value(saved).unwrap_or(serde_json::Value::Null)
     }
 
     fn restore(&mut self, saved: serde_json::Value, version: u32, time: f64) -> Result<(), String> {
-        let saved: Saved = if version == 1 {
-            serde_json::from_value::<SavedV1>(saved).map(Saved::from)
-        } else {
-            serde_json::from_value(saved)
-        }
-        .map_err(|e| format!("saved StickSlipBeam state is malformed: {e}"))?;
+        let malformed =
+            |e: serde_json::Error| format!("saved StickSlipBeam state is malformed: {e}");
+        let saved: Saved = match version {
+            1 => Saved::try_from(serde_json::from_value::<SavedV1>(saved).map_err(malformed)?)?,
+            2 => Saved::try_from(serde_json::from_value::<SavedV2>(saved).map_err(malformed)?)?,
+            _ => serde_json::from_value(saved).map_err(malformed)?,
+        };
         if let Some(run) = &saved.running {
             // fmi2DoStep lands the simulation exactly on each communication point, so the
             // two clocks agree to rounding; half a time step separates rounding from a
@@ -887,10 +990,9 @@ impl Model for StickSlipBeam {
             let running = self.running.as_mut().ok_or("no simulation")?;
             running
                 .simulator
-                .restore(run.state, run.transitions)
+                .restore(run.state)
                 .map_err(|e| e.to_string())?;
             running.start_time = run.start_time;
-            running.transitions_reported = running.simulator.transitions().len();
             Ok::<(), String>(())
         });
         match restored {

@@ -8,7 +8,10 @@
 //! Inputs are clamped to the network's training range (see `neural`).
 
 use crate::networks::{weights_name, NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
-use crate::variables::{choice_at, Access, Causality, EnumerationType, Variability, Variable};
+use crate::variables::{
+    choice_at, Access, Causality, Dependencies, DependencyKind, EnumerationType,
+    InitialDependencies, Variability, Variable,
+};
 use crate::{Model, ModelInfo};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -177,6 +180,7 @@ macro_rules! parameter {
                     Ok(())
                 }),
             },
+            depends_on: None,
         }
     };
 }
@@ -197,12 +201,13 @@ macro_rules! input {
                     Ok(())
                 }),
             },
+            depends_on: None,
         }
     };
 }
 
 macro_rules! output {
-    ($vr:expr, $name:expr, $unit:expr, $description:expr, |$o:ident| $value:expr) => {
+    ($vr:expr, $name:expr, $unit:expr, $description:expr, $depends_on:expr, |$o:ident| $value:expr) => {
         Variable {
             name: $name,
             value_reference: $vr,
@@ -217,14 +222,55 @@ macro_rules! output {
                 },
                 set: None,
             },
+            depends_on: Some($depends_on),
         }
     };
 }
 
+const LAW: u32 = 1;
+const STATIC_COEFFICIENT: u32 = 2;
+const KINETIC_COEFFICIENT: u32 = 3;
+const DECAY: u32 = 4;
+const WEIGHTS: u32 = 5;
+const SLIDING_VELOCITY: u32 = 10;
+const NORMAL_FORCE: u32 = 11;
+/// extra_feature[1] ... extra_feature[4].
+const EXTRA_FEATURE: [u32; EXTRA_FEATURES] = [12, 13, 14, 15];
+
+/// What the force, its magnitude and the coefficient depend on: the law is evaluated
+/// from the inputs when an output is read, so every input it may read reaches them
+/// directly, with no particular structure (the law is nonlinear in each). The network
+/// reads the extra features it has (none for the shipped ones, up to four), the
+/// exponential law none: the dependencies are those of any law the parameters can
+/// choose. In Initialization Mode also the parameters of the laws.
+const LAW_OUTPUT: Dependencies = Dependencies {
+    inputs: &[
+        (SLIDING_VELOCITY, DependencyKind::Dependent),
+        (NORMAL_FORCE, DependencyKind::Dependent),
+        (EXTRA_FEATURE[0], DependencyKind::Dependent),
+        (EXTRA_FEATURE[1], DependencyKind::Dependent),
+        (EXTRA_FEATURE[2], DependencyKind::Dependent),
+        (EXTRA_FEATURE[3], DependencyKind::Dependent),
+    ],
+    initial: InitialDependencies::InputsAnd(&[
+        LAW,
+        STATIC_COEFFICIENT,
+        KINETIC_COEFFICIENT,
+        DECAY,
+        WEIGHTS,
+    ]),
+};
+
+/// The static limit mu_s F_n: the normal force times a fixed parameter.
+const STATIC_LIMIT: Dependencies = Dependencies {
+    inputs: &[(NORMAL_FORCE, DependencyKind::Fixed)],
+    initial: InitialDependencies::InputsAnd(&[STATIC_COEFFICIENT]),
+};
+
 static VARIABLES: &[Variable<NeuralFriction>] = &[
     Variable {
         name: "law",
-        value_reference: 1,
+        value_reference: LAW,
         causality: Causality::Parameter,
         variability: Variability::Fixed,
         description: "Friction law: the network, or the analytical law for comparison",
@@ -236,23 +282,24 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
                 Ok(())
             }),
         },
+        depends_on: None,
     },
     parameter!(
-        2,
+        STATIC_COEFFICIENT,
         "static_coefficient",
         None,
         "Static coefficient mu_s (static limit; exponential law)",
         static_coefficient
     ),
     parameter!(
-        3,
+        KINETIC_COEFFICIENT,
         "kinetic_coefficient",
         None,
         "Kinetic coefficient mu_k (exponential law)",
         kinetic_coefficient
     ),
     parameter!(
-        4,
+        DECAY,
         "decay",
         Some("s/m"),
         "Decay alpha (exponential law)",
@@ -260,7 +307,7 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
     ),
     Variable {
         name: "weights",
-        value_reference: 5,
+        value_reference: WEIGHTS,
         causality: Causality::Parameter,
         variability: Variability::Fixed,
         description: "Network weights: a file in resources/ or an absolute path",
@@ -271,9 +318,10 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
                 Ok(())
             }),
         },
+        depends_on: None,
     },
     input!(
-        10,
+        SLIDING_VELOCITY,
         "sliding_velocity",
         Some("m/s"),
         "Sliding velocity v_rel = v_b - v_tip",
@@ -281,7 +329,7 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
     ),
     Variable {
         name: "normal_force",
-        value_reference: 11,
+        value_reference: NORMAL_FORCE,
         causality: Causality::Input,
         variability: Variability::Continuous,
         description: "Normal force F_n",
@@ -296,30 +344,31 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
                 Ok(())
             }),
         },
+        depends_on: None,
     },
     input!(
-        12,
+        EXTRA_FEATURE[0],
         "extra_feature[1]",
         None,
         "First network feature besides velocity and normal force, if any",
         |m| m.settings.extra_features[0]
     ),
     input!(
-        13,
+        EXTRA_FEATURE[1],
         "extra_feature[2]",
         None,
         "Second further network feature, if any",
         |m| m.settings.extra_features[1]
     ),
     input!(
-        14,
+        EXTRA_FEATURE[2],
         "extra_feature[3]",
         None,
         "Third further network feature, if any",
         |m| m.settings.extra_features[2]
     ),
     input!(
-        15,
+        EXTRA_FEATURE[3],
         "extra_feature[4]",
         None,
         "Fourth further network feature, if any",
@@ -330,6 +379,7 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         "friction_force",
         Some("N"),
         "Kinetic friction force, signed: positive for positive sliding velocity",
+        LAW_OUTPUT,
         |o| o.force
     ),
     output!(
@@ -337,6 +387,7 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         "friction_force_magnitude",
         Some("N"),
         "Magnitude of the kinetic friction force",
+        LAW_OUTPUT,
         |o| o.force.abs()
     ),
     output!(
@@ -344,6 +395,7 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         "friction_coefficient",
         None,
         "|friction_force| / normal_force (0 when normal_force = 0)",
+        LAW_OUTPUT,
         |o| o.coefficient
     ),
     output!(
@@ -351,6 +403,7 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         "static_limit",
         Some("N"),
         "Static limit mu_s F_n",
+        STATIC_LIMIT,
         |o| o.static_limit
     ),
 ];
@@ -409,7 +462,7 @@ impl Model for NeuralFriction {
         serde_json::to_value(&self.settings).unwrap_or(serde_json::Value::Null)
     }
 
-    /// Versions 1 and 2 of the state hold the same settings.
+    /// Every state version (1 to 3) holds the same settings.
     fn restore(
         &mut self,
         saved: serde_json::Value,

@@ -133,12 +133,17 @@ pub struct SavedState {
 }
 
 pub const STATE_FORMAT: &str = "stickslip-fmu-state";
-/// The version this FMU writes. 2: StickSlipBeam's friction model, `auto` flag and
-/// tolerance moved into its scene (`friction.law`, `fidelity.level = auto`,
-/// `fidelity.tolerance`), so an FMU that reads only version 1 refuses these states by
-/// their version rather than as malformed.
-pub const STATE_VERSION: u32 = 2;
-/// The oldest version this FMU still reads (a version-1 beam state is converted).
+/// The version this FMU writes.
+/// - 2: StickSlipBeam's friction model, `auto` flag and tolerance moved into its scene
+///   (`friction.law`, `fidelity.level = auto`, `fidelity.tolerance`), so an FMU that
+///   reads only version 1 refuses these states by their version rather than as
+///   malformed.
+/// - 3: StickSlipBeam no longer lists every stick/slip transition made so far (a list
+///   that grew with simulated time); the simulation state's count replaces it, so the
+///   state's size no longer depends on how long the run has gone.
+pub const STATE_VERSION: u32 = 3;
+/// The oldest version this FMU still reads (version-1 and version-2 beam states are
+/// converted; their transition lists are checked against the count, then dropped).
 pub const OLDEST_STATE_VERSION: u32 = 1;
 
 impl SavedState {

@@ -5,10 +5,17 @@
 //! - Start values are read from `Model::with_defaults()`, so they are the defaults the
 //!   Rust code uses.
 //! - Outputs are `initial="calculated"`; ModelStructure lists every output under
-//!   `Outputs` and under `InitialUnknowns` (no calculated parameters, no states).
+//!   `Outputs` and under `InitialUnknowns` (no calculated parameters, no states), each
+//!   with the dependencies its table entry declares (`variables::Dependencies`):
+//!   `Outputs` with the inputs that reach it directly and their `dependenciesKind`,
+//!   `InitialUnknowns` with the inputs and parameters it is computed from (there only
+//!   "dependent" is meaningful, so no `dependenciesKind`).
 //! - No generation date, so that the file is reproducible byte for byte.
 
-use crate::variables::{Access, Causality, EnumerationType, Variability, UNITS};
+use crate::variables::{
+    Access, Causality, DependencyKind, EnumerationType, InitialDependencies, Variability, Variable,
+    UNITS,
+};
 use crate::Model;
 use std::fmt::Write;
 
@@ -210,21 +217,25 @@ fn body<M: Model>(guid: &str) -> String {
     }
     let _ = writeln!(w, "  </ModelVariables>");
 
-    let outputs: Vec<usize> = variables
-        .iter()
-        .enumerate()
-        .filter(|(_, v)| v.causality == Causality::Output)
-        .map(|(k, _)| k + 1)
-        .collect();
     let _ = writeln!(w, "  <ModelStructure>");
     let _ = writeln!(w, "    <Outputs>");
-    for k in &outputs {
-        let _ = writeln!(w, r#"      <Unknown index="{k}"/>"#);
+    let dependencies = output_dependencies(variables);
+    for (k, d) in &dependencies {
+        let (indices, kinds): (Vec<usize>, Vec<DependencyKind>) = d.step.iter().copied().unzip();
+        let _ = writeln!(
+            w,
+            r#"      <Unknown index="{k}"{}/>"#,
+            dependency_attributes(&indices, &kinds)
+        );
     }
     let _ = writeln!(w, "    </Outputs>");
     let _ = writeln!(w, "    <InitialUnknowns>");
-    for k in &outputs {
-        let _ = writeln!(w, r#"      <Unknown index="{k}"/>"#);
+    for (k, d) in &dependencies {
+        let _ = writeln!(
+            w,
+            r#"      <Unknown index="{k}"{}/>"#,
+            dependency_attributes(&d.initial, &[])
+        );
     }
     let _ = writeln!(w, "    </InitialUnknowns>");
     let _ = writeln!(w, "  </ModelStructure>");
@@ -234,6 +245,81 @@ fn body<M: Model>(guid: &str) -> String {
         _ => v.variability != Variability::Fixed,
     }));
     x
+}
+
+/// An output's dependencies as ModelStructure lists them: (1-based ScalarVariable
+/// index, kind), ordered by index.
+pub struct IndexedDependencies {
+    /// At communication points (`Outputs`): the inputs.
+    pub step: Vec<(usize, DependencyKind)>,
+    /// In Initialization Mode (`InitialUnknowns`): inputs and parameters. Every
+    /// parameter is a known that can still change there, so a factor that is fixed at
+    /// communication points is not fixed there: no kinds but "dependent", which is
+    /// what an absent `dependenciesKind` says.
+    pub initial: Vec<usize>,
+}
+
+/// Every output of the table, in table order, with its 1-based index and its
+/// dependencies as indices. `Outputs` must list every output and `InitialUnknowns` every
+/// output with `initial = "calculated"`, which ours all are; both in index order.
+pub fn output_dependencies<M>(variables: &[Variable<M>]) -> Vec<(usize, IndexedDependencies)> {
+    let index_of = |vr: u32| {
+        variables
+            .iter()
+            .position(|v| v.value_reference == vr)
+            .map(|k| k + 1)
+            .unwrap_or_else(|| {
+                panic!("a dependency names value reference {vr}, which no variable has")
+            })
+    };
+    variables
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.causality == Causality::Output)
+        .map(|(k, v)| {
+            let depends_on = v
+                .depends_on
+                .unwrap_or_else(|| panic!("output {} declares no dependencies", v.name));
+            let mut step: Vec<(usize, DependencyKind)> = depends_on
+                .inputs
+                .iter()
+                .map(|(vr, kind)| (index_of(*vr), *kind))
+                .collect();
+            step.sort_by_key(|(k, _)| *k);
+            step.dedup_by_key(|(k, _)| *k);
+            let knowns: Vec<u32> = match depends_on.initial {
+                InitialDependencies::InputsAnd(parameters) => depends_on
+                    .inputs
+                    .iter()
+                    .map(|(vr, _)| *vr)
+                    .chain(parameters.iter().copied())
+                    .collect(),
+                InitialDependencies::AllParametersAnd(inputs) => variables
+                    .iter()
+                    .filter(|p| p.causality == Causality::Parameter)
+                    .map(|p| p.value_reference)
+                    .chain(inputs.iter().copied())
+                    .collect(),
+            };
+            let mut initial: Vec<usize> = knowns.into_iter().map(index_of).collect();
+            initial.sort_unstable();
+            initial.dedup();
+            (k + 1, IndexedDependencies { step, initial })
+        })
+        .collect()
+}
+
+/// ` dependencies="..."`, and ` dependenciesKind="..."` when there are kinds. An empty
+/// list is written as `dependencies=""`: the unknown depends on none of the knowns (an
+/// absent attribute would mean all of them).
+fn dependency_attributes(indices: &[usize], kinds: &[DependencyKind]) -> String {
+    let indices: Vec<String> = indices.iter().map(usize::to_string).collect();
+    let mut attributes = format!(r#" dependencies="{}""#, indices.join(" "));
+    if !kinds.is_empty() {
+        let kinds: Vec<&str> = kinds.iter().map(|kind| kind.as_str()).collect();
+        let _ = write!(attributes, r#" dependenciesKind="{}""#, kinds.join(" "));
+    }
+    attributes
 }
 
 /// 128-bit FNV-1a, written as a GUID.

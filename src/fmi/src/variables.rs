@@ -172,6 +172,53 @@ impl<M> Access<M> {
     }
 }
 
+/// How a known enters an output (FMI 2.0 section 2.2.8, attribute `dependenciesKind`;
+/// only the kinds our models use).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DependencyKind {
+    /// No particular structure: y = h(..., v, ...).
+    Dependent,
+    /// A fixed factor: y = p v, with p fixed once fmi2ExitInitializationMode returns (a
+    /// function of `fixed` parameters). Only for Real outputs at communication points.
+    Fixed,
+}
+
+impl DependencyKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            DependencyKind::Dependent => "dependent",
+            DependencyKind::Fixed => "fixed",
+        }
+    }
+}
+
+/// The knowns an output is computed from in Initialization Mode (FMI 2.0 section 2.2.8,
+/// `InitialUnknowns`): there the knowns are the inputs and every variable with
+/// `initial = "exact"`, which for our models are the parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum InitialDependencies {
+    /// The inputs of [`Dependencies::inputs`] and these parameters (value references).
+    InputsAnd(&'static [u32]),
+    /// Every parameter and these inputs (value references).
+    AllParametersAnd(&'static [u32]),
+}
+
+/// What an output depends on, written to the ModelStructure of modelDescription.xml
+/// (FMI 2.0 section 2.2.8). A master reads it to know which outputs change as soon as
+/// an input is set (direct feedthrough, which can close an algebraic loop between FMUs)
+/// and which change only in fmi2DoStep.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Dependencies {
+    /// At a communication point (`Outputs`): the inputs (value references) that change
+    /// the output when set, without a step, and how each enters it. Empty: the output
+    /// changes only in fmi2DoStep (`dependencies=""`). States and time are not listed:
+    /// the FMU declares no state variables, and a Co-Simulation FMU without directional
+    /// derivatives does not list continuous-time dependencies.
+    pub inputs: &'static [(u32, DependencyKind)],
+    /// In Initialization Mode (`InitialUnknowns`).
+    pub initial: InitialDependencies,
+}
+
 /// One scalar variable of model `M`.
 pub struct Variable<M: 'static> {
     pub name: &'static str,
@@ -180,6 +227,8 @@ pub struct Variable<M: 'static> {
     pub variability: Variability,
     pub description: &'static str,
     pub access: Access<M>,
+    /// Outputs only: what the output depends on (None for parameters and inputs).
+    pub depends_on: Option<Dependencies>,
 }
 
 /// A unit in SI base-unit exponents (kg, m, s).

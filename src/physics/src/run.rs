@@ -62,6 +62,8 @@ pub fn run_scene(scene: CheckedScene, every: usize) -> Result<Run, RunError> {
     let law = friction_law(&scene)?;
     let started = Instant::now();
     let mut sim = Simulator::new(scene, law)?;
+    // The summary's slip phases and major slips need every transition of the run.
+    sim.keep_all_transitions();
     let samples = sim.run(every)?;
     let seconds = started.elapsed().as_secs_f64();
     // The summary wants every step; with decimated samples it is computed on those.

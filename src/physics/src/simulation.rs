@@ -99,8 +99,19 @@ pub struct Simulator {
     /// only when that length changes.
     landing: Option<Integrator>,
     state: SimulationState,
+    /// The most recent transitions, oldest first (see [`Simulator::transitions`]).
     transitions: Vec<Transition>,
+    /// Keep every transition instead of the most recent ones.
+    keep_all_transitions: bool,
 }
+
+/// How many transitions a simulator keeps at least, unless asked to keep all of them
+/// ([`Simulator::keep_all_transitions`]). It holds between this many and twice this many
+/// of the most recent ones: when the list reaches twice the bound, the older half is
+/// dropped at once, so that recording a transition stays O(1) amortised. The list
+/// then never takes more than 2 x 1024 x 16 bytes = 32 KiB, however long the run; the
+/// count of all transitions is `SimulationState::transition_count`.
+pub const RECENT_TRANSITIONS: usize = 1024;
 
 /// Two times closer than this fraction of the step are the same time (landing on a
 /// communication point must not leave a step of 1e-20 s behind; 1e-6 dt = 1e-10 s at
@@ -141,6 +152,7 @@ impl Simulator {
             landing: None,
             state,
             transitions: Vec::with_capacity(256),
+            keep_all_transitions: false,
         })
     }
 
@@ -162,12 +174,9 @@ impl Simulator {
 
     /// Replaces the evolving state (for FMU get/set state). Refuses a state whose size
     /// does not match the model or that holds non-finite numbers; the simulator is
-    /// unchanged then.
-    pub fn restore(
-        &mut self,
-        state: SimulationState,
-        transitions: Vec<Transition>,
-    ) -> Result<(), StateMismatch> {
+    /// unchanged then. The list of transitions starts empty again: the restored state
+    /// carries their count, not the transitions themselves.
+    pub fn restore(&mut self, state: SimulationState) -> Result<(), StateMismatch> {
         let n = self.model.dofs();
         let k = &state.kinematics;
         for (name, v) in [
@@ -205,15 +214,8 @@ impl Simulator {
                 return Err(StateMismatch(format!("{name} = {count} is above 2^53")));
             }
         }
-        if transitions.len() as u64 != state.transition_count {
-            return Err(StateMismatch(format!(
-                "{} transitions listed, the count says {}",
-                transitions.len(),
-                state.transition_count
-            )));
-        }
         self.state = state;
-        self.transitions = transitions;
+        self.transitions.clear();
         Ok(())
     }
 
@@ -223,9 +225,18 @@ impl Simulator {
         self.external = external;
     }
 
-    /// Every stick/slip transition so far.
+    /// The most recent stick/slip transitions, oldest first: every one since the start
+    /// (or the last [`Self::restore`]) after [`Self::keep_all_transitions`], otherwise
+    /// at least the last [`RECENT_TRANSITIONS`] of them (all of them while there are
+    /// fewer). `state().transition_count` counts them all.
     pub fn transitions(&self) -> &[Transition] {
         &self.transitions
+    }
+
+    /// Keeps every transition from now on, for a consumer that needs the whole list
+    /// (the run summary, `metrics::Summary`). Its memory then grows with the run.
+    pub fn keep_all_transitions(&mut self) {
+        self.keep_all_transitions = true;
     }
 
     /// Belt speed input v_b (m/s).
@@ -261,7 +272,8 @@ impl Simulator {
     }
 
     /// Advances one time step. No allocation, except when a transition is recorded
-    /// beyond the reserved capacity.
+    /// beyond the reserved capacity (which stops growing at 2 [`RECENT_TRANSITIONS`]
+    /// unless all transitions are kept).
     pub fn step(&mut self) -> Result<(), SimulationError> {
         self.take_step(false)
     }
@@ -381,6 +393,10 @@ impl Simulator {
         state.holding_force = resolution.holding_force;
         if resolution.state != state.contact {
             state.transition_count += 1;
+            if !self.keep_all_transitions && self.transitions.len() >= 2 * RECENT_TRANSITIONS {
+                self.transitions
+                    .drain(..self.transitions.len() - RECENT_TRANSITIONS);
+            }
             self.transitions.push(Transition {
                 time: state.time,
                 to: resolution.state,

@@ -1,0 +1,376 @@
+//! The output dependencies that modelDescription.xml declares (ModelStructure, FMI 2.0
+//! section 2.2.8) are the ones the FMUs have. Each known is changed alone, without a
+//! step, and every output is read: an output must change for every known it is
+//! declared to depend on (in at least one configuration of the parameters, because a
+//! declaration covers every law the parameters can choose) and for no other.
+//!
+//! - `Outputs`, at a communication point: the knowns are the inputs.
+//! - `InitialUnknowns`, in Initialization Mode: the inputs and the parameters.
+//!
+//! The declarations are read from the generated XML, which a master reads, not from the
+//! Rust tables.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::PathBuf;
+use stickslip::choice::Choice;
+use stickslip::friction::LawChoice;
+use stickslip::neural::{weights::FeatureSpec, FeatureRole, NeuralModel};
+use stickslip::scene::{FidelityLevel, FrictionLawKind};
+use stickslip_fmi::beam::StickSlipBeam;
+use stickslip_fmi::friction::NeuralFriction;
+use stickslip_fmi::instance::{Instance, Mode};
+use stickslip_fmi::variables::{Access, Causality};
+use stickslip_fmi::{FmuKind, Model};
+
+/// Output name -> names of the knowns it depends on.
+type DependencyMap = BTreeMap<String, BTreeSet<String>>;
+
+/// The value of attribute `name` in an XML tag, if present.
+fn attribute(tag: &str, name: &str) -> Option<String> {
+    let start = tag.find(&format!(" {name}=\""))? + name.len() + 3;
+    let end = start + tag[start..].find('"')?;
+    Some(tag[start..end].to_string())
+}
+
+/// The `Outputs` and `InitialUnknowns` lists of a modelDescription, by variable name.
+/// Every unknown must carry a `dependencies` attribute: an absent one would mean "all
+/// knowns".
+fn declared(xml: &str) -> (DependencyMap, DependencyMap) {
+    let names: Vec<String> = xml
+        .split("<ScalarVariable ")
+        .skip(1)
+        .map(|tag| attribute(&format!(" {tag}"), "name").unwrap())
+        .collect();
+    let list = |element: &str| -> DependencyMap {
+        let open = format!("<{element}>");
+        let block = &xml[xml.find(&open).unwrap()..xml.find(&format!("</{element}>")).unwrap()];
+        block
+            .split("<Unknown ")
+            .skip(1)
+            .map(|tag| {
+                let tag = format!(" {}", &tag[..tag.find("/>").unwrap()]);
+                let tag = tag.as_str();
+                let index: usize = attribute(tag, "index").unwrap().parse().unwrap();
+                let dependencies = attribute(tag, "dependencies")
+                    .unwrap_or_else(|| panic!("{element}: {tag} declares no dependencies"));
+                let known: BTreeSet<String> = dependencies
+                    .split_whitespace()
+                    .map(|k| names[k.parse::<usize>().unwrap() - 1].clone())
+                    .collect();
+                (names[index - 1].clone(), known)
+            })
+            .collect()
+    };
+    (list("Outputs"), list("InitialUnknowns"))
+}
+
+/// Every output of `M`, by name, as bits (Real), value (Integer) or 0/1 (Boolean).
+fn outputs<M: Model>(fmu: &mut Instance<M>) -> BTreeMap<String, u64> {
+    M::variables()
+        .iter()
+        .filter(|v| v.causality == Causality::Output)
+        .map(|v| {
+            let vr = [v.value_reference];
+            let value = match &v.access {
+                Access::Real { .. } => {
+                    let mut out = [0.0];
+                    fmu.get_real(&vr, &mut out).unwrap();
+                    out[0].to_bits()
+                }
+                Access::Integer { .. } | Access::Enumeration { .. } => {
+                    let mut out = [0];
+                    fmu.get_integer(&vr, &mut out).unwrap();
+                    out[0] as u64
+                }
+                Access::Boolean { .. } => {
+                    let mut out = [false];
+                    fmu.get_boolean(&vr, &mut out).unwrap();
+                    out[0] as u64
+                }
+                Access::String { .. } => unreachable!("no String outputs"),
+            };
+            (v.name.to_string(), value)
+        })
+        .collect()
+}
+
+/// A value of a known, in the type its variable has.
+#[derive(Clone, Debug)]
+enum Value {
+    Real(f64),
+    Integer(i32),
+    String(String),
+}
+
+fn vr<M: Model>(name: &str) -> u32 {
+    M::variables()
+        .iter()
+        .find(|v| v.name == name)
+        .unwrap_or_else(|| panic!("no variable {name}"))
+        .value_reference
+}
+
+fn set<M: Model>(fmu: &mut Instance<M>, name: &str, value: &Value) {
+    let vr = [vr::<M>(name)];
+    match value {
+        Value::Real(x) => fmu.set_real(&vr, &[*x]),
+        Value::Integer(n) => fmu.set_integer(&vr, &[*n]),
+        Value::String(s) => fmu.set_string(&vr, &[s.as_str()]),
+    }
+    .unwrap_or_else(|_| panic!("{name} = {value:?} refused"));
+}
+
+/// Sets each known (name, base value, changed value) alone to its changed value, reads
+/// every output, and sets it back; adds to `seen` the outputs it changed. Setting it
+/// back must give the base outputs again.
+fn probe<M: Model>(
+    fmu: &mut Instance<M>,
+    knowns: &[(&str, Value, Value)],
+    seen: &mut DependencyMap,
+) {
+    for (name, base, _) in knowns {
+        set(fmu, name, base);
+    }
+    let before = outputs(fmu);
+    for (name, base, changed) in knowns {
+        set(fmu, name, changed);
+        let after = outputs(fmu);
+        for (output, value) in &after {
+            if *value != before[output] {
+                seen.entry(output.clone())
+                    .or_default()
+                    .insert(name.to_string());
+            }
+        }
+        set(fmu, name, base);
+        assert_eq!(outputs(fmu), before, "{name} set back");
+    }
+}
+
+/// Every output with the knowns it was seen to depend on (none for the others).
+fn complete(seen: DependencyMap, declared: &DependencyMap) -> DependencyMap {
+    declared
+        .keys()
+        .map(|output| {
+            (
+                output.clone(),
+                seen.get(output).cloned().unwrap_or_default(),
+            )
+        })
+        .collect()
+}
+
+/// A copy of the paper's network with four more features (role `other`, trained range
+/// [-1, 1]) that every hidden unit of the first layer reads: a network that uses all of
+/// NeuralFriction's inputs.
+fn six_feature_weights() -> PathBuf {
+    let mut model =
+        NeuralModel::load(&stickslip_tests::weights_dir().join("paper-plain.json")).unwrap();
+    for k in 1..=4 {
+        model.features.push(FeatureSpec {
+            name: format!("extra{k}"),
+            unit: String::new(),
+            role: FeatureRole::Other,
+            input_mean: 0.0,
+            input_std: 1.0,
+            min: -1.0,
+            max: 1.0,
+        });
+    }
+    model.layer_sizes[0] = 6;
+    for (o, row) in model.layers[0].weights.iter_mut().enumerate() {
+        for k in 0..4 {
+            row.push(0.2 + 0.05 * ((o + k) % 5) as f64);
+        }
+    }
+    let path = std::env::temp_dir().join(format!(
+        "stickslip-six-features-{}.json",
+        std::process::id()
+    ));
+    model.save(&path).unwrap();
+    path
+}
+
+fn friction() -> Instance<NeuralFriction> {
+    Instance::new(
+        "friction",
+        Some(&stickslip_tests::weights_dir()),
+        false,
+        Box::new(|_, _, _| {}),
+    )
+    .unwrap()
+}
+
+#[test]
+fn neural_friction_outputs_change_with_exactly_the_inputs_and_parameters_declared() {
+    let (declared_outputs, declared_initial) =
+        declared(&FmuKind::NeuralFriction.model_description());
+    let weights = six_feature_weights();
+    let weights = weights.to_str().unwrap().to_string();
+    let neural = LawChoice::Neural.code();
+    let exponential = LawChoice::Exponential.code();
+    // Base values inside the networks' training ranges (inputs are clamped to them).
+    let inputs = || {
+        vec![
+            ("sliding_velocity", Value::Real(0.05), Value::Real(0.1)),
+            ("normal_force", Value::Real(100.0), Value::Real(105.0)),
+            ("extra_feature[1]", Value::Real(0.1), Value::Real(0.5)),
+            ("extra_feature[2]", Value::Real(0.2), Value::Real(-0.5)),
+            ("extra_feature[3]", Value::Real(0.3), Value::Real(0.7)),
+            ("extra_feature[4]", Value::Real(-0.4), Value::Real(0.2)),
+        ]
+    };
+    let parameters = |law: i32| {
+        let other_law = if law == neural { exponential } else { neural };
+        vec![
+            ("law", Value::Integer(law), Value::Integer(other_law)),
+            ("static_coefficient", Value::Real(0.5), Value::Real(0.6)),
+            ("kinetic_coefficient", Value::Real(0.3), Value::Real(0.25)),
+            ("decay", Value::Real(20.0), Value::Real(10.0)),
+            (
+                "weights",
+                Value::String(weights.clone()),
+                Value::String("paper-plain.json".into()),
+            ),
+        ]
+    };
+    let mut seen_outputs = DependencyMap::new();
+    let mut seen_initial = DependencyMap::new();
+    for law in [neural, exponential] {
+        let mut fmu = friction();
+        for (name, base, _) in parameters(law) {
+            set(&mut fmu, name, &base);
+        }
+        fmu.setup_experiment(0.0, None).unwrap();
+        fmu.enter_initialization_mode().unwrap();
+        let mut knowns = inputs();
+        knowns.extend(parameters(law));
+        probe(&mut fmu, &knowns, &mut seen_initial);
+        fmu.exit_initialization_mode().unwrap();
+        fmu.do_step(0.0, 1e-3).unwrap();
+        assert_eq!(fmu.mode(), Mode::StepComplete);
+        probe(&mut fmu, &inputs(), &mut seen_outputs);
+    }
+    let _ = std::fs::remove_file(&weights);
+    let seen_outputs = complete(seen_outputs, &declared_outputs);
+    let seen_initial = complete(seen_initial, &declared_initial);
+    println!("Outputs: {seen_outputs:#?}\nInitialUnknowns: {seen_initial:#?}");
+    assert_eq!(seen_outputs, declared_outputs, "Outputs");
+    assert_eq!(seen_initial, declared_initial, "InitialUnknowns");
+    // The probe sees the force depend on every input and static_limit on F_n alone.
+    assert_eq!(seen_outputs["friction_force"].len(), 6);
+    assert_eq!(
+        seen_outputs["static_limit"],
+        BTreeSet::from(["normal_force".to_string()])
+    );
+}
+
+fn beam(model: FrictionLawKind) -> Instance<StickSlipBeam> {
+    let mut fmu: Instance<StickSlipBeam> = Instance::new(
+        "beam",
+        Some(&stickslip_tests::weights_dir()),
+        false,
+        Box::new(|_, _, _| {}),
+    )
+    .unwrap();
+    let set_code = |fmu: &mut Instance<StickSlipBeam>, name: &str, code: i32| {
+        fmu.set_integer(&[vr::<StickSlipBeam>(name)], &[code])
+            .unwrap()
+    };
+    set_code(&mut fmu, "fidelity.level", FidelityLevel::Modal.code());
+    set_code(&mut fmu, "friction.model", model.code());
+    fmu.setup_experiment(0.0, Some(1.2)).unwrap();
+    fmu
+}
+
+/// The beam's inputs, each with a base value (the paper's, with the external model fed
+/// the exponential law's kinetic force at rest and its static limit) and a changed one.
+fn beam_inputs() -> Vec<(&'static str, Value, Value)> {
+    vec![
+        ("belt_speed", Value::Real(0.02), Value::Real(0.05)),
+        ("normal_force", Value::Real(100.0), Value::Real(120.0)),
+        (
+            "external.kinetic_force",
+            Value::Real(30.0),
+            Value::Real(20.0),
+        ),
+        (
+            "external.static_limit",
+            Value::Real(50.0),
+            Value::Real(40.0),
+        ),
+    ]
+}
+
+#[test]
+fn no_stick_slip_beam_output_follows_an_input_before_the_next_step() {
+    let (declared_outputs, declared_initial) =
+        declared(&FmuKind::StickSlipBeam.model_description());
+    assert!(declared_outputs.values().all(BTreeSet::is_empty));
+    let mut seen_outputs = DependencyMap::new();
+    let mut seen_initial = DependencyMap::new();
+    let h = 1e-3;
+    for model in [FrictionLawKind::Exponential, FrictionLawKind::External] {
+        let mut fmu = beam(model);
+        fmu.enter_initialization_mode().unwrap();
+        probe(&mut fmu, &beam_inputs(), &mut seen_initial);
+        fmu.exit_initialization_mode().unwrap();
+        // In stick (0.1 s), just after breakaway (0.41 s) and in the stick-slip cycles.
+        let mut t = 0.0;
+        for until in [0.1, 0.41, 0.8] {
+            while t < until - 0.5 * h {
+                fmu.do_step(t, h).unwrap();
+                t += h;
+            }
+            probe(&mut fmu, &beam_inputs(), &mut seen_outputs);
+            // The inputs do act, on the next step: in slip, the same step from a saved
+            // state with the belt speed or the kinetic force input changed gives other
+            // outputs.
+            if until != 0.41 {
+                continue;
+            }
+            let saved = fmu.get_state().unwrap();
+            fmu.do_step(t, h).unwrap();
+            let unchanged = outputs(&mut fmu);
+            let acting = match model {
+                FrictionLawKind::External => ["belt_speed", "external.kinetic_force"],
+                _ => ["belt_speed", "normal_force"],
+            };
+            for (name, base, changed) in beam_inputs() {
+                if !acting.contains(&name) {
+                    continue;
+                }
+                fmu.set_state(&saved).unwrap();
+                set(&mut fmu, name, &changed);
+                fmu.do_step(t, h).unwrap();
+                assert_ne!(
+                    outputs(&mut fmu),
+                    unchanged,
+                    "{model:?}: {name} set at t = {t} s changes nothing in the next step"
+                );
+                set(&mut fmu, name, &base);
+            }
+            fmu.set_state(&saved).unwrap();
+        }
+    }
+    let seen_outputs = complete(seen_outputs, &declared_outputs);
+    println!("Outputs: {seen_outputs:#?}\nInitialUnknowns (inputs only): {seen_initial:#?}");
+    assert_eq!(seen_outputs, declared_outputs, "Outputs");
+    // In Initialization Mode every parameter and the scene's inputs are declared (a
+    // superset: the start state is built from the whole scene); the probe changes the
+    // inputs only. No output follows the external inputs; belt_speed reaches the start
+    // (the quasi-static start moves at the belt speed).
+    for (output, knowns) in &seen_initial {
+        for known in knowns {
+            assert!(
+                declared_initial[output].contains(known),
+                "{output} changed with {known} in Initialization Mode, which is not declared"
+            );
+        }
+    }
+    assert!(declared_initial
+        .values()
+        .all(|knowns| !knowns.contains("external.kinetic_force")
+            && !knowns.contains("external.static_limit")));
+    assert!(seen_initial["tip_velocity"].contains("belt_speed"));
+}
