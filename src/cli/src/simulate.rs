@@ -118,6 +118,9 @@ impl SceneArgs {
         if let Some(w) = &self.weights {
             scene.friction.weights = Some(w.clone());
         }
+        // Before the damping: it checks the scene, and a scene with fidelity auto is
+        // valid only with its tolerance.
+        let auto_tolerance = self.auto_tolerance(&mut scene)?;
         if let Some(zeta) = self.damping_ratio {
             // At the first and third cantilever frequencies (the same numbers
             // `stickslip estimates` prints).
@@ -127,13 +130,27 @@ impl SceneArgs {
             }
             scene.damping = stickslip::stability::rayleigh_at_modes_1_and_3(&checked, zeta);
         }
+        let Some(tolerance) = auto_tolerance else {
+            return Ok(scene.check()?);
+        };
+        let front = stickslip::auto::paper_front()?;
+        let (resolved, choice) = stickslip::auto::resolve(scene, &front)?;
+        if let Some(choice) = &choice {
+            eprintln!("{}", stickslip::auto::describe(choice, tolerance));
+        }
+        Ok(resolved.check()?)
+    }
+
+    /// With fidelity auto (from `--fidelity auto` or the scene file): puts `--tolerance`
+    /// into the scene, refuses the flags whose values auto chooses, and returns the
+    /// tolerance (m). Without auto: None, and `--tolerance` is refused.
+    fn auto_tolerance(&self, scene: &mut Scene) -> Result<Option<f64>, CliError> {
         if scene.fidelity.level != FidelityLevel::Auto {
             if self.tolerance.is_some() {
                 return Err(CliError::ToleranceWithoutAuto);
             }
-            return Ok(scene.check()?);
+            return Ok(None);
         }
-        // Fidelity auto, from --fidelity or from the scene file.
         let by = if self.fidelity == Some(FidelityLevel::Auto) {
             "--fidelity auto"
         } else {
@@ -155,12 +172,7 @@ impl SceneArgs {
         if let Some(&(flag, _)) = chosen_by_auto.iter().find(|(_, given)| *given) {
             return Err(CliError::ChosenByAuto { flag, by });
         }
-        let front = stickslip::auto::paper_front()?;
-        let (resolved, choice) = stickslip::auto::resolve(scene, &front)?;
-        if let Some(choice) = &choice {
-            eprintln!("{}", stickslip::auto::describe(choice, tolerance));
-        }
-        Ok(resolved.check()?)
+        Ok(Some(tolerance))
     }
 }
 
