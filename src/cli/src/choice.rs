@@ -129,7 +129,7 @@ impl<T: Choice> TypedValueParser for ChoiceParser<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::simulate::{friction_parser, SceneArgs};
+    use crate::scene_args::{friction_parser, SceneArgs};
     use clap::Parser;
     use stickslip::scene::{FidelityLevel, FrictionLawKind, Scheme};
 

@@ -2,7 +2,7 @@
 //! cantilever (`stickslip::stability`), as JSON for scripts, so that no script
 //! re-derives beam theory.
 
-use crate::simulate::SceneArgs;
+use crate::scene_args::SceneArgs;
 use crate::CliError;
 use clap::Args;
 use serde::Serialize;
