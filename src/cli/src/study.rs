@@ -42,7 +42,8 @@ pub struct StudyArgs {
     #[arg(long)]
     pub write_front: Option<PathBuf>,
     /// After the study, check `fidelity = auto` (with the shipped front) at these
-    /// tolerances (m) on four scenes, each against its own reference run.
+    /// tolerances (m) on each of `stickslip::auto::verification_scenes`, each against
+    /// its own reference run.
     #[arg(long, value_delimiter = ',')]
     pub verify_auto: Option<Vec<f64>>,
 }
@@ -199,9 +200,11 @@ fn verify_auto(
 ) -> Result<(), CliError> {
     use stickslip::auto::{paper_front, verification_scenes, verify};
     let front = paper_front()?;
+    let scenes = verification_scenes();
     println!();
     println!(
-        "fidelity = auto on four scenes (shipped front, {} points); true error against each scene's {reference_configuration}, end time {} s:",
+        "fidelity = auto on {} scenes (shipped front, {} points); true error against each scene's {reference_configuration}, end time {} s:",
+        scenes.len(),
         front.len(),
         base.time.end
     );
@@ -212,7 +215,8 @@ fn verify_auto(
         "scene,tolerance_m,choice,estimated_m,true_m,cheaper,cheaper_true_m,calibration_s,holds\n",
     );
     let mut failures = 0;
-    for (name, mut scene) in verification_scenes() {
+    let cases = tolerances.len() * scenes.len();
+    for (name, mut scene) in scenes {
         scene.time.end = base.time.end;
         let reference =
             stickslip::study::measure(&scene, reference_configuration).map_err(|failed| {
@@ -265,8 +269,7 @@ fn verify_auto(
     write(&path, csv)?;
     println!();
     println!(
-        "{failures} of {} cases fail; written to {}",
-        tolerances.len() * 4,
+        "{failures} of {cases} cases fail; written to {}",
         path.display()
     );
     Ok(())
