@@ -9,8 +9,9 @@ use stickslip::simulation::Simulator;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::instance::{Instance, Logger, Mode, SavedState, Status, STATE_VERSION};
+use stickslip_fmi::model::Model;
 use stickslip_fmi::variables::Causality;
-use stickslip_fmi::{FmuKind, Model};
+use stickslip_fmi::FmuKind;
 
 type Log = Arc<Mutex<Vec<(Status, String, String)>>>;
 

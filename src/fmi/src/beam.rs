@@ -12,9 +12,9 @@
 //! The FMU steps at `time.step` and ends each communication step with one shorter step
 //! when the communication point is not on that grid (`Simulator::advance_to`).
 
+use crate::model::{Model, ModelInfo};
 use crate::networks::{weights_name, NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use crate::variables::{choice_at, Access, Causality, EnumerationType, Variability, Variable};
-use crate::{Model, ModelInfo};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use stickslip::auto::AutoError;

@@ -8,8 +8,8 @@
 //!   `Outputs` and under `InitialUnknowns` (no calculated parameters, no states).
 //! - No generation date, so that the file is reproducible byte for byte.
 
+use crate::model::Model;
 use crate::variables::{Access, Causality, EnumerationType, Variability, UNITS};
-use crate::Model;
 use std::fmt::Write;
 
 /// The log categories every FMU declares, in modelDescription order.
