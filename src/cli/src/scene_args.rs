@@ -6,7 +6,7 @@
 //! (`crate::choice`); `--friction analytical` stays accepted for `exponential`.
 
 use crate::choice::{parser, ChoiceParser};
-use crate::CliError;
+use crate::error::CliError;
 use clap::Args;
 use std::path::PathBuf;
 use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Scene, Scheme};

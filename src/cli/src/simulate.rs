@@ -11,8 +11,8 @@
 //! and `integrator.scheme` (`stickslip simulate --help` lists them); `--friction` also
 //! takes `analytical` for `exponential` (`crate::scene_args`).
 
+use crate::error::CliError;
 use crate::scene_args::SceneArgs;
-use crate::CliError;
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;

@@ -3,8 +3,8 @@
 //! `fidelity = auto` meets its tolerance (`stickslip::auto`).
 
 use crate::choice::parser;
+use crate::error::CliError;
 use crate::simulate::write;
-use crate::CliError;
 use clap::Args;
 use std::path::PathBuf;
 use stickslip::scene::{Scene, Scheme};

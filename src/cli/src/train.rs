@@ -4,7 +4,7 @@
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
-use crate::CliError;
+use crate::error::CliError;
 use stickslip::choice::Choice;
 use stickslip::neural::{Activation, SyntheticSpec, Variant};
 use stickslip_train::csv::{read_csv_file, ColumnSelection};
