@@ -20,7 +20,7 @@ use std::path::Path;
 use stickslip::auto::AutoError;
 use stickslip::choice::Choice;
 use stickslip::contact::ContactState;
-use stickslip::friction::ExponentialLaw;
+use stickslip::friction::{CoulombLaw, ExponentialLaw};
 use stickslip::neural::NeuralError;
 use stickslip::scene::{
     CheckedScene, Clamp, FidelityLevel, FrictionLawKind, HoldingForce, InitialState, ModalBasis,
@@ -182,8 +182,6 @@ enum BuildError {
     /// The weights are not a friction law of the beam (wrong features).
     #[error("friction.weights = {name}: {source}")]
     NotAFrictionLaw { name: String, source: NeuralError },
-    #[error("no analytical law for this scene")]
-    NoAnalyticalLaw,
     #[error(transparent)]
     Simulation(#[from] SimulationError),
 }
@@ -272,9 +270,10 @@ impl StickSlipBeam {
             // The inputs replace the law while the external model is on; the simulator
             // still holds a law, the exponential one of the scene's coefficients.
             FrictionLawKind::External => Box::new(ExponentialLaw::of(&scene.friction)),
-            FrictionLawKind::Exponential | FrictionLawKind::Coulomb => {
-                stickslip::friction::analytical_law(&scene).ok_or(BuildError::NoAnalyticalLaw)?
-            }
+            FrictionLawKind::Exponential => Box::new(ExponentialLaw::of(&scene.friction)),
+            FrictionLawKind::Coulomb => Box::new(CoulombLaw {
+                kinetic_coefficient: scene.friction.kinetic_coefficient,
+            }),
         };
         let mut simulator = Simulator::new(scene, law)?;
         if external {
