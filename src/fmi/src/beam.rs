@@ -394,8 +394,10 @@ macro_rules! count_parameter {
     };
 }
 
+/// A Real input in unit `$unit`, with an optional check of the value before it is
+/// applied.
 macro_rules! input {
-    ($vr:expr, $name:expr, $description:expr, $field:ident, $check:expr) => {
+    ($vr:expr, $name:expr, $unit:expr, $description:expr, $field:ident $(, $check:expr)?) => {
         Variable {
             name: $name,
             value_reference: $vr,
@@ -403,11 +405,13 @@ macro_rules! input {
             variability: Variability::Continuous,
             description: $description,
             access: Access::Real {
-                unit: Some(if $vr == BELT_SPEED { "m/s" } else { "N" }),
+                unit: Some($unit),
                 get: |m: &StickSlipBeam| m.settings.inputs.$field,
                 set: Some(|m: &mut StickSlipBeam, v: f64| {
-                    let check: fn(f64) -> Result<(), String> = $check;
-                    check(v)?;
+                    $(
+                        let check: fn(f64) -> Result<(), String> = $check;
+                        check(v)?;
+                    )?
                     m.settings.inputs.$field = v;
                     m.apply_inputs();
                     Ok(())
@@ -441,8 +445,6 @@ fn non_negative(v: f64) -> Result<(), String> {
         Ok(())
     }
 }
-
-const BELT_SPEED: u32 = 100;
 
 static VARIABLES: &[Variable<StickSlipBeam>] = &[
     real_parameter!(1, "geometry.length", Some("m"), "Beam length L", |s| s
@@ -655,19 +657,12 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
     real_parameter!(62, "integrator.theta", None, "Moreau-Jean theta", |s| s
         .integrator
         .theta),
-    input!(
-        BELT_SPEED,
-        "belt_speed",
-        "Belt speed v_b",
-        belt_speed,
-        |v| {
-            let _ = v;
-            Ok(())
-        }
-    ),
+    // Any finite belt speed (either direction) is a valid input.
+    input!(100, "belt_speed", "m/s", "Belt speed v_b", belt_speed),
     input!(
         101,
         "normal_force",
+        "N",
         "Normal force F_n",
         normal_force,
         non_negative
@@ -675,6 +670,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
     input!(
         102,
         "external.kinetic_force",
+        "N",
         "Kinetic friction force magnitude (friction.model = external)",
         kinetic_force,
         non_negative
@@ -682,6 +678,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
     input!(
         103,
         "external.static_limit",
+        "N",
         "Static limit, the largest holding force (friction.model = external)",
         static_limit,
         non_negative
