@@ -75,7 +75,9 @@ fn code_only(source: &str) -> String {
             i += 1;
             out.push_str("\"\"");
         } else if c == '\'' && next == Some('\\') {
-            i += 2;
+            // An escaped character: past the quote, the backslash and the escaped
+            // character (which may itself be a quote), to the closing quote.
+            i += 3;
             while i < s.len() && s[i] != '\'' {
                 i += 1;
             }
@@ -511,6 +513,12 @@ fn the_scan_reads_groups_super_self_child_paths_and_renames() {
         ("n", "pub use m::X; fn h() -> self::m::Z { todo!() }"),
         ("n::m", "use super::super::a::g; use super::*; pub struct X;"),
         ("b", "use stickslip::scene::Scene; fn f() -> Vec::<u8> { FidelityLevel::Auto; \"crate::a\" }"),
+        (
+            "c",
+            r##"fn f<'a>(x: &'a str) { let q = '\''; let r = '"'; let s = r#"crate::a"#;
+                let t = "crate::n \" crate::a"; crate::n::m::X::new(x) }
+                /* crate::a /* nested */ crate::a */ const C: char = '\u{41}';"##,
+        ),
     ]);
     let graph = imports(&modules).graph;
     let targets = |m: &str| graph[m].iter().cloned().collect::<Vec<_>>();
@@ -519,6 +527,8 @@ fn the_scan_reads_groups_super_self_child_paths_and_renames() {
     assert_eq!(targets("n"), ["n::m"]);
     assert_eq!(targets("n::m"), ["a", "n"]);
     assert!(targets("b").is_empty(), "{:?}", targets("b"));
+    // Past lifetimes, character literals, raw and escaped strings and nested comments.
+    assert_eq!(targets("c"), ["n::m"]);
     assert_eq!(re_exports(&modules["n"]), BTreeSet::from(["X".to_string()]));
     let mut uses = Vec::new();
     let code: Vec<char> = "a::{b, c::{D, E as F}, self}".chars().collect();
