@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::instance::{Instance, Mode, SavedState};
-use stickslip_fmi::Model;
+use stickslip_fmi::model::Model;
 use stickslip_train::data::Synthetic;
 use stickslip_train::csv::{read_csv_file, ColumnSelection};
 use stickslip::neural::weights::LayerWeights;

@@ -7,10 +7,70 @@
 use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, ExitStatus};
 use stickslip_fmi::FmuKind;
+use zip::result::ZipError;
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, DateTime, ZipWriter};
+
+/// Why the FMUs could not be built; `main` prints it as `fmu-build: {e}`.
+#[derive(Debug, thiserror::Error)]
+pub enum BuildError {
+    #[error("unknown arguments {0:?}; usage: fmu-build [--update-model-descriptions]")]
+    Usage(Vec<String>),
+    /// Checked-in model descriptions that differ from the generated ones.
+    #[error(
+        "{} differ from what the Rust tables generate; run `cargo run --release -p fmu-build -- --update-model-descriptions` and review the diff",
+        .0.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
+    )]
+    Drift(Vec<PathBuf>),
+    /// `cargo build` of the library could not be started.
+    #[error("cannot run cargo: {0}")]
+    CargoNotRun(#[source] std::io::Error),
+    #[error("cargo build of the stickslip-fmi library failed ({0})")]
+    CargoFailed(ExitStatus),
+    /// The build succeeded but left no library where it was expected.
+    #[error("{} was not built", .0.display())]
+    NotBuilt(PathBuf),
+    /// Reading or writing a file or folder.
+    #[error("{}: {source}", .path.display())]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// Reading a file the FMU carries in `resources/`.
+    #[error("resource {}: {source}", .path.display())]
+    Resource {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// Starting an entry of the archive `path`, or finishing it (`entry` None).
+    #[error(
+        "{}: {}{source}",
+        .path.display(),
+        .entry.as_ref().map_or(String::new(), |name| format!("{name}: "))
+    )]
+    Zip {
+        path: PathBuf,
+        entry: Option<String>,
+        source: ZipError,
+    },
+    /// Writing the contents of an entry of the archive `path`.
+    #[error("{}: {entry}: {source}", .path.display())]
+    ZipWrite {
+        path: PathBuf,
+        entry: String,
+        source: std::io::Error,
+    },
+}
+
+/// An I/O error on `path`.
+fn io(path: &Path) -> impl FnOnce(std::io::Error) -> BuildError + '_ {
+    move |source| BuildError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
 
 /// The workspace root (where Cargo.toml with `[workspace]` lives).
 pub fn workspace_root() -> PathBuf {
@@ -52,31 +112,28 @@ pub fn checked_in_description(kind: FmuKind) -> PathBuf {
 }
 
 /// Builds the release cdylib with cargo and returns its path.
-pub fn build_library() -> Result<PathBuf, String> {
+pub fn build_library() -> Result<PathBuf, BuildError> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let status = Command::new(cargo)
         .args(["build", "--release", "--lib", "-p", "stickslip-fmi"])
         .current_dir(workspace_root())
         .status()
-        .map_err(|e| format!("cannot run cargo: {e}"))?;
+        .map_err(BuildError::CargoNotRun)?;
     if !status.success() {
-        return Err(format!(
-            "cargo build of the stickslip-fmi library failed ({status})"
-        ));
+        return Err(BuildError::CargoFailed(status));
     }
     let library = target_dir().join("release").join("libstickslip_fmi.so");
     if !library.is_file() {
-        return Err(format!("{} was not built", library.display()));
+        return Err(BuildError::NotBuilt(library));
     }
     Ok(library)
 }
 
 /// Writes the generated descriptions into `modelDescription/`.
-pub fn update_descriptions() -> Result<(), String> {
+pub fn update_descriptions() -> Result<(), BuildError> {
     for kind in FmuKind::ALL {
         let path = checked_in_description(kind);
-        fs::write(&path, kind.model_description())
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        fs::write(&path, kind.model_description()).map_err(io(&path))?;
         println!("wrote {}", path.display());
     }
     Ok(())
@@ -95,11 +152,11 @@ pub fn drifted_descriptions() -> Vec<PathBuf> {
 }
 
 /// Writes the FMU of `kind` around `library` into `out_dir`; returns its path.
-pub fn package(kind: FmuKind, library: &Path, out_dir: &Path) -> Result<PathBuf, String> {
-    let binary = fs::read(library).map_err(|e| format!("{}: {e}", library.display()))?;
-    fs::create_dir_all(out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
+pub fn package(kind: FmuKind, library: &Path, out_dir: &Path) -> Result<PathBuf, BuildError> {
+    let binary = fs::read(library).map_err(io(library))?;
+    fs::create_dir_all(out_dir).map_err(io(out_dir))?;
     let path = out_dir.join(format!("{}.fmu", kind.model_identifier()));
-    let file = fs::File::create(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let file = fs::File::create(&path).map_err(io(&path))?;
     let mut zip = ZipWriter::new(file);
     let options = SimpleFileOptions::default()
         .compression_method(CompressionMethod::Deflated)
@@ -117,8 +174,10 @@ pub fn package(kind: FmuKind, library: &Path, out_dir: &Path) -> Result<PathBuf,
     ];
     for name in kind.info().resources {
         let source = workspace_root().join("weights").join(name);
-        let contents =
-            fs::read(&source).map_err(|e| format!("resource {}: {e}", source.display()))?;
+        let contents = fs::read(&source).map_err(|source_error| BuildError::Resource {
+            path: source.clone(),
+            source: source_error,
+        })?;
         entries.push((format!("resources/{name}"), contents));
     }
     for (name, bytes) in entries {
@@ -128,11 +187,22 @@ pub fn package(kind: FmuKind, library: &Path, out_dir: &Path) -> Result<PathBuf,
             options
         };
         zip.start_file(name.as_str(), options)
-            .map_err(|e| format!("{}: {name}: {e}", path.display()))?;
+            .map_err(|source| BuildError::Zip {
+                path: path.clone(),
+                entry: Some(name.clone()),
+                source,
+            })?;
         zip.write_all(&bytes)
-            .map_err(|e| format!("{}: {name}: {e}", path.display()))?;
+            .map_err(|source| BuildError::ZipWrite {
+                path: path.clone(),
+                entry: name.clone(),
+                source,
+            })?;
     }
-    zip.finish()
-        .map_err(|e| format!("{}: {e}", path.display()))?;
+    zip.finish().map_err(|source| BuildError::Zip {
+        path: path.clone(),
+        entry: None,
+        source,
+    })?;
     Ok(path)
 }

@@ -4,27 +4,20 @@
 //! `--update-model-descriptions` rewrites the checked-in `modelDescription/*.xml` from
 //! the Rust tables (after an interface change); without it, a drifted copy is an error.
 
+use fmu_build::BuildError;
 use std::process::ExitCode;
 use stickslip_fmi::FmuKind;
 
-fn run() -> Result<(), String> {
+fn run() -> Result<(), BuildError> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.as_slice() {
         [] => {}
         [flag] if flag == "--update-model-descriptions" => fmu_build::update_descriptions()?,
-        _ => {
-            return Err(format!(
-                "unknown arguments {args:?}; usage: fmu-build [--update-model-descriptions]"
-            ))
-        }
+        _ => return Err(BuildError::Usage(args)),
     }
     let drifted = fmu_build::drifted_descriptions();
     if !drifted.is_empty() {
-        let names: Vec<String> = drifted.iter().map(|p| p.display().to_string()).collect();
-        return Err(format!(
-            "{} differ from what the Rust tables generate; run `cargo run --release -p fmu-build -- --update-model-descriptions` and review the diff",
-            names.join(", ")
-        ));
+        return Err(BuildError::Drift(drifted));
     }
     let library = fmu_build::build_library()?;
     for kind in FmuKind::ALL {
@@ -37,8 +30,8 @@ fn run() -> Result<(), String> {
 fn main() -> ExitCode {
     match run() {
         Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("fmu-build: {message}");
+        Err(error) => {
+            eprintln!("fmu-build: {error}");
             ExitCode::FAILURE
         }
     }

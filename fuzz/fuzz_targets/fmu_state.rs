@@ -24,7 +24,7 @@ use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::instance::{Instance, Mode, SavedState};
 use stickslip_fmi::variables::BaseType;
-use stickslip_fmi::Model;
+use stickslip_fmi::model::Model;
 use stickslip::scene::Scene;
 use stickslip_fuzz::{fmu_scene_is_cheap, resources, weights_name_stays_in_resources};
 

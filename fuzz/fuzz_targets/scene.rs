@@ -1,7 +1,7 @@
 //! A scene file, read exactly as `stickslip simulate --scene FILE` reads it:
-//! `cli::SceneArgs::scene`, i.e. `Scene::load` (read the file, parse by extension,
-//! check every field). The bytes go to a scratch file whose extension is `.json` when
-//! the first non-blank byte is `{` and `.toml` otherwise.
+//! `stickslip_cli::scene_args::SceneArgs::scene`, i.e. `Scene::load` (read the file,
+//! parse by extension, check every field). The bytes go to a scratch file whose
+//! extension is `.json` when the first non-blank byte is `{` and `.toml` otherwise.
 //!
 //! A scene that passes is then used: written as JSON and read back, and, when its model
 //! is small (see `stickslip_fuzz::cheap_to_build`) and it uses no weights file, built
@@ -17,9 +17,9 @@
 
 use libfuzzer_sys::fuzz_target;
 use stickslip::run::friction_law;
-use stickslip_cli::simulate::SceneArgs;
 use stickslip::scene::Scene;
 use stickslip::simulation::Simulator;
+use stickslip_cli::scene_args::SceneArgs;
 use stickslip_fuzz::{cheap_to_build, scratch_file};
 
 fuzz_target!(|data: &[u8]| {

@@ -179,6 +179,52 @@ fn a_scene_file_with_fidelity_auto_runs_like_the_flag() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// `--damping-ratio` goes with `--fidelity auto --tolerance`: auto picks a configuration
+/// for the scene with the Rayleigh damping of that ratio at modes 1 and 3, which is the
+/// damping `stickslip estimates --rayleigh-ratio` reports (a scene file giving those a
+/// and b runs the same, bit for bit), and which changes the run.
+#[test]
+fn fidelity_auto_takes_the_damping_ratio() {
+    let dir = scratch("auto-damping");
+    let (ok, stdout, stderr) = stickslip(&["estimates", "--rayleigh-ratio", "0.02"]);
+    assert!(ok, "{stderr}");
+    let estimates: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let a = estimates["mass_proportional"].as_f64().unwrap();
+    let b = estimates["stiffness_proportional"].as_f64().unwrap();
+    assert!(a > 0.0 && b > 0.0, "{estimates}");
+
+    let run = |name: &str, extra: &[&str]| -> Vec<u8> {
+        let csv = dir.join(format!("{name}.csv"));
+        let mut args = vec!["simulate", "--t-end", "0.6", "--out", csv.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let (ok, _, stderr) = stickslip(&args);
+        assert!(ok, "{name}: {stderr}");
+        assert!(
+            stderr.contains("fidelity = auto (tolerance 1e-4 m") && stderr.contains("chose "),
+            "{name}: {stderr}"
+        );
+        std::fs::read(&csv).unwrap()
+    };
+    let auto = ["--fidelity", "auto", "--tolerance", "1e-4"];
+    let flags = run("flags", &[&auto[..], &["--damping-ratio", "0.02"]].concat());
+    let scene = dir.join("damped.toml");
+    std::fs::write(
+        &scene,
+        format!(
+            "[fidelity]\nlevel = \"auto\"\ntolerance = 1e-4\n\n[damping]\nmass_proportional = {a:?}\nstiffness_proportional = {b:?}\n"
+        ),
+    )
+    .unwrap();
+    let file = run("file", &["--scene", scene.to_str().unwrap()]);
+    assert!(
+        flags == file,
+        "--damping-ratio 0.02 is not the damping of estimates"
+    );
+    let undamped = run("undamped", &auto);
+    assert!(flags != undamped, "--damping-ratio changed nothing");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// The error line of each kind of bad input, word for word (as the pre-split binary
 /// printed them): the command line's own cases and the physics' and the trainer's
 /// messages passed through.

@@ -15,14 +15,21 @@
 //! - every logger call uses the format "%s";
 //! - afterwards the instance still resets and steps (no cell leaves it wedged).
 //!
-//! `cargo test --release --test fmu_call_matrix -- --nocapture` prints the matrix.
+//! `cargo test --release -p stickslip-tests --test fmu call_matrix -- --nocapture` prints
+//! the matrix.
 
 use std::ffi::{c_char, c_void, CString};
 use std::ptr::null_mut;
+use stickslip::choice::Choice;
+use stickslip::friction::LawChoice;
+use stickslip::scene::FidelityLevel;
+use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::ffi::*;
+use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::FmuKind;
 
 use stickslip_tests::fmi_log::{owned, record, Entry, Log};
+use stickslip_tests::vr;
 
 const OK: fmi2Status = 0;
 const DISCARD: fmi2Status = 2;
@@ -254,9 +261,18 @@ fn instantiate(kind: FmuKind, name: &str, functions: &fmi2CallbackFunctions) -> 
     }
 }
 
-/// StickSlipBeam's fidelity.level (an enumeration) and its modal item: fast to set up.
-const BEAM_FIDELITY: u32 = 50;
-const MODAL: i32 = 1;
+/// StickSlipBeam's fidelity.level (an enumeration) at its modal item: fast to set up.
+unsafe fn set_modal(c: fmi2Component) {
+    ok(
+        fmi2SetInteger(
+            c,
+            &vr::<StickSlipBeam>("fidelity.level"),
+            1,
+            &FidelityLevel::Modal.code(),
+        ),
+        "fmi2SetInteger(fidelity.level)",
+    );
+}
 
 fn ok(status: fmi2Status, what: &str) {
     assert_eq!(status, OK, "{what} while driving the instance");
@@ -306,10 +322,7 @@ impl Fixture {
     unsafe fn initialize_and_step(&mut self) {
         let c = self.c;
         if self.kind == FmuKind::StickSlipBeam {
-            ok(
-                fmi2SetInteger(c, &BEAM_FIDELITY, 1, &MODAL),
-                "fmi2SetInteger(fidelity.level)",
-            );
+            set_modal(c);
         }
         ok(
             fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0),
@@ -330,10 +343,7 @@ impl Fixture {
         let c = f.c;
         unsafe {
             if kind == FmuKind::StickSlipBeam {
-                ok(
-                    fmi2SetInteger(c, &BEAM_FIDELITY, 1, &MODAL),
-                    "fmi2SetInteger(fidelity.level)",
-                );
+                set_modal(c);
             }
             ok(fmi2GetFMUstate(c, &mut f.saved), "fmi2GetFMUstate");
             f.bytes = serialize(c, f.saved);
@@ -447,34 +457,37 @@ struct Probe {
 
 fn probe_variables(kind: FmuKind) -> Probe {
     match kind {
-        // tip_deflection, transitions, stick, friction.weights; time.step,
-        // fidelity.level, fidelity.static_correction, friction.weights; belt_speed.
-        FmuKind::StickSlipBeam => Probe {
-            get_real: 200,
-            get_integer: Some(206),
-            get_boolean: Some(205),
-            get_string: Some(15),
-            parameter_real: (40, 1e-4),
-            parameter_integer: Some((BEAM_FIDELITY, MODAL)),
-            parameter_boolean: Some((55, 1)),
-            parameter_string: Some((15, "paper-plain.json")),
-            input_real: (100, 0.02),
-            output_real: 200,
-        },
-        // friction_force, law, (no Boolean), weights; static_coefficient, law, weights;
-        // sliding_velocity.
-        FmuKind::NeuralFriction => Probe {
-            get_real: 20,
-            get_integer: Some(1),
-            get_boolean: None,
-            get_string: Some(5),
-            parameter_real: (2, 0.5),
-            parameter_integer: Some((1, 1)),
-            parameter_boolean: None,
-            parameter_string: Some((5, "paper-plain.json")),
-            input_real: (10, 0.0),
-            output_real: 20,
-        },
+        FmuKind::StickSlipBeam => {
+            let vr = vr::<StickSlipBeam>;
+            Probe {
+                get_real: vr("tip_deflection"),
+                get_integer: Some(vr("transitions")),
+                get_boolean: Some(vr("stick")),
+                get_string: Some(vr("friction.weights")),
+                parameter_real: (vr("time.step"), 1e-4),
+                parameter_integer: Some((vr("fidelity.level"), FidelityLevel::Modal.code())),
+                parameter_boolean: Some((vr("fidelity.static_correction"), 1)),
+                parameter_string: Some((vr("friction.weights"), "paper-plain.json")),
+                input_real: (vr("belt_speed"), 0.02),
+                output_real: vr("tip_deflection"),
+            }
+        }
+        // No Boolean variable.
+        FmuKind::NeuralFriction => {
+            let vr = vr::<NeuralFriction>;
+            Probe {
+                get_real: vr("friction_force"),
+                get_integer: Some(vr("law")),
+                get_boolean: None,
+                get_string: Some(vr("weights")),
+                parameter_real: (vr("static_coefficient"), 0.5),
+                parameter_integer: Some((vr("law"), LawChoice::Neural.code())),
+                parameter_boolean: None,
+                parameter_string: Some((vr("weights"), "paper-plain.json")),
+                input_real: (vr("sliding_velocity"), 0.0),
+                output_real: vr("friction_force"),
+            }
+        }
     }
 }
 

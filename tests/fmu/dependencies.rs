@@ -19,8 +19,9 @@ use stickslip::scene::{FidelityLevel, FrictionLawKind};
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::instance::{Instance, Mode};
+use stickslip_fmi::model::Model;
 use stickslip_fmi::variables::{Access, Causality};
-use stickslip_fmi::{FmuKind, Model};
+use stickslip_fmi::FmuKind;
 
 /// Output name -> names of the knowns it depends on.
 type DependencyMap = BTreeMap<String, BTreeSet<String>>;

@@ -6,7 +6,7 @@
 //! and confirmed to crash the fuzz target binaries (`fuzz/target/.../scene FILE`,
 //! `.../fmu_state FILE`); the timed fuzz runs did not reach them by themselves.
 //!
-//! `cargo test --release --test fuzz_regressions`
+//! `cargo test --release -p stickslip-tests --test fmu fuzz_regressions`
 
 use std::sync::{Arc, Mutex};
 use stickslip::scene::Scene;

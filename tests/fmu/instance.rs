@@ -3,14 +3,17 @@
 
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
-use stickslip::friction::analytical_law;
-use stickslip::scene::{CheckedScene, FidelityLevel, Scene};
+use stickslip::choice::Choice;
+use stickslip::friction::{analytical_law, LawChoice};
+use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Scene};
 use stickslip::simulation::Simulator;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::instance::{Instance, Logger, Mode, SavedState, Status, STATE_VERSION};
+use stickslip_fmi::model::Model;
 use stickslip_fmi::variables::Causality;
-use stickslip_fmi::{FmuKind, Model};
+use stickslip_fmi::FmuKind;
+use stickslip_tests::vr;
 
 type Log = Arc<Mutex<Vec<(Status, String, String)>>>;
 
@@ -30,14 +33,6 @@ fn resources() -> PathBuf {
     stickslip_tests::weights_dir()
 }
 
-fn vr<M: Model>(name: &str) -> u32 {
-    M::variables()
-        .iter()
-        .find(|v| v.name == name)
-        .unwrap_or_else(|| panic!("no variable {name}"))
-        .value_reference
-}
-
 fn beam(logging_on: bool) -> (Instance<StickSlipBeam>, Log) {
     let (logger, log) = collecting_logger();
     let instance = Instance::new("beam", Some(&resources()), logging_on, logger).unwrap();
@@ -52,18 +47,15 @@ fn logged(log: &Log, needle: &str) -> bool {
 }
 
 /// Beam fidelity (fast) and the experiment 0..1.2 s, initialised.
-fn initialized_beam(level: i32) -> (Instance<StickSlipBeam>, Log) {
+fn initialized_beam(level: FidelityLevel) -> (Instance<StickSlipBeam>, Log) {
     let (mut b, log) = beam(false);
     b.setup_experiment(0.0, Some(1.2)).unwrap();
-    b.set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[level])
+    b.set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[level.code()])
         .unwrap();
     b.enter_initialization_mode().unwrap();
     b.exit_initialization_mode().unwrap();
     (b, log)
 }
-
-const LEVEL_MODAL: i32 = 1;
-const LEVEL_BEAM: i32 = 2;
 
 fn tip(b: &mut Instance<StickSlipBeam>) -> f64 {
     let mut out = [0.0];
@@ -119,7 +111,7 @@ fn every_call_outside_its_modes_is_refused() {
     assert!(b
         .get_real(&[vr::<StickSlipBeam>("tip_deflection")], &mut out)
         .is_err());
-    let (mut b, _) = initialized_beam(LEVEL_MODAL);
+    let (mut b, _) = initialized_beam(FidelityLevel::Modal);
     b.do_step(0.0, 1e-3).unwrap();
     b.terminate().unwrap();
     assert!(b.do_step(1e-3, 1e-3).is_err());
@@ -190,7 +182,7 @@ fn non_finite_and_out_of_range_values_are_refused_when_set() {
 
 #[test]
 fn fixed_parameters_cannot_change_after_initialisation_but_inputs_can() {
-    let (mut b, log) = initialized_beam(LEVEL_MODAL);
+    let (mut b, log) = initialized_beam(FidelityLevel::Modal);
     b.set_real(&[vr::<StickSlipBeam>("belt_speed")], &[0.03])
         .unwrap();
     assert!(b
@@ -208,12 +200,12 @@ fn do_step_checks_the_communication_point_step_size_and_stop_time() {
         (0.0, f64::NAN, "must be positive"),
         (0.0, 1.3, "passes stopTime"),
     ] {
-        let (mut b, log) = initialized_beam(LEVEL_MODAL);
+        let (mut b, log) = initialized_beam(FidelityLevel::Modal);
         assert!(b.do_step(t, h).is_err(), "t = {t}, h = {h}");
         assert!(logged(&log, needle), "{needle}: {:?}", log.lock().unwrap());
     }
     // Within the tolerance of the communication point (a master that accumulates t).
-    let (mut b, _) = initialized_beam(LEVEL_MODAL);
+    let (mut b, _) = initialized_beam(FidelityLevel::Modal);
     b.do_step(0.0, 0.1).unwrap();
     b.do_step(0.1 + 1e-15, 0.1).unwrap();
     assert_eq!(b.time(), 0.1 + 1e-15 + 0.1);
@@ -222,7 +214,7 @@ fn do_step_checks_the_communication_point_step_size_and_stop_time() {
 /// The FMU at a communication step of 1e-3 s gives exactly the library's result.
 #[test]
 fn fmu_steps_equal_the_library_bit_for_bit() {
-    let (mut b, _) = initialized_beam(LEVEL_BEAM);
+    let (mut b, _) = initialized_beam(FidelityLevel::Beam);
     let fmu = run(&mut b, 0.0, 0.6, 1e-3);
     let mut scene = CheckedScene::paper().into_scene();
     scene.fidelity.level = FidelityLevel::Beam;
@@ -244,9 +236,9 @@ fn fmu_steps_equal_the_library_bit_for_bit() {
 /// and change the result only by the integrator's error over the odd steps.
 #[test]
 fn irregular_communication_steps_land_exactly() {
-    let (mut regular, _) = initialized_beam(LEVEL_BEAM);
+    let (mut regular, _) = initialized_beam(FidelityLevel::Beam);
     let reference = run(&mut regular, 0.0, 0.6, 1e-3);
-    let (mut b, _) = initialized_beam(LEVEL_BEAM);
+    let (mut b, _) = initialized_beam(FidelityLevel::Beam);
     let mut t = 0.0;
     let pattern: [f64; 3] = [2.5e-4, 7e-4, 5e-5];
     let mut k = 0;
@@ -277,7 +269,7 @@ fn irregular_communication_steps_land_exactly() {
 
 #[test]
 fn state_save_run_restore_run_is_bit_for_bit_and_survives_bytes() {
-    let (mut b, _) = initialized_beam(LEVEL_BEAM);
+    let (mut b, _) = initialized_beam(FidelityLevel::Beam);
     run(&mut b, 0.0, 0.5, 1e-3);
     let saved = b.get_state().unwrap();
     let first = run(&mut b, 0.5, 0.8, 1e-3);
@@ -298,7 +290,7 @@ fn state_save_run_restore_run_is_bit_for_bit_and_survives_bytes() {
 
 #[test]
 fn malformed_state_bytes_are_refused() {
-    let (mut b, log) = initialized_beam(LEVEL_MODAL);
+    let (mut b, log) = initialized_beam(FidelityLevel::Modal);
     run(&mut b, 0.0, 0.01, 1e-3);
     let saved = b.get_state().unwrap();
     let bytes = b.serialize_state(&saved).unwrap();
@@ -422,7 +414,7 @@ fn network_errors_name_the_weights_file() {
 
 #[test]
 fn set_state_is_the_way_back_from_an_error() {
-    let (mut b, _) = initialized_beam(LEVEL_MODAL);
+    let (mut b, _) = initialized_beam(FidelityLevel::Modal);
     let saved = b.get_state().unwrap();
     assert!(b.do_step(0.0, -1.0).is_err());
     assert_eq!(b.mode(), Mode::Error);
@@ -433,12 +425,15 @@ fn set_state_is_the_way_back_from_an_error() {
 
 #[test]
 fn reset_then_rerun_reproduces_the_first_run() {
-    let (mut b, _) = initialized_beam(LEVEL_MODAL);
+    let (mut b, _) = initialized_beam(FidelityLevel::Modal);
     let first = run(&mut b, 0.0, 0.7, 1e-3);
     b.reset();
     b.setup_experiment(0.0, Some(1.2)).unwrap();
-    b.set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[LEVEL_MODAL])
-        .unwrap();
+    b.set_integer(
+        &[vr::<StickSlipBeam>("fidelity.level")],
+        &[FidelityLevel::Modal.code()],
+    )
+    .unwrap();
     b.enter_initialization_mode().unwrap();
     b.exit_initialization_mode().unwrap();
     assert_eq!(run(&mut b, 0.0, 0.7, 1e-3), first);
@@ -447,13 +442,13 @@ fn reset_then_rerun_reproduces_the_first_run() {
 #[test]
 fn two_instances_in_two_threads_are_independent() {
     let alone = {
-        let (mut b, _) = initialized_beam(LEVEL_MODAL);
+        let (mut b, _) = initialized_beam(FidelityLevel::Modal);
         run(&mut b, 0.0, 0.6, 1e-3)
     };
     let handles: Vec<_> = (0..2)
         .map(|k| {
             std::thread::spawn(move || {
-                let (mut b, _) = initialized_beam(LEVEL_MODAL);
+                let (mut b, _) = initialized_beam(FidelityLevel::Modal);
                 if k == 1 {
                     // A different belt speed in the other instance must not leak.
                     b.set_real(&[vr::<StickSlipBeam>("belt_speed")], &[0.03])
@@ -492,7 +487,7 @@ fn missing_or_corrupted_weights_fail_instantiation_with_a_reason() {
 #[test]
 fn logging_honours_categories() {
     // Off: only errors are logged (logStatusError is on by default).
-    let (mut b, log) = initialized_beam(LEVEL_MODAL);
+    let (mut b, log) = initialized_beam(FidelityLevel::Modal);
     run(&mut b, 0.0, 0.5, 1e-3);
     assert!(log.lock().unwrap().is_empty());
     // logEvents on: the breakaway is reported.
@@ -515,7 +510,7 @@ fn logging_honours_categories() {
 
 #[test]
 fn breakaway_through_the_fmu_is_at_0_400_s() {
-    let (mut b, _) = initialized_beam(LEVEL_MODAL);
+    let (mut b, _) = initialized_beam(FidelityLevel::Modal);
     let stick = vr::<StickSlipBeam>("stick");
     let mut t = 0.0;
     let h = 1e-3;
@@ -537,7 +532,7 @@ fn breakaway_through_the_fmu_is_at_0_400_s() {
 fn external_friction_equal_to_the_law_reproduces_coulomb() {
     // friction.model = external with inputs mu_k F_n and mu_s F_n is Coulomb friction
     // with the static limit mu_s F_n: same as friction.model = coulomb.
-    let runs: Vec<Vec<f64>> = [2, 4]
+    let runs: Vec<Vec<f64>> = [FrictionLawKind::Coulomb, FrictionLawKind::External]
         .iter()
         .map(|&model| {
             let (mut b, _) = beam(false);
@@ -547,7 +542,7 @@ fn external_friction_equal_to_the_law_reproduces_coulomb() {
                     vr::<StickSlipBeam>("fidelity.level"),
                     vr::<StickSlipBeam>("friction.model"),
                 ],
-                &[LEVEL_MODAL, model],
+                &[FidelityLevel::Modal.code(), model.code()],
             )
             .unwrap();
             b.set_real(
@@ -570,7 +565,11 @@ fn external_friction_equal_to_the_law_reproduces_coulomb() {
 fn neural_friction_outputs_follow_the_inputs() {
     let (logger, _) = collecting_logger();
     let mut f = Instance::<NeuralFriction>::new("f", Some(&resources()), false, logger).unwrap();
-    f.set_integer(&[vr::<NeuralFriction>("law")], &[2]).unwrap();
+    f.set_integer(
+        &[vr::<NeuralFriction>("law")],
+        &[LawChoice::Exponential.code()],
+    )
+    .unwrap();
     f.setup_experiment(0.0, None).unwrap();
     f.enter_initialization_mode().unwrap();
     f.exit_initialization_mode().unwrap();
@@ -629,8 +628,11 @@ fn outputs_read_in_initialization_mode_do_not_freeze_the_start() {
         let (mut b, _) = beam(false);
         b.setup_experiment(0.0, Some(1.2)).unwrap();
         b.enter_initialization_mode().unwrap();
-        b.set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[LEVEL_BEAM])
-            .unwrap();
+        b.set_integer(
+            &[vr::<StickSlipBeam>("fidelity.level")],
+            &[FidelityLevel::Beam.code()],
+        )
+        .unwrap();
         if read_first {
             tip(&mut b);
         }
@@ -649,15 +651,15 @@ fn outputs_read_in_initialization_mode_do_not_freeze_the_start() {
 /// A state that does not fit leaves the running simulation as it was.
 #[test]
 fn a_refused_state_leaves_the_instance_running() {
-    let (mut b, _) = initialized_beam(LEVEL_BEAM);
+    let (mut b, _) = initialized_beam(FidelityLevel::Beam);
     run(&mut b, 0.0, 0.2, 1e-3);
     let mut wrong = b.get_state().unwrap();
     wrong.model["running"]["state"]["kinematics"]["velocity"][3] =
         serde_json::Value::String("x".into());
     assert!(b.set_state(&wrong).is_err());
     b.reset();
-    let (mut reference, _) = initialized_beam(LEVEL_BEAM);
-    let (mut other, _) = initialized_beam(LEVEL_BEAM);
+    let (mut reference, _) = initialized_beam(FidelityLevel::Beam);
+    let (mut other, _) = initialized_beam(FidelityLevel::Beam);
     run(&mut reference, 0.0, 0.2, 1e-3);
     run(&mut other, 0.0, 0.2, 1e-3);
     let good = other.get_state().unwrap();
@@ -678,7 +680,7 @@ fn a_refused_state_leaves_the_instance_running() {
 /// bending (3 EI u / L^3 = 25 N at u = 4 mm).
 #[test]
 fn slightly_off_grid_steps_do_not_leave_tiny_steps() {
-    for level in [LEVEL_MODAL, LEVEL_BEAM] {
+    for level in [FidelityLevel::Modal, FidelityLevel::Beam] {
         let (mut b, _) = initialized_beam(level);
         let h = 1.00001e-3;
         let mut t = 0.0;
@@ -714,8 +716,11 @@ fn slightly_off_grid_steps_do_not_leave_tiny_steps() {
 fn a_step_of_more_than_1e9_internal_steps_is_refused_at_once() {
     let (mut b, _) = beam(false);
     b.setup_experiment(0.0, None).unwrap();
-    b.set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[LEVEL_MODAL])
-        .unwrap();
+    b.set_integer(
+        &[vr::<StickSlipBeam>("fidelity.level")],
+        &[FidelityLevel::Modal.code()],
+    )
+    .unwrap();
     b.enter_initialization_mode().unwrap();
     b.exit_initialization_mode().unwrap();
     let began = std::time::Instant::now();
@@ -727,7 +732,7 @@ fn a_step_of_more_than_1e9_internal_steps_is_refused_at_once() {
 /// then set, in the Error mode.
 #[test]
 fn recovery_from_an_error_through_serialized_bytes() {
-    let (mut b, log) = initialized_beam(LEVEL_MODAL);
+    let (mut b, log) = initialized_beam(FidelityLevel::Modal);
     run(&mut b, 0.0, 0.3, 1e-3);
     let saved = b.get_state().unwrap();
     let bytes = b.serialize_state(&saved).unwrap();
@@ -766,8 +771,11 @@ fn reads_in_initialization_mode_follow_the_experiment() {
         .unwrap();
     b.set_real(&[vr::<StickSlipBeam>("geometry.length")], &[2.0])
         .unwrap();
-    b.set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[LEVEL_MODAL])
-        .unwrap();
+    b.set_integer(
+        &[vr::<StickSlipBeam>("fidelity.level")],
+        &[FidelityLevel::Modal.code()],
+    )
+    .unwrap();
     // time.step = 1.5 s exceeds the default end of 1.2 s but not the experiment's 100 s.
     b.set_real(&[vr::<StickSlipBeam>("time.step")], &[1.5])
         .unwrap();
@@ -780,7 +788,11 @@ fn reads_in_initialization_mode_follow_the_experiment() {
 fn non_finite_outputs_are_errors_not_values() {
     let (logger, log) = collecting_logger();
     let mut f = Instance::<NeuralFriction>::new("f", Some(&resources()), false, logger).unwrap();
-    f.set_integer(&[vr::<NeuralFriction>("law")], &[2]).unwrap();
+    f.set_integer(
+        &[vr::<NeuralFriction>("law")],
+        &[LawChoice::Exponential.code()],
+    )
+    .unwrap();
     f.set_real(&[vr::<NeuralFriction>("static_coefficient")], &[4.0])
         .unwrap();
     f.setup_experiment(0.0, None).unwrap();
@@ -794,7 +806,7 @@ fn non_finite_outputs_are_errors_not_values() {
         .is_err());
     assert!(logged(&log, "not finite"));
     // The beam: a belt speed whose products overflow.
-    let (mut b, log) = initialized_beam(LEVEL_MODAL);
+    let (mut b, log) = initialized_beam(FidelityLevel::Modal);
     b.set_real(&[vr::<StickSlipBeam>("belt_speed")], &[1e307])
         .unwrap();
     let steps: Vec<bool> = (0..100)
@@ -811,7 +823,7 @@ fn non_finite_outputs_are_errors_not_values() {
 /// exactly one, once, however often the simulation is rebuilt.
 #[test]
 fn the_beam_reads_a_network_only_for_the_neural_law() {
-    let (mut b, _) = initialized_beam(LEVEL_MODAL);
+    let (mut b, _) = initialized_beam(FidelityLevel::Modal);
     run(&mut b, 0.0, 0.5, 1e-2);
     assert_eq!(b.model().networks_read(), 0);
     b.reset();
@@ -820,7 +832,8 @@ fn the_beam_reads_a_network_only_for_the_neural_law() {
     let level = vr::<StickSlipBeam>("fidelity.level");
     for _ in 0..2 {
         b.reset();
-        b.set_integer(&[level, law], &[LEVEL_MODAL, 3]).unwrap();
+        b.set_integer(&[level, law], &[FidelityLevel::Modal.code(), 3])
+            .unwrap();
         b.setup_experiment(0.0, Some(1.2)).unwrap();
         b.enter_initialization_mode().unwrap();
         b.exit_initialization_mode().unwrap();
@@ -839,7 +852,8 @@ fn fidelity_auto_chooses_at_initialisation_and_logs_the_choice() {
     let tolerance = vr::<StickSlipBeam>("fidelity.tolerance");
     assert!(b.set_real(&[tolerance], &[0.0]).is_err());
     b.reset();
-    b.set_integer(&[level], &[4]).unwrap();
+    b.set_integer(&[level], &[FidelityLevel::Auto.code()])
+        .unwrap();
     b.set_real(&[tolerance], &[1e-4]).unwrap();
     b.setup_experiment(0.0, Some(0.6)).unwrap();
     b.enter_initialization_mode().unwrap();
@@ -851,7 +865,7 @@ fn fidelity_auto_chooses_at_initialisation_and_logs_the_choice() {
     );
     let mut read = [0];
     b.get_integer(&[level], &mut read).unwrap();
-    assert_eq!(read[0], 4);
+    assert_eq!(read[0], FidelityLevel::Auto.code());
     run(&mut b, 0.0, 0.6, 1e-2);
     // Past breakaway at 0.4 s the tip has slipped back below its 8 mm peak.
     assert!(tip(&mut b) > 0.0 && tip(&mut b) < 8.1e-3);
@@ -918,7 +932,7 @@ fn a_version_1_beam_state_restores_into_the_scene_fields() {
 /// and the current version has no list.
 #[test]
 fn a_version_2_beam_state_with_its_transition_list_restores() {
-    let (mut b, log) = initialized_beam(LEVEL_MODAL);
+    let (mut b, log) = initialized_beam(FidelityLevel::Modal);
     run(&mut b, 0.0, 0.6, 1e-2);
     let mut count = [0];
     b.get_integer(&[vr::<StickSlipBeam>("transitions")], &mut count)

@@ -20,7 +20,7 @@ use stickslip::scene::FidelityLevel;
 use stickslip::simulation::RECENT_TRANSITIONS;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::instance::Instance;
-use stickslip_fmi::Model;
+use stickslip_fmi::model::Model;
 
 use crate::allocations::counts;
 

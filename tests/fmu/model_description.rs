@@ -10,8 +10,9 @@ use stickslip::scene::{
 };
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
+use stickslip_fmi::model::Model;
 use stickslip_fmi::variables::{Access, Causality, InitialDependencies, Variable, UNITS};
-use stickslip_fmi::{FmuKind, Model};
+use stickslip_fmi::FmuKind;
 
 #[test]
 fn checked_in_descriptions_match_the_generated_ones() {

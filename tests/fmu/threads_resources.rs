@@ -11,11 +11,16 @@ use std::path::{Path, PathBuf};
 use std::ptr::{null, null_mut};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Barrier;
+use stickslip::choice::Choice;
+use stickslip::scene::{FidelityLevel, FrictionLawKind};
+use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::ffi::*;
+use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::FmuKind;
 
 use crate::allocations::live_bytes;
 use stickslip_tests::fmi_log::{record, Entry, Log};
+use stickslip_tests::vr;
 
 const OK: fmi2Status = 0;
 const ERROR: fmi2Status = 3;
@@ -111,16 +116,36 @@ fn copy_resources(root: &Path) -> PathBuf {
     dir
 }
 
-// StickSlipBeam value references (modelDescription/StickSlipBeam.xml).
-const FIDELITY: u32 = 50;
-const FRICTION_MODEL: u32 = 10;
-const WEIGHTS: u32 = 15;
-const REAL_OUTPUTS: [u32; 5] = [200, 201, 202, 203, 204];
-const STICK: u32 = 205;
-const TRANSITIONS: u32 = 206;
+/// The StickSlipBeam value references these tests use, by name.
+struct BeamVrs {
+    fidelity: u32,
+    friction_model: u32,
+    weights: u32,
+    /// tip_deflection, tip_velocity, relative_velocity, friction_force, holding_force.
+    real_outputs: [u32; 5],
+    stick: u32,
+    transitions: u32,
+}
 
-const MODAL: i32 = 1;
-const BEAM: i32 = 2;
+impl BeamVrs {
+    fn get() -> Self {
+        let vr = vr::<StickSlipBeam>;
+        Self {
+            fidelity: vr("fidelity.level"),
+            friction_model: vr("friction.model"),
+            weights: vr("friction.weights"),
+            real_outputs: [
+                vr("tip_deflection"),
+                vr("tip_velocity"),
+                vr("relative_velocity"),
+                vr("friction_force"),
+                vr("holding_force"),
+            ],
+            stick: vr("stick"),
+            transitions: vr("transitions"),
+        }
+    }
+}
 
 const H: f64 = 1e-3;
 /// The paper scene runs to 1.2 s.
@@ -131,19 +156,19 @@ type Point = [u64; 7];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Config {
-    fidelity: i32,
-    /// friction.model: 1 exponential, 2 coulomb, 3 neural.
-    law: i32,
+    fidelity: FidelityLevel,
+    /// friction.model.
+    law: FrictionLawKind,
     /// friction.weights for the neural law.
     weights: &'static str,
 }
 
 /// The friction laws the instances of one thread use, all on the paper scene.
-const LAWS: [(i32, &str); 4] = [
-    (1, "paper-plain.json"),
-    (3, "paper-plain.json"),
-    (2, "paper-plain.json"),
-    (3, "paper-signed.json"),
+const LAWS: [(FrictionLawKind, &str); 4] = [
+    (FrictionLawKind::Exponential, "paper-plain.json"),
+    (FrictionLawKind::Neural, "paper-plain.json"),
+    (FrictionLawKind::Coulomb, "paper-plain.json"),
+    (FrictionLawKind::Neural, "paper-signed.json"),
 ];
 
 /// A StickSlipBeam instance on the paper scene (the parameters' start values) from 0 to
@@ -182,18 +207,19 @@ impl Run {
             k: 0,
             points: Vec::with_capacity(STEPS),
         };
+        let vrs = BeamVrs::get();
         unsafe {
             run.ok(
                 fmi2SetInteger(
                     c,
-                    [FIDELITY, FRICTION_MODEL].as_ptr(),
+                    [vrs.fidelity, vrs.friction_model].as_ptr(),
                     2,
-                    [config.fidelity, config.law].as_ptr(),
+                    [config.fidelity.code(), config.law.code()].as_ptr(),
                 ),
                 "fmi2SetInteger",
             );
             run.ok(
-                fmi2SetString(c, &WEIGHTS, 1, &weights.as_ptr()),
+                fmi2SetString(c, &vrs.weights, 1, &weights.as_ptr()),
                 "fmi2SetString",
             );
         }
@@ -224,19 +250,23 @@ impl Run {
 
     fn step(&mut self) {
         let c = self.c;
+        let vrs = BeamVrs::get();
         let mut point = [0u64; 7];
         unsafe {
             self.ok(fmi2DoStep(c, self.k as f64 * H, H, 1), "fmi2DoStep");
             let mut reals = [0.0; 5];
             self.ok(
-                fmi2GetReal(c, REAL_OUTPUTS.as_ptr(), 5, reals.as_mut_ptr()),
+                fmi2GetReal(c, vrs.real_outputs.as_ptr(), 5, reals.as_mut_ptr()),
                 "fmi2GetReal",
             );
             let mut stick = 0;
-            self.ok(fmi2GetBoolean(c, &STICK, 1, &mut stick), "fmi2GetBoolean");
+            self.ok(
+                fmi2GetBoolean(c, &vrs.stick, 1, &mut stick),
+                "fmi2GetBoolean",
+            );
             let mut transitions = 0;
             self.ok(
-                fmi2GetInteger(c, &TRANSITIONS, 1, &mut transitions),
+                fmi2GetInteger(c, &vrs.transitions, 1, &mut transitions),
                 "fmi2GetInteger",
             );
             for (slot, r) in point.iter_mut().zip(reals) {
@@ -261,17 +291,18 @@ impl Run {
             self.ok(fmi2Terminate(self.c), "fmi2Terminate");
             self.ok(fmi2Reset(self.c), "fmi2Reset");
             let weights = CString::new(config.weights).unwrap();
+            let vrs = BeamVrs::get();
             self.ok(
                 fmi2SetInteger(
                     self.c,
-                    [FIDELITY, FRICTION_MODEL].as_ptr(),
+                    [vrs.fidelity, vrs.friction_model].as_ptr(),
                     2,
-                    [config.fidelity, config.law].as_ptr(),
+                    [config.fidelity.code(), config.law.code()].as_ptr(),
                 ),
                 "fmi2SetInteger",
             );
             self.ok(
-                fmi2SetString(self.c, &WEIGHTS, 1, &weights.as_ptr()),
+                fmi2SetString(self.c, &vrs.weights, 1, &weights.as_ptr()),
                 "fmi2SetString",
             );
         }
@@ -323,9 +354,9 @@ const PER_THREAD: usize = 4;
 fn config_of(t: usize, j: usize) -> Config {
     let (law, weights) = LAWS[(t + j) % LAWS.len()];
     let fidelity = if (t, j) == (0, 0) || (t, j) == (5, 2) {
-        BEAM
+        FidelityLevel::Beam
     } else {
-        MODAL
+        FidelityLevel::Modal
     };
     Config {
         fidelity,
@@ -340,7 +371,7 @@ fn thirty_two_instances_in_eight_threads_equal_one_instance_alone_bit_for_bit() 
     let mut configs: Vec<Config> = (0..THREADS)
         .flat_map(|t| (0..PER_THREAD).map(move |j| config_of(t, j)))
         .collect();
-    configs.sort_by_key(|c| (c.fidelity, c.law, c.weights));
+    configs.sort_by_key(|c| (c.fidelity.code(), c.law.code(), c.weights));
     configs.dedup();
     let references: Vec<(Config, Vec<Point>)> = configs.iter().map(|&c| (c, alone(c))).collect();
     let reference = |config: Config| {
@@ -411,8 +442,8 @@ fn a_run_after_fmi2_reset_repeats_the_first_bit_for_bit() {
     for config in [
         config_of(0, 1),
         Config {
-            fidelity: BEAM,
-            law: 3,
+            fidelity: FidelityLevel::Beam,
+            law: FrictionLawKind::Neural,
             weights: "paper-signed.json",
         },
     ] {
@@ -457,8 +488,8 @@ fn assert_refused(kind: FmuKind, uri: Option<&str>, needles: &[&str]) {
 /// `weights` (a name in resources/ or an absolute path).
 fn neural_run(uri: &str, weights: &'static str) -> Vec<Point> {
     let config = Config {
-        fidelity: MODAL,
-        law: 3,
+        fidelity: FidelityLevel::Modal,
+        law: FrictionLawKind::Neural,
         weights,
     };
     let mut run = Run::start(config, uri);
@@ -542,7 +573,11 @@ fn a_missing_resources_folder_fails_instantiation_with_a_reason() {
 /// fmi2ExitInitializationMode with the neural law. Each refusal logs all `needles`.
 fn assert_weights_refused(uri: &str, needles: &[&str]) {
     assert_refused(FmuKind::NeuralFriction, Some(uri), needles);
-    for (law, accepted) in [(1, true), (3, false)] {
+    let vrs = BeamVrs::get();
+    for (law, accepted) in [
+        (FrictionLawKind::Exponential, true),
+        (FrictionLawKind::Neural, false),
+    ] {
         let (c, _) = instantiate_at(FmuKind::StickSlipBeam, Some(uri));
         assert!(
             !c.is_null(),
@@ -565,11 +600,16 @@ fn assert_weights_refused(uri: &str, needles: &[&str]) {
             );
             assert!(!c.is_null());
             assert_eq!(
-                fmi2SetInteger(c, [FIDELITY].as_ptr(), 1, [MODAL].as_ptr()),
+                fmi2SetInteger(
+                    c,
+                    [vrs.fidelity].as_ptr(),
+                    1,
+                    [FidelityLevel::Modal.code()].as_ptr()
+                ),
                 OK
             );
             assert_eq!(
-                fmi2SetInteger(c, [FRICTION_MODEL].as_ptr(), 1, [law].as_ptr()),
+                fmi2SetInteger(c, [vrs.friction_model].as_ptr(), 1, [law.code()].as_ptr()),
                 OK
             );
             assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), OK);
@@ -828,20 +868,29 @@ unsafe fn life(kind: FmuKind, callbacks_kind: Callbacks, steps: usize) {
     );
     assert!(!c.is_null());
     let ok = |status: fmi2Status, what: &str| assert_eq!(status, OK, "{what}");
+    let vrs = BeamVrs::get();
     let (output, input, string_vr) = match kind {
         FmuKind::StickSlipBeam => {
             ok(
                 fmi2SetInteger(
                     c,
-                    [FIDELITY, FRICTION_MODEL].as_ptr(),
+                    [vrs.fidelity, vrs.friction_model].as_ptr(),
                     2,
-                    [MODAL, 3].as_ptr(),
+                    [FidelityLevel::Modal.code(), FrictionLawKind::Neural.code()].as_ptr(),
                 ),
                 "fmi2SetInteger",
             );
-            (200, 100, WEIGHTS)
+            (
+                vrs.real_outputs[0],
+                vr::<StickSlipBeam>("belt_speed"),
+                vrs.weights,
+            )
         }
-        FmuKind::NeuralFriction => (20, 10, 5),
+        FmuKind::NeuralFriction => (
+            vr::<NeuralFriction>("friction_force"),
+            vr::<NeuralFriction>("sliding_velocity"),
+            vr::<NeuralFriction>("weights"),
+        ),
     };
     let all = [
         c"logStatusError".as_ptr(),
@@ -939,9 +988,13 @@ unsafe fn life(kind: FmuKind, callbacks_kind: Callbacks, steps: usize) {
         ok(
             fmi2SetInteger(
                 c,
-                [FIDELITY, FRICTION_MODEL].as_ptr(),
+                [vrs.fidelity, vrs.friction_model].as_ptr(),
                 2,
-                [MODAL, 1].as_ptr(),
+                [
+                    FidelityLevel::Modal.code(),
+                    FrictionLawKind::Exponential.code(),
+                ]
+                .as_ptr(),
             ),
             "fmi2SetInteger",
         );

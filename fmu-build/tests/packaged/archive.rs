@@ -160,3 +160,32 @@ fn packaging_is_reproducible() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A failure names the file it concerns, in the words `fmu-build` prints.
+#[test]
+fn packaging_errors_name_the_file() {
+    let dir = std::env::temp_dir().join(format!("stickslip-missing-{}", std::process::id()));
+    let missing = dir.join("libmissing.so");
+    let error = fmu_build::package(FmuKind::NeuralFriction, &missing, &dir).unwrap_err();
+    assert!(
+        matches!(&error, fmu_build::BuildError::Io { path, .. } if *path == missing),
+        "{error:?}"
+    );
+    assert!(
+        error
+            .to_string()
+            .starts_with(&format!("{}: ", missing.display())),
+        "{error}"
+    );
+    let drift = fmu_build::BuildError::Drift(vec!["a.xml".into(), "b.xml".into()]);
+    assert!(
+        drift
+            .to_string()
+            .starts_with("a.xml, b.xml differ from what the Rust tables generate"),
+        "{drift}"
+    );
+    assert!(
+        !dir.exists(),
+        "nothing is written when the library is missing"
+    );
+}

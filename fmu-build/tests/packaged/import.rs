@@ -16,8 +16,10 @@ use fmi::fmi2::Fmi2Error;
 use fmi::traits::{FmiImport, FmiStatus};
 use std::path::PathBuf;
 use std::sync::{Mutex, Once};
+use stickslip::choice::Choice;
 use stickslip::contact::ContactState;
-use stickslip::scene::{CheckedScene, FidelityLevel};
+use stickslip::friction::LawChoice;
+use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind};
 use stickslip::simulation::Simulator;
 use stickslip_fmi::FmuKind;
 
@@ -29,15 +31,6 @@ const STOP: f64 = 1.2;
 const STEPS: usize = 1200;
 /// The paper's breakaway time (s): 50 N holding force reached at v_b = 0.02 m/s.
 const BREAKAWAY: f64 = 0.4;
-
-// Enumeration values (1-based item index in modelDescription.xml).
-const MODAL: i32 = 1;
-const BEAM: i32 = 2;
-const PLANE_STRESS: i32 = 3;
-const EXPONENTIAL_MODEL: i32 = 1;
-const EXTERNAL_MODEL: i32 = 4;
-const LAW_NEURAL: i32 = 1;
-const LAW_EXPONENTIAL: i32 = 2;
 
 // ---------------------------------------------------------------------------------------
 // Log backend: the fmi crate forwards the FMU's logger callback to the `log` facade,
@@ -368,14 +361,19 @@ fn first_slip(outputs: &[Outputs]) -> usize {
 // ---------------------------------------------------------------------------------------
 // a. The paper scene through the FMU equals the library's simulation bit for bit.
 
-fn paper_scene_equals_library(fmu_level: Option<i32>, level: Option<FidelityLevel>, tag: &str) {
+/// `level` set in the FMU and in the library's scene; None: both keep their default,
+/// plane stress.
+fn paper_scene_equals_library(level: Option<FidelityLevel>, tag: &str) {
     let import = import(FmuKind::StickSlipBeam);
     let name = format!("paper-{tag}");
     let vrs = BeamVrs::of(&import);
-    let parameters: Vec<(u32, i32)> = fmu_level.map(|l| (vrs.fidelity, l)).into_iter().collect();
+    let parameters: Vec<(u32, i32)> = level
+        .map(|l| (vrs.fidelity, l.code()))
+        .into_iter()
+        .collect();
     let mut beam = Beam::start(&import, &name, &parameters);
-    let expected_level = fmu_level.unwrap_or(PLANE_STRESS);
-    assert_eq!(beam.integer(vrs.fidelity), expected_level);
+    let expected_level = level.unwrap_or(FidelityLevel::PlaneStress);
+    assert_eq!(beam.integer(vrs.fidelity), expected_level.code());
     Common::set_debug_logging(&mut beam.inst, true, &["logEvents"]).expect("logEvents on");
 
     let started = std::time::Instant::now();
@@ -455,17 +453,17 @@ fn paper_scene_equals_library(fmu_level: Option<i32>, level: Option<FidelityLeve
 
 #[test]
 fn a_paper_scene_beam_fidelity_equals_library_bit_for_bit() {
-    paper_scene_equals_library(Some(BEAM), Some(FidelityLevel::Beam), "beam");
+    paper_scene_equals_library(Some(FidelityLevel::Beam), "beam");
 }
 
 #[test]
 fn a_paper_scene_modal_fidelity_equals_library_bit_for_bit() {
-    paper_scene_equals_library(Some(MODAL), Some(FidelityLevel::Modal), "modal");
+    paper_scene_equals_library(Some(FidelityLevel::Modal), "modal");
 }
 
 #[test]
 fn a_paper_scene_default_plane_stress_equals_library_bit_for_bit() {
-    paper_scene_equals_library(None, None, "plane-stress");
+    paper_scene_equals_library(None, "plane-stress");
 }
 
 /// The FMU's time is absolute, the simulation's relative to the start time: a start at
@@ -483,7 +481,7 @@ fn a_start_time_and_off_grid_communication_steps_equal_library() {
     inst.setup_experiment(None, 10.0, Some(10.0 + STOP))
         .expect("fmi2SetupExperiment");
     Common::enter_initialization_mode(&mut inst).expect("fmi2EnterInitializationMode");
-    inst.set_integer(&[vrs.fidelity], &[BEAM])
+    inst.set_integer(&[vrs.fidelity], &[FidelityLevel::Beam.code()])
         .expect("fmi2SetInteger");
     Common::exit_initialization_mode(&mut inst).expect("fmi2ExitInitializationMode");
     let mut shifted = Beam {
@@ -495,7 +493,11 @@ fn a_start_time_and_off_grid_communication_steps_equal_library() {
     assert_bitwise("start time 10 s vs library from 0", &run, &direct);
 
     let h = 2.5e-4;
-    let mut beam = Beam::start(&import, "off-grid", &[(vrs.fidelity, BEAM)]);
+    let mut beam = Beam::start(
+        &import,
+        "off-grid",
+        &[(vrs.fidelity, FidelityLevel::Beam.code())],
+    );
     let mut sim = direct_simulator(Some(FidelityLevel::Beam));
     let mut t = 0.0;
     let (mut fmu, mut library) = (Vec::new(), Vec::new());
@@ -524,7 +526,11 @@ const STATE_RUN: usize = 300;
 fn b_fmu_state_restores_bit_for_bit_also_in_a_fresh_instance() {
     let import1 = import(FmuKind::StickSlipBeam);
     let vrs = BeamVrs::of(&import1);
-    let mut first = Beam::start(&import1, "state-first", &[(vrs.fidelity, BEAM)]);
+    let mut first = Beam::start(
+        &import1,
+        "state-first",
+        &[(vrs.fidelity, FidelityLevel::Beam.code())],
+    );
     first.run(STATE_AT);
     let t_saved = first.t;
     let at_saved = first.outputs();
@@ -561,7 +567,10 @@ fn b_fmu_state_restores_bit_for_bit_also_in_a_fresh_instance() {
     // rebuilds the beam model.
     let import2 = import(FmuKind::StickSlipBeam);
     let mut fresh = Beam::start(&import2, "state-fresh", &[]);
-    assert_eq!(fresh.integer(vrs.fidelity), PLANE_STRESS);
+    assert_eq!(
+        fresh.integer(vrs.fidelity),
+        FidelityLevel::PlaneStress.code()
+    );
     let restored = fresh
         .inst
         .deserialize_fmu_state(&bytes)
@@ -571,7 +580,7 @@ fn b_fmu_state_restores_bit_for_bit_also_in_a_fresh_instance() {
         .set_fmu_state(&restored)
         .ok()
         .expect("fmi2SetFMUstate of the deserialized state");
-    assert_eq!(fresh.integer(vrs.fidelity), BEAM);
+    assert_eq!(fresh.integer(vrs.fidelity), FidelityLevel::Beam.code());
     fresh.t = t_saved;
     assert_bitwise(
         "fresh instance at the restored point",
@@ -586,7 +595,11 @@ fn b_fmu_state_restores_bit_for_bit_also_in_a_fresh_instance() {
     );
 
     // A fresh instance already at the saved fidelity (the model is reused, not rebuilt).
-    let mut same = Beam::start(&import2, "state-same", &[(vrs.fidelity, BEAM)]);
+    let mut same = Beam::start(
+        &import2,
+        "state-same",
+        &[(vrs.fidelity, FidelityLevel::Beam.code())],
+    );
     let restored = same
         .inst
         .deserialize_fmu_state(&bytes)
@@ -623,7 +636,11 @@ fn b_fmu_state_restores_bit_for_bit_also_in_a_fresh_instance() {
 fn c_reset_then_rerun_reproduces_the_first_run() {
     let import = import(FmuKind::StickSlipBeam);
     let vrs = BeamVrs::of(&import);
-    let mut beam = Beam::start(&import, "reset", &[(vrs.fidelity, BEAM)]);
+    let mut beam = Beam::start(
+        &import,
+        "reset",
+        &[(vrs.fidelity, FidelityLevel::Beam.code())],
+    );
     let run1 = beam.run_from_start(STEPS);
     Common::terminate(&mut beam.inst).expect("fmi2Terminate");
     Common::reset(&mut beam.inst).expect("fmi2Reset");
@@ -633,9 +650,12 @@ fn c_reset_then_rerun_reproduces_the_first_run() {
         .setup_experiment(None, 0.0, Some(STOP))
         .expect("fmi2SetupExperiment after reset");
     Common::enter_initialization_mode(&mut beam.inst).expect("fmi2EnterInitializationMode");
-    assert_eq!(beam.integer(vrs.fidelity), PLANE_STRESS);
+    assert_eq!(
+        beam.integer(vrs.fidelity),
+        FidelityLevel::PlaneStress.code()
+    );
     beam.inst
-        .set_integer(&[vrs.fidelity], &[BEAM])
+        .set_integer(&[vrs.fidelity], &[FidelityLevel::Beam.code()])
         .expect("fmi2SetInteger");
     Common::exit_initialization_mode(&mut beam.inst).expect("fmi2ExitInitializationMode");
     beam.t = 0.0;
@@ -647,17 +667,17 @@ fn c_reset_then_rerun_reproduces_the_first_run() {
 // ---------------------------------------------------------------------------------------
 // d. Instances in parallel threads.
 
-fn run_alone(import: &Fmi2Import, name: &str, level: i32) -> Vec<Outputs> {
+fn run_alone(import: &Fmi2Import, name: &str, level: FidelityLevel) -> Vec<Outputs> {
     let vrs = BeamVrs::of(import);
-    let mut beam = Beam::start(import, name, &[(vrs.fidelity, level)]);
+    let mut beam = Beam::start(import, name, &[(vrs.fidelity, level.code())]);
     beam.run_from_start(STEPS)
 }
 
 #[test]
 fn d_two_threads_give_the_same_outputs_as_one_instance_alone() {
     let shared = import(FmuKind::StickSlipBeam);
-    let alone_beam = run_alone(&shared, "alone-beam", BEAM);
-    let alone_modal = run_alone(&shared, "alone-modal", MODAL);
+    let alone_beam = run_alone(&shared, "alone-beam", FidelityLevel::Beam);
+    let alone_modal = run_alone(&shared, "alone-modal", FidelityLevel::Modal);
     assert_ne!(
         alone_beam[STEPS].tip_deflection.to_bits(),
         alone_modal[STEPS].tip_deflection.to_bits(),
@@ -665,7 +685,10 @@ fn d_two_threads_give_the_same_outputs_as_one_instance_alone() {
     );
 
     // Each thread imports its own copy and instantiates there (InstanceCS is !Send).
-    for levels in [[BEAM, BEAM], [BEAM, MODAL]] {
+    for levels in [
+        [FidelityLevel::Beam, FidelityLevel::Beam],
+        [FidelityLevel::Beam, FidelityLevel::Modal],
+    ] {
         let results: Vec<Vec<Outputs>> = std::thread::scope(|s| {
             let handles: Vec<_> = levels
                 .iter()
@@ -673,7 +696,7 @@ fn d_two_threads_give_the_same_outputs_as_one_instance_alone() {
                 .map(|(k, &level)| {
                     s.spawn(move || {
                         let own = import(FmuKind::StickSlipBeam);
-                        run_alone(&own, &format!("thread-own-{k}-{level}"), level)
+                        run_alone(&own, &format!("thread-own-{k}-{}", level.code()), level)
                     })
                 })
                 .collect();
@@ -683,7 +706,7 @@ fn d_two_threads_give_the_same_outputs_as_one_instance_alone() {
                 .collect()
         });
         for (&level, result) in levels.iter().zip(&results) {
-            let alone = if level == BEAM {
+            let alone = if level == FidelityLevel::Beam {
                 &alone_beam
             } else {
                 &alone_modal
@@ -695,8 +718,8 @@ fn d_two_threads_give_the_same_outputs_as_one_instance_alone() {
     // Two threads with instances of ONE import share one loaded library.
     let results: Vec<Vec<Outputs>> = std::thread::scope(|s| {
         let shared = &shared;
-        let a = s.spawn(move || run_alone(shared, "thread-shared-beam", BEAM));
-        let b = s.spawn(move || run_alone(shared, "thread-shared-modal", MODAL));
+        let a = s.spawn(move || run_alone(shared, "thread-shared-beam", FidelityLevel::Beam));
+        let b = s.spawn(move || run_alone(shared, "thread-shared-modal", FidelityLevel::Modal));
         vec![a.join().expect("thread"), b.join().expect("thread")]
     });
     assert_bitwise(
@@ -738,7 +761,7 @@ impl FrictionVrs {
     }
 }
 
-fn start_friction(import: &Fmi2Import, name: &str, law: Option<i32>) -> InstanceCS {
+fn start_friction(import: &Fmi2Import, name: &str, law: Option<LawChoice>) -> InstanceCS {
     let vrs = FrictionVrs::of(import);
     let mut inst = import
         .instantiate_cs(name, false, false)
@@ -747,7 +770,8 @@ fn start_friction(import: &Fmi2Import, name: &str, law: Option<i32>) -> Instance
         .expect("fmi2SetupExperiment");
     Common::enter_initialization_mode(&mut inst).expect("fmi2EnterInitializationMode");
     if let Some(law) = law {
-        inst.set_integer(&[vrs.law], &[law]).expect("set law");
+        inst.set_integer(&[vrs.law], &[law.code()])
+            .expect("set law");
     }
     Common::exit_initialization_mode(&mut inst).expect("fmi2ExitInitializationMode");
     inst
@@ -788,10 +812,14 @@ fn e_neural_friction_fmu_matches_the_law() {
     let vrs = FrictionVrs::of(&import);
 
     // Exponential law: Eq. 6 to 1e-12, signed, and the static limit mu_s F_n.
-    let mut exponential = start_friction(&import, "friction-exponential", Some(LAW_EXPONENTIAL));
+    let mut exponential = start_friction(
+        &import,
+        "friction-exponential",
+        Some(LawChoice::Exponential),
+    );
     let mut law = [0i32; 1];
     exponential.get_integer(&[vrs.law], &mut law).expect("law");
-    assert_eq!(law[0], LAW_EXPONENTIAL);
+    assert_eq!(law[0], LawChoice::Exponential.code());
     for v in [0.1, -0.1] {
         let [force, magnitude, coefficient, limit] = friction_at(&mut exponential, &vrs, v, 100.0);
         let expected = v.signum() * (0.2 + 0.3 * (-5.0f64 * 0.1).exp()) * 100.0;
@@ -811,7 +839,7 @@ fn e_neural_friction_fmu_matches_the_law() {
     // The default law is the shipped network.
     let mut neural = start_friction(&import, "friction-neural", None);
     neural.get_integer(&[vrs.law], &mut law).expect("law");
-    assert_eq!(law[0], LAW_NEURAL);
+    assert_eq!(law[0], LawChoice::Neural.code());
     let [force, magnitude, _, limit] = friction_at(&mut neural, &vrs, 0.1, 100.0);
     let expected = paper_law(0.1, 100.0);
     let error_at_01 = (force - expected).abs() / expected.abs();
@@ -898,15 +926,22 @@ fn f_coupled_with_neural_friction_fmu_matches_the_monolithic_run() {
     let mut beam = Beam::start(
         &beam_import,
         "coupled-beam",
-        &[(vrs.fidelity, BEAM), (vrs.friction_model, EXTERNAL_MODEL)],
+        &[
+            (vrs.fidelity, FidelityLevel::Beam.code()),
+            (vrs.friction_model, FrictionLawKind::External.code()),
+        ],
     );
-    let mut friction = start_friction(&friction_import, "coupled-friction", Some(LAW_EXPONENTIAL));
+    let mut friction = start_friction(
+        &friction_import,
+        "coupled-friction",
+        Some(LawChoice::Exponential),
+    );
     let friction_outputs = [fvrs.outputs[1], fvrs.outputs[3]];
 
     // Gauss-Seidel at each point t_k: the beam's v_rel(t_k) goes through NeuralFriction
     // (direct feedthrough, no state) and its force back into the beam, then both step
-    // to t_k + h. (python-checks/cosim_convergence.py compares this with one-pass
-    // Jacobi, where the beam gets the force of v_rel(t_{k-1}).)
+    // to t_k + h. (python-checks/stickslip_checks/cosim_convergence.py compares this
+    // with one-pass Jacobi, where the beam gets the force of v_rel(t_{k-1}).)
     let mut coupled = vec![beam.outputs()];
     let mut t = 0.0;
     for _ in 0..STEPS {
@@ -933,8 +968,8 @@ fn f_coupled_with_neural_friction_fmu_matches_the_monolithic_run() {
             &beam_import,
             "coupled-monolithic",
             &[
-                (vrs.fidelity, BEAM),
-                (vrs.friction_model, EXPONENTIAL_MODEL),
+                (vrs.fidelity, FidelityLevel::Beam.code()),
+                (vrs.friction_model, FrictionLawKind::Exponential.code()),
             ],
         );
         mono.run_from_start(STEPS)
@@ -1051,7 +1086,7 @@ fn h_outputs_read_in_initialization_mode_do_not_freeze_the_belt_speed() {
     inst.setup_experiment(None, 0.0, Some(STOP))
         .expect("fmi2SetupExperiment");
     Common::enter_initialization_mode(&mut inst).expect("fmi2EnterInitializationMode");
-    inst.set_integer(&[vrs.fidelity], &[BEAM])
+    inst.set_integer(&[vrs.fidelity], &[FidelityLevel::Beam.code()])
         .expect("fmi2SetInteger");
     let mut r = [0.0; 5];
     inst.get_real(&vrs.reals, &mut r)

@@ -66,7 +66,7 @@ impl<T: Choice> ChoiceParser<T> {
     }
 
     /// The value of a command-line word, or why it is not accepted.
-    pub fn value(&self, word: &str) -> Result<T, String> {
+    pub fn value(&self, word: &str) -> Result<T, ChoiceValueError> {
         let value = T::from_name(word).or_else(|| {
             self.aliases
                 .iter()
@@ -75,23 +75,40 @@ impl<T: Choice> ChoiceParser<T> {
         });
         match value {
             Some(value) => match self.is_refused(value) {
-                Some(reason) => Err(format!("{word}: {reason}")),
+                Some(reason) => Err(ChoiceValueError::Refused {
+                    word: word.to_string(),
+                    reason,
+                }),
                 None => Ok(value),
             },
-            None => {
-                let words: Vec<&str> = self
+            None => Err(ChoiceValueError::Unknown {
+                word: word.to_string(),
+                type_name: T::TYPE_NAME,
+                accepted: self
                     .accepted()
                     .into_iter()
                     .flat_map(|(c, aliases)| std::iter::once(c.name()).chain(aliases))
-                    .collect();
-                Err(format!(
-                    "{word} is not a {} value; possible values: {}",
-                    T::TYPE_NAME,
-                    words.join(", ")
-                ))
-            }
+                    .collect(),
+            }),
         }
     }
+}
+
+/// Why a command-line word is not taken as a value of a choice (the message follows
+/// "invalid value for --option: ").
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ChoiceValueError {
+    /// A value of the choice that this command cannot honour, and why.
+    #[error("{word}: {reason}")]
+    Refused { word: String, reason: &'static str },
+    /// Neither a word of the choice nor an alias; `accepted` lists the words that are,
+    /// in [`Choice::ALL`] order, each followed by its aliases.
+    #[error("{word} is not a {type_name} value; possible values: {}", .accepted.join(", "))]
+    Unknown {
+        word: String,
+        type_name: &'static str,
+        accepted: Vec<&'static str>,
+    },
 }
 
 impl<T: Choice> TypedValueParser for ChoiceParser<T> {
@@ -104,11 +121,11 @@ impl<T: Choice> TypedValueParser for ChoiceParser<T> {
         value: &OsStr,
     ) -> Result<T, clap::Error> {
         let word = value.to_string_lossy();
-        self.value(&word).map_err(|reason| {
+        self.value(&word).map_err(|error| {
             let option = arg.map_or_else(|| "the value".to_string(), |a| a.to_string());
             clap::Error::raw(
                 ErrorKind::InvalidValue,
-                format!("invalid value for {option}: {reason}\n"),
+                format!("invalid value for {option}: {error}\n"),
             )
             .with_cmd(cmd)
         })
@@ -129,7 +146,7 @@ impl<T: Choice> TypedValueParser for ChoiceParser<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::simulate::{friction_parser, SceneArgs};
+    use crate::scene_args::{friction_parser, SceneArgs};
     use clap::Parser;
     use stickslip::scene::{FidelityLevel, FrictionLawKind, Scheme};
 
@@ -184,11 +201,26 @@ mod tests {
             Ok(FrictionLawKind::Exponential)
         );
         let refused = parser.value("external").unwrap_err();
-        assert!(refused.contains("StickSlipBeam"), "{refused}");
-        let unknown = parser.value("Coulomb").unwrap_err();
         assert!(
-            unknown.contains("exponential, analytical, coulomb, neural"),
-            "{unknown}"
+            matches!(&refused, ChoiceValueError::Refused { word, .. } if word == "external"),
+            "{refused:?}"
+        );
+        assert!(refused.to_string().contains("StickSlipBeam"), "{refused}");
+        let unknown = parser.value("Coulomb").unwrap_err();
+        assert_eq!(
+            unknown,
+            ChoiceValueError::Unknown {
+                word: "Coulomb".into(),
+                type_name: FrictionLawKind::TYPE_NAME,
+                accepted: vec!["exponential", "analytical", "coulomb", "neural"],
+            }
+        );
+        assert_eq!(
+            unknown.to_string(),
+            format!(
+                "Coulomb is not a {} value; possible values: exponential, analytical, coulomb, neural",
+                FrictionLawKind::TYPE_NAME
+            )
         );
     }
 

@@ -2,8 +2,8 @@
 //! cantilever (`stickslip::stability`), as JSON for scripts, so that no script
 //! re-derives beam theory.
 
-use crate::simulate::SceneArgs;
-use crate::CliError;
+use crate::error::CliError;
+use crate::scene_args::SceneArgs;
 use clap::Args;
 use serde::Serialize;
 use stickslip::stability::{cantilever_omega, rayleigh_at_modes_1_and_3, sliding_stability_speed};

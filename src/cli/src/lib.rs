@@ -1,7 +1,9 @@
 //! The `stickslip` command line: clap arguments and the commands behind them, over the
 //! physics (`stickslip`) and the trainer (`stickslip-train`).
 //!
-//! - `simulate`: `simulate`, `static` and `study`;
+//! - `scene_args`: the scene flags of `simulate`, `static` and `estimates`;
+//! - `simulate`: `simulate` and `static`;
+//! - `study`: `study` (and its `--verify-auto`);
 //! - `train`: `train` and `search`;
 //! - `estimates`: `estimates` (beam-theory numbers of a scene, as JSON);
 //! - `choice`: the command-line values of the scene's choices;
@@ -12,7 +14,9 @@
 pub mod choice;
 mod error;
 pub mod estimates;
+pub mod scene_args;
 pub mod simulate;
+pub mod study;
 pub mod train;
 
 pub use error::CliError;

@@ -25,7 +25,7 @@ enum Command {
     /// Speed against accuracy: the paper scene over a grid of fidelity levels, time
     /// steps and integrators, with errors against a converged reference and the Pareto
     /// front.
-    Study(stickslip_cli::simulate::StudyArgs),
+    Study(stickslip_cli::study::StudyArgs),
     /// Closed-form numbers of the scene's Euler-Bernoulli cantilever as JSON: bending
     /// frequencies, mass, Rayleigh damping, and the belt speed above which steady sliding
     /// is stable.
@@ -39,7 +39,7 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Simulate(args) => stickslip_cli::simulate::simulate(args),
         Command::Static(args) => stickslip_cli::simulate::static_check(args),
-        Command::Study(args) => stickslip_cli::simulate::study(args),
+        Command::Study(args) => stickslip_cli::study::study(args),
         Command::Estimates(args) => stickslip_cli::estimates::estimates(args),
         Command::Train(args) => stickslip_cli::train::run_train(args).map(|_| ()),
         Command::Search(args) => stickslip_cli::train::run_search(args).map(|_| ()),

@@ -4,7 +4,7 @@
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
-use crate::CliError;
+use crate::error::CliError;
 use stickslip::choice::Choice;
 use stickslip::neural::{Activation, SyntheticSpec, Variant};
 use stickslip_train::csv::{read_csv_file, ColumnSelection};
@@ -54,21 +54,30 @@ pub struct TrainArgs {
     /// L-BFGS iteration limit.
     #[arg(long, default_value_t = DEFAULT_ITERATIONS)]
     pub iterations: usize,
-    /// L2 penalty lambda on the weights: loss = MSE + lambda/2 ||W||^2 (see neural::train).
+    /// L2 penalty lambda on the weights: loss = MSE + lambda/2 ||W||^2 (see
+    /// stickslip_train::train).
     #[arg(long, default_value_t = DEFAULT_LAMBDA)]
     pub lambda: f64,
     /// plain: the paper's network F(v, F_n); signed: F = sign(v) g(|v|, F_n).
-    #[arg(long, value_parser = crate::choice::parser::<Variant>(), default_value = "plain")]
+    #[arg(
+        long,
+        value_parser = crate::choice::parser::<Variant>(),
+        default_value = TrainConfig::default().variant.name()
+    )]
     pub variant: Variant,
     /// Hidden-layer activation.
-    #[arg(long, value_parser = crate::choice::parser::<Activation>(), default_value = "tanh")]
+    #[arg(
+        long,
+        value_parser = crate::choice::parser::<Activation>(),
+        default_value = TrainConfig::default().activation.name()
+    )]
     pub activation: Activation,
     /// Hidden layer widths, comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "100,100,100")]
     pub layers: Vec<usize>,
     /// Batch blocks (threads). Part of the reproducibility: a different value changes
     /// rounding and so the weights.
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = TrainConfig::default().blocks)]
     pub threads: usize,
     /// Output weights file (JSON).
     #[arg(long, value_name = "FILE.json")]
@@ -107,9 +116,17 @@ pub struct SearchArgs {
     /// L-BFGS iterations per fit (reduced: this is a study).
     #[arg(long, default_value_t = 60)]
     pub iterations: usize,
-    #[arg(long, value_parser = crate::choice::parser::<Variant>(), default_value = "plain")]
+    #[arg(
+        long,
+        value_parser = crate::choice::parser::<Variant>(),
+        default_value = TrainConfig::default().variant.name()
+    )]
     pub variant: Variant,
-    #[arg(long, value_parser = crate::choice::parser::<Activation>(), default_value = "tanh")]
+    #[arg(
+        long,
+        value_parser = crate::choice::parser::<Activation>(),
+        default_value = TrainConfig::default().activation.name()
+    )]
     pub activation: Activation,
     /// Folds trained in parallel.
     #[arg(long, default_value_t = 2)]
@@ -333,4 +350,46 @@ pub fn run_search(args: &SearchArgs) -> Result<Vec<SearchRow>, CliError> {
         write_file(path, &(text + "\n"))?;
     }
     Ok(rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(subcommand)]
+        command: Command,
+    }
+
+    #[derive(clap::Subcommand)]
+    enum Command {
+        Train(TrainArgs),
+        Search(SearchArgs),
+    }
+
+    /// Without flags, `train` trains as `TrainConfig::default()` does, and `search` with
+    /// its variant and activation.
+    #[test]
+    fn the_defaults_are_the_trainers() {
+        let config = TrainConfig::default();
+        let Command::Train(train) =
+            Cli::parse_from(["stickslip", "train", "--out", "w.json"]).command
+        else {
+            unreachable!()
+        };
+        assert_eq!(train.variant, config.variant);
+        assert_eq!(train.activation, config.activation);
+        assert_eq!(train.layers, config.hidden_layers);
+        assert_eq!(train.lambda, config.lambda);
+        assert_eq!(train.iterations, config.max_iterations);
+        assert_eq!(train.data.seed, config.seed);
+        assert_eq!(train.threads, config.blocks);
+        let Command::Search(search) = Cli::parse_from(["stickslip", "search"]).command else {
+            unreachable!()
+        };
+        assert_eq!(search.variant, config.variant);
+        assert_eq!(search.activation, config.activation);
+    }
 }

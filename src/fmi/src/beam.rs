@@ -12,18 +12,18 @@
 //! The FMU steps at `time.step` and ends each communication step with one shorter step
 //! when the communication point is not on that grid (`Simulator::advance_to`).
 
+use crate::model::{Model, ModelInfo};
 use crate::networks::{weights_name, NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use crate::variables::{
     choice_at, Access, Causality, Dependencies, EnumerationType, InitialDependencies, Variability,
     Variable,
 };
-use crate::{Model, ModelInfo};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use stickslip::auto::AutoError;
 use stickslip::choice::Choice;
 use stickslip::contact::ContactState;
-use stickslip::friction::ExponentialLaw;
+use stickslip::friction::{CoulombLaw, ExponentialLaw};
 use stickslip::neural::NeuralError;
 use stickslip::scene::{
     CheckedScene, Clamp, FidelityLevel, FrictionLawKind, HoldingForce, InitialState, ModalBasis,
@@ -248,8 +248,6 @@ enum BuildError {
     /// The weights are not a friction law of the beam (wrong features).
     #[error("friction.weights = {name}: {source}")]
     NotAFrictionLaw { name: String, source: NeuralError },
-    #[error("no analytical law for this scene")]
-    NoAnalyticalLaw,
     #[error(transparent)]
     Simulation(#[from] SimulationError),
 }
@@ -338,9 +336,10 @@ impl StickSlipBeam {
             // The inputs replace the law while the external model is on; the simulator
             // still holds a law, the exponential one of the scene's coefficients.
             FrictionLawKind::External => Box::new(ExponentialLaw::of(&scene.friction)),
-            FrictionLawKind::Exponential | FrictionLawKind::Coulomb => {
-                stickslip::friction::analytical_law(&scene).ok_or(BuildError::NoAnalyticalLaw)?
-            }
+            FrictionLawKind::Exponential => Box::new(ExponentialLaw::of(&scene.friction)),
+            FrictionLawKind::Coulomb => Box::new(CoulombLaw {
+                kinetic_coefficient: scene.friction.kinetic_coefficient,
+            }),
         };
         let mut simulator = Simulator::new(scene, law)?;
         if external {
@@ -463,8 +462,10 @@ macro_rules! count_parameter {
     };
 }
 
+/// A Real input in unit `$unit`, with an optional check of the value before it is
+/// applied.
 macro_rules! input {
-    ($vr:expr, $name:expr, $description:expr, $field:ident, $check:expr) => {
+    ($vr:expr, $name:expr, $unit:expr, $description:expr, $field:ident $(, $check:expr)?) => {
         Variable {
             name: $name,
             value_reference: $vr,
@@ -472,11 +473,13 @@ macro_rules! input {
             variability: Variability::Continuous,
             description: $description,
             access: Access::Real {
-                unit: Some(if $vr == BELT_SPEED { "m/s" } else { "N" }),
+                unit: Some($unit),
                 get: |m: &StickSlipBeam| m.settings.inputs.$field,
                 set: Some(|m: &mut StickSlipBeam, v: f64| {
-                    let check: fn(f64) -> Result<(), String> = $check;
-                    check(v)?;
+                    $(
+                        let check: fn(f64) -> Result<(), String> = $check;
+                        check(v)?;
+                    )?
                     m.settings.inputs.$field = v;
                     m.apply_inputs();
                     Ok(())
@@ -744,19 +747,12 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
     real_parameter!(62, "integrator.theta", None, "Moreau-Jean theta", |s| s
         .integrator
         .theta),
-    input!(
-        BELT_SPEED,
-        "belt_speed",
-        "Belt speed v_b",
-        belt_speed,
-        |v| {
-            let _ = v;
-            Ok(())
-        }
-    ),
+    // Any finite belt speed (either direction) is a valid input.
+    input!(100, "belt_speed", "m/s", "Belt speed v_b", belt_speed),
     input!(
         NORMAL_FORCE,
         "normal_force",
+        "N",
         "Normal force F_n",
         normal_force,
         non_negative
@@ -764,6 +760,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
     input!(
         102,
         "external.kinetic_force",
+        "N",
         "Kinetic friction force magnitude (friction.model = external)",
         kinetic_force,
         non_negative
@@ -771,6 +768,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
     input!(
         103,
         "external.static_limit",
+        "N",
         "Static limit, the largest holding force (friction.model = external)",
         static_limit,
         non_negative

@@ -11,7 +11,8 @@
 use crate::beam::StickSlipBeam;
 use crate::friction::NeuralFriction;
 use crate::instance::{CallResult, Instance, Logger, SavedState, Status, StatusKind};
-use crate::{FmuKind, Model};
+use crate::model::Model;
+use crate::FmuKind;
 use libc::size_t;
 use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};

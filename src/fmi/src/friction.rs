@@ -7,12 +7,12 @@
 //! the order the weights file lists them, from `extra_feature[1]` ... `extra_feature[4]`.
 //! Inputs are clamped to the network's training range (see `neural`).
 
+use crate::model::{Model, ModelInfo};
 use crate::networks::{weights_name, NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use crate::variables::{
     choice_at, Access, Causality, Dependencies, DependencyKind, EnumerationType,
     InitialDependencies, Variability, Variable,
 };
-use crate::{Model, ModelInfo};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use stickslip::choice::Choice;

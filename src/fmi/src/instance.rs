@@ -17,9 +17,9 @@
 //!   instantiates with loggingOn = false; fmi2SetDebugLogging(false, 0, NULL) turns it
 //!   off too. The other categories are on only when asked for.
 
+use crate::model::Model;
 use crate::model_description::{guid, LOG_CATEGORIES};
 use crate::variables::{lookup, AccessError, BaseType, Causality, Variable};
-use crate::Model;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 

@@ -12,11 +12,11 @@
 //!   "dependent" is meaningful, so no `dependenciesKind`).
 //! - No generation date, so that the file is reproducible byte for byte.
 
+use crate::model::Model;
 use crate::variables::{
     Access, Causality, DependencyKind, EnumerationType, InitialDependencies, Variability, Variable,
     UNITS,
 };
-use crate::Model;
 use std::fmt::Write;
 
 /// The log categories every FMU declares, in modelDescription order.

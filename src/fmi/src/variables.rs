@@ -83,26 +83,29 @@ impl EnumerationType {
 
     /// Name of item `value` (1-based), or an error naming the allowed values.
     pub fn item(&self, value: i32) -> Result<&'static str, String> {
-        (self.item)(value).map(|(name, _)| name).ok_or_else(|| {
-            let allowed: Vec<String> = self
-                .items()
-                .map(|(v, name, _)| format!("{v} = {name}"))
-                .collect();
-            format!(
-                "{value} is not a {} value; allowed: {}",
-                self.name,
-                allowed.join(", ")
-            )
-        })
+        (self.item)(value)
+            .map(|(name, _)| name)
+            .ok_or_else(|| self.not_an_item(value))
+    }
+
+    /// Why `value` is not an item: the allowed values.
+    fn not_an_item(&self, value: i32) -> String {
+        let allowed: Vec<String> = self
+            .items()
+            .map(|(v, name, _)| format!("{v} = {name}"))
+            .collect();
+        format!(
+            "{value} is not a {} value; allowed: {}",
+            self.name,
+            allowed.join(", ")
+        )
     }
 }
 
 /// The value of choice `T` at FMI enumeration value `value` (1-based), or an error
 /// naming the allowed values.
 pub fn choice_at<T: Choice>(value: i32) -> Result<T, String> {
-    let kind = EnumerationType::of::<T>();
-    kind.item(value)?;
-    T::from_code(value).ok_or_else(|| format!("{value} is not a {} value", kind.name))
+    T::from_code(value).ok_or_else(|| EnumerationType::of::<T>().not_an_item(value))
 }
 
 /// Writes a value into model `M`, or says why it refuses it.

@@ -121,9 +121,9 @@ pub struct Candidate {
     pub partner: Configuration,
 }
 
-/// The outcome of the selection.
+/// The outcome of the selection: the configuration chosen and how.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Choice {
+pub struct Selection {
     /// Index of the chosen point on the front.
     pub index: usize,
     pub configuration: Configuration,
@@ -137,7 +137,7 @@ pub struct Choice {
 
 /// Picks the cheapest point of `front` whose tip-deflection error on `scene` (RMS over
 /// the scene's time span, m) is estimated at or below `tolerance` (m).
-pub fn choose(scene: &Scene, tolerance: f64, front: &[FrontPoint]) -> Result<Choice, AutoError> {
+pub fn choose(scene: &Scene, tolerance: f64, front: &[FrontPoint]) -> Result<Selection, AutoError> {
     if !(tolerance.is_finite() && tolerance > 0.0) {
         return Err(AutoError::Tolerance { tolerance });
     }
@@ -164,7 +164,7 @@ pub fn choose(scene: &Scene, tolerance: f64, front: &[FrontPoint]) -> Result<Cho
             partner: front[j].configuration,
         });
         if estimated_error <= tolerance {
-            return Ok(Choice {
+            return Ok(Selection {
                 index: k,
                 configuration: front[k].configuration,
                 estimated_error,
@@ -182,7 +182,7 @@ pub fn choose(scene: &Scene, tolerance: f64, front: &[FrontPoint]) -> Result<Cho
 
 /// The choice for a scene at its own `fidelity.tolerance` (m). The scene is checked
 /// first, so that a bad scene is reported as such, not as a failed calibration run.
-pub fn choose_for(scene: &Scene, front: &[FrontPoint]) -> Result<Choice, AutoError> {
+pub fn choose_for(scene: &Scene, front: &[FrontPoint]) -> Result<Selection, AutoError> {
     let checked = scene.clone().check()?;
     let tolerance = checked.fidelity.tolerance.ok_or(AutoError::NoTolerance)?;
     choose(scene, tolerance, front)
@@ -191,7 +191,10 @@ pub fn choose_for(scene: &Scene, front: &[FrontPoint]) -> Result<Choice, AutoErr
 /// Resolves `fidelity.level = auto`: the scene with the fidelity, time step and
 /// integrator of the choice (every other field kept), and the choice. A scene with a
 /// concrete level comes back as it is, with no choice.
-pub fn resolve(scene: Scene, front: &[FrontPoint]) -> Result<(Scene, Option<Choice>), AutoError> {
+pub fn resolve(
+    scene: Scene,
+    front: &[FrontPoint],
+) -> Result<(Scene, Option<Selection>), AutoError> {
     if scene.fidelity.level != FidelityLevel::Auto {
         return Ok((scene, None));
     }
@@ -200,7 +203,7 @@ pub fn resolve(scene: Scene, front: &[FrontPoint]) -> Result<(Scene, Option<Choi
 }
 
 /// What was chosen and why, in one paragraph for a log.
-pub fn describe(choice: &Choice, tolerance: f64) -> String {
+pub fn describe(choice: &Selection, tolerance: f64) -> String {
     let mut out = format!(
         "fidelity = auto (tolerance {tolerance:e} m RMS tip deflection): chose {}, estimated error {:.3e} m; calibration {:.2} s",
         choice.configuration, choice.estimated_error, choice.calibration_seconds
@@ -237,7 +240,7 @@ pub fn verification_scenes() -> Vec<(&'static str, Scene)> {
 /// The choice on one scene, checked against the scene's own converged reference.
 #[derive(Clone, Debug)]
 pub struct Verification {
-    pub choice: Choice,
+    pub choice: Selection,
     /// RMS tip-deflection error of the choice against the reference (m).
     pub true_error: f64,
     /// The next cheaper front point and its error against the reference (m).

@@ -38,6 +38,11 @@ struct DenseLayer {
     biases: Vec<f64>,
 }
 
+/// The shipped plain-variant weights (`weights/paper-plain.json`).
+pub const PAPER_PLAIN_JSON: &str = include_str!("../../../../weights/paper-plain.json");
+/// The shipped signed-variant weights (`weights/paper-signed.json`).
+pub const PAPER_SIGNED_JSON: &str = include_str!("../../../../weights/paper-signed.json");
+
 /// A trained neural friction model ready for evaluation.
 #[derive(Clone, Debug)]
 pub struct NeuralLaw {
@@ -177,18 +182,12 @@ impl NeuralLaw {
     /// The shipped model trained on the paper's synthetic data (plain variant: the
     /// paper's network, 3 x 100 tanh, lambda 0.004), embedded in the library.
     pub fn paper_default() -> Result<NeuralLaw, NeuralError> {
-        NeuralLaw::from_json(
-            super::PAPER_PLAIN_JSON,
-            "weights/paper-plain.json (embedded)",
-        )
+        NeuralLaw::from_json(PAPER_PLAIN_JSON, "weights/paper-plain.json (embedded)")
     }
 
     /// The shipped signed-variant model on the same data (exact jump at v = 0).
     pub fn paper_signed() -> Result<NeuralLaw, NeuralError> {
-        NeuralLaw::from_json(
-            super::PAPER_SIGNED_JSON,
-            "weights/paper-signed.json (embedded)",
-        )
+        NeuralLaw::from_json(PAPER_SIGNED_JSON, "weights/paper-signed.json (embedded)")
     }
 
     pub fn model(&self) -> &NeuralModel {

@@ -53,10 +53,7 @@ pub use weights::{FeatureRole, NeuralModel, StopReason, SyntheticSpec, Variant};
 use crate::friction::FrictionLaw;
 use crate::scene::CheckedScene;
 
-/// The shipped plain-variant weights (`weights/paper-plain.json`).
-pub const PAPER_PLAIN_JSON: &str = include_str!("../../../../weights/paper-plain.json");
-/// The shipped signed-variant weights (`weights/paper-signed.json`).
-pub const PAPER_SIGNED_JSON: &str = include_str!("../../../../weights/paper-signed.json");
+pub use law::{PAPER_PLAIN_JSON, PAPER_SIGNED_JSON};
 
 /// The shipped model of `variant` as the beam's friction law.
 pub fn default_friction_law(variant: Variant) -> Result<Box<dyn FrictionLaw>, NeuralError> {

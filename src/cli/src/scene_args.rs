@@ -1,0 +1,166 @@
+//! The scene flags that `simulate`, `static` and `estimates` share ([`SceneArgs`]): a
+//! scene file (or the paper's scene) with command-line overrides, checked, and with
+//! `fidelity = auto` resolved to a configuration.
+//!
+//! The values of `--fidelity`, `--friction` and `--integrator` are the scene's words
+//! (`crate::choice`); `--friction analytical` stays accepted for `exponential`.
+
+use crate::choice::{parser, ChoiceParser};
+use crate::error::CliError;
+use clap::Args;
+use std::path::PathBuf;
+use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Scene, Scheme};
+
+/// `--friction`: the scene's laws, plus `analytical`, the command line's name for the
+/// exponential law before the values were the scene's words (scripts use it). The
+/// external law is refused: its force comes from the StickSlipBeam FMU's inputs.
+pub fn friction_parser() -> ChoiceParser<FrictionLawKind> {
+    parser::<FrictionLawKind>()
+        .alias("analytical", FrictionLawKind::Exponential)
+        .refuse(
+            FrictionLawKind::External,
+            "the external law takes its force from the inputs external.kinetic_force and external.static_limit of the StickSlipBeam FMU, and a command-line run has none",
+        )
+}
+
+/// Options shared by commands that build a scene: a scene file plus overrides.
+#[derive(Args, Debug, Clone, Default)]
+pub struct SceneArgs {
+    /// Scene file (.toml or .json); missing fields take the paper's values.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// Structural model; `auto` also picks the time step and integrator.
+    #[arg(long, value_parser = parser::<FidelityLevel>())]
+    pub fidelity: Option<FidelityLevel>,
+    /// With fidelity auto (`--fidelity auto`, or a scene file's `fidelity.level =
+    /// "auto"`): the RMS tip-deflection error allowed over the run (m); it replaces
+    /// the scene file's `fidelity.tolerance`.
+    #[arg(long, allow_negative_numbers = true)]
+    pub tolerance: Option<f64>,
+    /// Number of beam elements (beam, and modal from a beam).
+    #[arg(long)]
+    pub elements: Option<usize>,
+    /// Plane-stress element size (m).
+    #[arg(long, allow_negative_numbers = true)]
+    pub element_size: Option<f64>,
+    /// Number of modes of the modal model.
+    #[arg(long)]
+    pub modes: Option<usize>,
+    /// Time step (s).
+    #[arg(long, allow_negative_numbers = true)]
+    pub dt: Option<f64>,
+    /// End time (s).
+    #[arg(long, allow_negative_numbers = true)]
+    pub t_end: Option<f64>,
+    /// Time integration scheme.
+    #[arg(long, value_parser = parser::<Scheme>())]
+    pub integrator: Option<Scheme>,
+    /// Generalised-alpha spectral radius at infinity, in [0, 1].
+    #[arg(long, allow_negative_numbers = true)]
+    pub rho_inf: Option<f64>,
+    /// Rayleigh damping ratio applied at the first and third bending frequencies of the
+    /// Euler-Bernoulli cantilever.
+    #[arg(long, allow_negative_numbers = true)]
+    pub damping_ratio: Option<f64>,
+    /// Friction law during slip (`analytical` is accepted for `exponential`).
+    #[arg(long, value_parser = friction_parser())]
+    pub friction: Option<FrictionLawKind>,
+    /// Weights file of the neural law (default: the weights shipped with the crate).
+    #[arg(long)]
+    pub weights: Option<String>,
+}
+
+impl SceneArgs {
+    /// The scene file (or the paper's scene) with the overrides applied, checked.
+    pub fn scene(&self) -> Result<CheckedScene, CliError> {
+        let mut scene: Scene = match &self.scene {
+            Some(path) => Scene::load(path)?.into_scene(),
+            None => Scene::default(),
+        };
+        if let Some(level) = self.fidelity {
+            scene.fidelity.level = level;
+        }
+        if let Some(n) = self.elements {
+            scene.fidelity.beam_elements = n;
+        }
+        if let Some(s) = self.element_size {
+            scene.fidelity.element_size = s;
+        }
+        if let Some(m) = self.modes {
+            scene.fidelity.modes = m;
+        }
+        if let Some(dt) = self.dt {
+            scene.time.step = dt;
+        }
+        if let Some(t) = self.t_end {
+            scene.time.end = t;
+        }
+        if let Some(s) = self.integrator {
+            scene.integrator.scheme = s;
+        }
+        if let Some(r) = self.rho_inf {
+            scene.integrator.rho_inf = r;
+        }
+        if let Some(f) = self.friction {
+            scene.friction.law = f;
+        }
+        if let Some(w) = &self.weights {
+            scene.friction.weights = Some(w.clone());
+        }
+        // Before the damping: it checks the scene, and a scene with fidelity auto is
+        // valid only with its tolerance.
+        let auto_tolerance = self.auto_tolerance(&mut scene)?;
+        if let Some(zeta) = self.damping_ratio {
+            // At the first and third cantilever frequencies (the same numbers
+            // `stickslip estimates` prints).
+            let checked = scene.clone().check()?;
+            if !(zeta.is_finite() && zeta >= 0.0) {
+                return Err(CliError::DampingRatio(zeta));
+            }
+            scene.damping = stickslip::stability::rayleigh_at_modes_1_and_3(&checked, zeta);
+        }
+        let Some(tolerance) = auto_tolerance else {
+            return Ok(scene.check()?);
+        };
+        let front = stickslip::auto::paper_front()?;
+        let (resolved, choice) = stickslip::auto::resolve(scene, &front)?;
+        if let Some(choice) = &choice {
+            eprintln!("{}", stickslip::auto::describe(choice, tolerance));
+        }
+        Ok(resolved.check()?)
+    }
+
+    /// With fidelity auto (from `--fidelity auto` or the scene file): puts `--tolerance`
+    /// into the scene, refuses the flags whose values auto chooses, and returns the
+    /// tolerance (m). Without auto: None, and `--tolerance` is refused.
+    fn auto_tolerance(&self, scene: &mut Scene) -> Result<Option<f64>, CliError> {
+        if scene.fidelity.level != FidelityLevel::Auto {
+            if self.tolerance.is_some() {
+                return Err(CliError::ToleranceWithoutAuto);
+            }
+            return Ok(None);
+        }
+        let by = if self.fidelity == Some(FidelityLevel::Auto) {
+            "--fidelity auto"
+        } else {
+            "the scene's fidelity.level = auto"
+        };
+        if let Some(tolerance) = self.tolerance {
+            scene.fidelity.tolerance = Some(tolerance);
+        }
+        let Some(tolerance) = scene.fidelity.tolerance else {
+            return Err(CliError::AutoWithoutTolerance { by });
+        };
+        let chosen_by_auto = [
+            ("--elements", self.elements.is_some()),
+            ("--element-size", self.element_size.is_some()),
+            ("--modes", self.modes.is_some()),
+            ("--dt", self.dt.is_some()),
+            ("--integrator", self.integrator.is_some()),
+        ];
+        if let Some(&(flag, _)) = chosen_by_auto.iter().find(|(_, given)| *given) {
+            return Err(CliError::ChosenByAuto { flag, by });
+        }
+        Ok(Some(tolerance))
+    }
+}

@@ -1,0 +1,276 @@
+//! The `study` command of the `stickslip` binary: speed against accuracy over a grid of
+//! configurations (`stickslip::study`), and with `--verify-auto` the check that
+//! `fidelity = auto` meets its tolerance (`stickslip::auto`).
+
+use crate::choice::parser;
+use crate::error::CliError;
+use crate::simulate::write;
+use clap::Args;
+use std::path::PathBuf;
+use stickslip::scene::{Scene, Scheme};
+
+/// Arguments of `stickslip study`.
+#[derive(Args, Debug, Clone)]
+pub struct StudyArgs {
+    /// Scene file (.toml or .json); its fidelity, time step and integrator are replaced
+    /// by each configuration of the grid. Default: the paper's scene.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// End time (s) of every run.
+    #[arg(long, allow_negative_numbers = true)]
+    pub t_end: Option<f64>,
+    /// Modal levels: numbers of modes (comma-separated; empty for none).
+    #[arg(long, value_delimiter = ',', num_args = 0..)]
+    pub modes: Option<Vec<usize>>,
+    /// Beam levels: numbers of elements.
+    #[arg(long, value_delimiter = ',', num_args = 0..)]
+    pub elements: Option<Vec<usize>>,
+    /// Plane-stress levels: element sizes (m).
+    #[arg(long, value_delimiter = ',', num_args = 0..)]
+    pub element_sizes: Option<Vec<f64>>,
+    /// Time steps (s); each must divide 1 ms.
+    #[arg(long, value_delimiter = ',')]
+    pub dts: Option<Vec<f64>>,
+    /// Integrators.
+    #[arg(long, value_parser = parser::<Scheme>(), value_delimiter = ',')]
+    pub integrators: Option<Vec<Scheme>>,
+    /// Output folder: study.csv (every run) and front.json (the Pareto front).
+    #[arg(long, default_value = "out/study")]
+    pub out: PathBuf,
+    /// Also write the front to this file (the `auto` fidelity reads
+    /// data/pareto_front.json).
+    #[arg(long)]
+    pub write_front: Option<PathBuf>,
+    /// After the study, check `fidelity = auto` (with the shipped front) at these
+    /// tolerances (m) on each of `stickslip::auto::verification_scenes`, each against
+    /// its own reference run.
+    #[arg(long, value_delimiter = ',')]
+    pub verify_auto: Option<Vec<f64>>,
+}
+
+/// `stickslip study`: the grid, the reference, the CSV and the front.
+pub fn study(args: &StudyArgs) -> Result<(), CliError> {
+    use stickslip::study::{
+        csv_line, front, front_points, mark_pareto_front, measure, Errors, Grid, Row, CSV_HEADER,
+    };
+    let mut scene = match &args.scene {
+        Some(path) => Scene::load(path)?.into_scene(),
+        None => Scene::default(),
+    };
+    if let Some(t) = args.t_end {
+        scene.time.end = t;
+    }
+    let full = Grid::full();
+    let grid = Grid {
+        modes: args.modes.clone().unwrap_or(full.modes),
+        beam_elements: args.elements.clone().unwrap_or(full.beam_elements),
+        element_sizes: args.element_sizes.clone().unwrap_or(full.element_sizes),
+        time_steps: args.dts.clone().unwrap_or(full.time_steps),
+        schemes: match &args.integrators {
+            Some(list) => list.clone(),
+            None => full.schemes,
+        },
+    };
+    let reference_configuration = grid.finest().ok_or(CliError::EmptyGrid)?;
+    let configurations = grid.configurations();
+    std::fs::create_dir_all(&args.out).map_err(|source| CliError::Output {
+        path: args.out.clone(),
+        source,
+    })?;
+    eprintln!(
+        "study: {} configurations, end time {} s; reference {reference_configuration}",
+        configurations.len(),
+        scene.time.end
+    );
+    let reference = measure(&scene, reference_configuration)
+        .map_err(|failed| CliError::Reference(Box::new(failed)))?;
+    let mut rows = Vec::new();
+    let mut failures = Vec::new();
+    for (k, configuration) in configurations.iter().enumerate() {
+        let measured = if *configuration == reference_configuration {
+            Ok(reference.clone())
+        } else {
+            measure(&scene, *configuration)
+        };
+        match measured {
+            Ok(measured) => {
+                let errors = Errors::between(&measured, &reference);
+                eprintln!(
+                    "[{}/{}] {configuration}: {:.3} s, RMS error {:.3e} m",
+                    k + 1,
+                    configurations.len(),
+                    measured.seconds,
+                    errors.rms
+                );
+                rows.push(Row {
+                    measured,
+                    errors,
+                    on_front: false,
+                });
+            }
+            Err(failed) => {
+                eprintln!(
+                    "[{}/{}] {configuration}: failed: {}",
+                    k + 1,
+                    configurations.len(),
+                    failed.reason
+                );
+                failures.push(failed);
+            }
+        }
+    }
+    // The reference is exact by definition; it stays off the front, whose last point is
+    // then the best run that can be compared with something better.
+    rows.retain(|r| r.measured.configuration != reference_configuration);
+    mark_pareto_front(&mut rows);
+    let csv_path = args.out.join("study.csv");
+    let mut csv = String::from(CSV_HEADER);
+    csv.push('\n');
+    for row in &rows {
+        csv += &csv_line(row, scene.time.end);
+        csv.push('\n');
+    }
+    write(&csv_path, csv)?;
+    let points = front_points(&rows);
+    let front_path = args.out.join("front.json");
+    let json = serde_json::to_string_pretty(&points).map_err(|source| CliError::Json {
+        path: front_path.clone(),
+        source,
+    })?;
+    for path in std::iter::once(&front_path).chain(args.write_front.as_ref()) {
+        write(path, &json)?;
+    }
+
+    println!(
+        "reference: {reference_configuration}: {} dofs, {:.2} s",
+        reference.dofs, reference.seconds
+    );
+    println!();
+    println!("Pareto front (RMS tip-deflection error against wall time), cheapest first:");
+    println!();
+    println!("| configuration | dofs | wall (s) | x real time | breakaway (ms) | 1st slip (ms) | period (ms) | corridor (um) | RMS (um) |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    let ms = |v: Option<f64>| v.map_or("-".into(), |v| format!("{:.3}", v * 1e3));
+    for row in front(&rows) {
+        let e = &row.errors;
+        println!(
+            "| {} | {} | {:.4} | {:.0} | {} | {} | {} | {} | {:.3} |",
+            row.measured.configuration,
+            row.measured.dofs,
+            row.measured.seconds,
+            scene.time.end / row.measured.seconds,
+            ms(e.breakaway),
+            ms(e.first_slip_duration),
+            ms(e.period),
+            e.corridor.map_or("-".into(), |v| format!("{:.3}", v * 1e6)),
+            e.rms * 1e6
+        );
+    }
+    println!();
+    println!(
+        "{} runs in {}, {} on the front, {} failed; front in {}",
+        rows.len() + 1,
+        csv_path.display(),
+        points.len(),
+        failures.len(),
+        front_path.display()
+    );
+    for f in &failures {
+        println!("failed: {}: {}", f.configuration, f.reason);
+    }
+    if let Some(tolerances) = &args.verify_auto {
+        verify_auto(&scene, tolerances, reference_configuration, &args.out)?;
+    }
+    Ok(())
+}
+
+/// A configuration label as one CSV field (its commas become spaces).
+fn csv_field(label: &str) -> String {
+    label.replace(", ", " ")
+}
+
+/// `study --verify-auto`: on each verification scene and tolerance, the `auto` choice
+/// must meet the tolerance against the scene's reference, and the next cheaper point
+/// of the front must not.
+fn verify_auto(
+    base: &Scene,
+    tolerances: &[f64],
+    reference_configuration: stickslip::study::Configuration,
+    out: &std::path::Path,
+) -> Result<(), CliError> {
+    use stickslip::auto::{paper_front, verification_scenes, verify};
+    let front = paper_front()?;
+    let scenes = verification_scenes();
+    println!();
+    println!(
+        "fidelity = auto on {} scenes (shipped front, {} points); true error against each scene's {reference_configuration}, end time {} s:",
+        scenes.len(),
+        front.len(),
+        base.time.end
+    );
+    println!();
+    println!("| scene | tolerance (um) | choice | estimated (um) | true (um) | next cheaper | its true error (um) | calibration (s) | holds |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    let mut csv = String::from(
+        "scene,tolerance_m,choice,estimated_m,true_m,cheaper,cheaper_true_m,calibration_s,holds\n",
+    );
+    let mut failures = 0;
+    let cases = tolerances.len() * scenes.len();
+    for (name, mut scene) in scenes {
+        scene.time.end = base.time.end;
+        let reference =
+            stickslip::study::measure(&scene, reference_configuration).map_err(|failed| {
+                CliError::VerificationReference {
+                    scene: name,
+                    source: Box::new(failed),
+                }
+            })?;
+        for &tolerance in tolerances {
+            match verify(&scene, tolerance, &front, &reference) {
+                Ok(v) => {
+                    let holds = v.holds(tolerance);
+                    failures += usize::from(!holds);
+                    let (cheaper, cheaper_error) = match v.cheaper {
+                        Some((c, e)) => (c.to_string(), format!("{:.3}", e * 1e6)),
+                        None => ("(none: the cheapest point)".into(), "-".into()),
+                    };
+                    println!(
+                        "| {name} | {:.3} | {} | {:.3} | {:.3} | {cheaper} | {cheaper_error} | {:.2} | {} |",
+                        tolerance * 1e6,
+                        v.choice.configuration,
+                        v.choice.estimated_error * 1e6,
+                        v.true_error * 1e6,
+                        v.choice.calibration_seconds,
+                        if holds { "yes" } else { "NO" }
+                    );
+                    csv += &format!(
+                        "{name},{tolerance:e},{},{:e},{:e},{},{},{:.3},{}\n",
+                        csv_field(&v.choice.configuration.to_string()),
+                        v.choice.estimated_error,
+                        v.true_error,
+                        csv_field(&cheaper),
+                        v.cheaper.map_or(String::new(), |(_, e)| format!("{e:e}")),
+                        v.choice.calibration_seconds,
+                        holds as u8
+                    );
+                }
+                Err(reason) => {
+                    failures += 1;
+                    println!(
+                        "| {name} | {:.3} | refused: {reason} | | | | | | NO |",
+                        tolerance * 1e6
+                    );
+                    csv += &format!("{name},{tolerance:e},refused,,,,,,0\n");
+                }
+            }
+        }
+    }
+    let path = out.join("auto_verification.csv");
+    write(&path, csv)?;
+    println!();
+    println!(
+        "{failures} of {cases} cases fail; written to {}",
+        path.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,74 @@
+//! What a model behind an FMU provides ([`Model`]) and its static facts ([`ModelInfo`]):
+//! the interface between the plain-Rust models (`beam`, `friction`) and the FMI layer
+//! (`instance`, `model_description`, `ffi`).
+
+use crate::variables::Variable;
+use std::path::Path;
+
+/// Static facts of an FMU.
+#[derive(Debug)]
+pub struct ModelInfo {
+    /// modelName and modelIdentifier (the binary's file name inside the FMU).
+    pub model_identifier: &'static str,
+    pub description: &'static str,
+    /// DefaultExperiment (s).
+    pub start_time: f64,
+    pub stop_time: f64,
+    /// Suggested communication step (s).
+    pub step_size: f64,
+    /// Files the FMU carries in `resources/`, by name in the workspace's `weights/`
+    /// folder. Names, not contents: fmu-build copies the files, so the library itself
+    /// does not carry the networks it reads from `resources/` (1.3 MB).
+    pub resources: &'static [&'static str],
+}
+
+/// A model behind an FMU. Plain Rust: no C types. The `instance` module drives it
+/// through the FMI state machine.
+///
+/// Failures are plain strings here: each is the reason the instance logs (the FMI
+/// boundary). The models keep typed errors up to this point (`beam::BuildError`,
+/// `friction::EvaluateError`, `networks::NetworkError`, the physics' errors).
+pub trait Model: Send + Sized + 'static {
+    const INFO: ModelInfo;
+
+    /// The variable table (one source of truth for the XML and the accessors).
+    fn variables() -> &'static [Variable<Self>];
+
+    /// A model with every variable at its start value and nothing loaded.
+    fn with_defaults() -> Self;
+
+    /// Reads the files in the unpacked `resources/` folder (at instantiation).
+    fn load_resources(&mut self, resources: &Path) -> Result<(), String>;
+
+    /// Back to the start values, keeping what `load_resources` read.
+    fn reset(&mut self);
+
+    /// Makes the outputs current (called before outputs are read), for the experiment
+    /// from `start_time` to `stop_time`.
+    fn refresh_outputs(&mut self, start_time: f64, stop_time: Option<f64>) -> Result<(), String>;
+
+    /// Checks every parameter and builds what the simulation needs (at
+    /// fmi2ExitInitializationMode). `stop_time` is the experiment's, if defined.
+    fn initialize(&mut self, start_time: f64, stop_time: Option<f64>) -> Result<(), String>;
+
+    /// Advances from `from` to `to` (s). `events` collects messages for the
+    /// logEvents category.
+    fn do_step(&mut self, from: f64, to: f64, events: &mut Vec<String>) -> Result<(), String>;
+
+    /// Messages for the `logEvents` category produced outside a step (for example the
+    /// `fidelity = auto` choice at initialisation); taken once.
+    fn take_notes(&mut self) -> Vec<String> {
+        Vec::new()
+    }
+
+    /// Everything that `restore` needs, as plain data.
+    fn save(&self) -> serde_json::Value;
+
+    /// Restores what `save` wrote; refuses data that does not fit, leaving the model as
+    /// it was. `version` is the state's format version (`instance::STATE_VERSION` or an
+    /// older one that `instance::SavedState::from_bytes` still reads). `time` is the
+    /// instance's time in the same saved state (s): a model with a clock of its own
+    /// refuses a state whose clock disagrees, because the next fmi2DoStep would
+    /// otherwise have to bridge the gap.
+    fn restore(&mut self, saved: serde_json::Value, version: u32, time: f64) -> Result<(), String>;
+}
