@@ -9,4 +9,5 @@ mod errors;
 mod extremes;
 mod layering;
 mod scene_validation;
+mod slip_solve;
 mod statics;

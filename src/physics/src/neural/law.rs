@@ -66,6 +66,9 @@ pub struct NeuralLaw {
     features: Vec<f64>,
     buffer_a: Vec<f64>,
     buffer_b: Vec<f64>,
+    /// Scratch of the forward-mode derivative: d(layer values)/dv, two buffers.
+    tangent_a: Vec<f64>,
+    tangent_b: Vec<f64>,
 }
 
 /// Dot product with eight independent partial sums: a single running sum forces strictly
@@ -102,6 +105,22 @@ fn affine<const FUSED: bool>(layer: &DenseLayer, x: &[f64], y: &mut [f64]) {
         let row = &layer.weights[o * layer.inputs..(o + 1) * layer.inputs];
         *y_o = dot::<FUSED>(row, x) + layer.biases[o];
     }
+}
+
+/// dy = W dx for a row-major W (outputs x inputs): the tangent of `affine`.
+#[inline(always)]
+fn linear<const FUSED: bool>(layer: &DenseLayer, dx: &[f64], dy: &mut [f64]) {
+    for (o, dy_o) in dy.iter_mut().enumerate() {
+        let row = &layer.weights[o * layer.inputs..(o + 1) * layer.inputs];
+        *dy_o = dot::<FUSED>(row, dx);
+    }
+}
+
+/// `linear` compiled for AVX2 + FMA, as `affine_avx2_fma`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn linear_avx2_fma(layer: &DenseLayer, dx: &[f64], dy: &mut [f64]) {
+    linear::<true>(layer, dx, dy);
 }
 
 /// `affine` compiled for AVX2 + FMA (256-bit vectors, fused multiply-add): 1.0 us
@@ -165,6 +184,8 @@ impl NeuralLaw {
             features: vec![0.0; d],
             buffer_a: vec![0.0; widest],
             buffer_b: vec![0.0; widest],
+            tangent_a: vec![0.0; widest],
+            tangent_b: vec![0.0; widest],
             model,
         })
     }
@@ -303,6 +324,18 @@ impl NeuralLaw {
     /// Evaluates the feature vector in `self.features`.
     #[inline]
     fn evaluate_scratch(&mut self) -> f64 {
+        self.evaluate_scratch_with::<false>().0
+    }
+
+    /// Evaluates the feature vector in `self.features` and, with `SLOPE`, the force's
+    /// derivative with respect to the sliding-velocity feature by forward-mode
+    /// differentiation in the same pass: with x' = dx/dv, each layer gives
+    /// z' = W x' and a' = phi'(z) z' next to z = W x + b and a = phi(z). The force is
+    /// the same number either way. The slope is that of the law as evaluated: 0 where
+    /// the velocity is clamped, and for the signed variant g'(|v|) (F = sign(v) g(|v|)
+    /// is odd, its slope even), 0 where max(0, g) cuts.
+    #[inline]
+    fn evaluate_scratch_with<const SLOPE: bool>(&mut self) -> (f64, f64) {
         let NeuralLaw {
             layers,
             activation,
@@ -311,9 +344,12 @@ impl NeuralLaw {
             input_mean,
             input_inverse_std,
             signed_velocity,
+            velocity,
             features,
             buffer_a,
             buffer_b,
+            tangent_a,
+            tangent_b,
             model,
             avx2_fma,
             ..
@@ -323,33 +359,104 @@ impl NeuralLaw {
             sign = signum_or_zero(features[k]);
             features[k] = features[k].abs();
         }
+        // d|v|/dv, and at v = 0 that of v > 0 (the slope of the magnitude).
+        let seed_sign = if sign == 0.0 { 1.0 } else { sign };
         let d = features.len();
         for k in 0..d {
             buffer_a[k] = (features[k].clamp(input_lo[k], input_hi[k]) - input_mean[k])
                 * input_inverse_std[k];
+            if SLOPE {
+                // d input / dv: 1/std on the velocity inside its range (times sign(v) for
+                // the signed variant's |v|), 0 for the other features and when clamped.
+                let inside = features[k] >= input_lo[k] && features[k] <= input_hi[k];
+                tangent_a[k] = if Some(k) == *velocity && inside {
+                    input_inverse_std[k] * seed_sign
+                } else {
+                    0.0
+                };
+            }
         }
         let last = layers.len() - 1;
         let (mut input, mut output) = (buffer_a, buffer_b);
+        let (mut tangent_in, mut tangent_out) = (tangent_a, tangent_b);
         for (l, layer) in layers.iter().enumerate() {
             let x = &input[..layer.inputs];
             let y = &mut output[..layer.outputs];
+            let dx = &tangent_in[..layer.inputs];
+            let dy = &mut tangent_out[..layer.outputs];
             #[cfg(target_arch = "x86_64")]
             if *avx2_fma {
                 // SAFETY: avx2_fma is true only if the running CPU has AVX2 and FMA
-                // (is_x86_feature_detected at construction), the features this function
-                // is compiled for. It has no other safety requirement.
-                unsafe { affine_avx2_fma(layer, x, y) };
+                // (is_x86_feature_detected at construction), the features these
+                // functions are compiled for. They have no other safety requirement.
+                unsafe {
+                    affine_avx2_fma(layer, x, y);
+                    if SLOPE {
+                        linear_avx2_fma(layer, dx, dy);
+                    }
+                }
             } else {
                 affine::<false>(layer, x, y);
+                if SLOPE {
+                    linear::<false>(layer, dx, dy);
+                }
             }
             #[cfg(not(target_arch = "x86_64"))]
-            affine::<false>(layer, x, y);
+            {
+                affine::<false>(layer, x, y);
+                if SLOPE {
+                    linear::<false>(layer, dx, dy);
+                }
+            }
             if l != last {
-                y.iter_mut().for_each(|v| *v = activation.apply(*v));
+                if SLOPE {
+                    for (v, t) in y.iter_mut().zip(dy.iter_mut()) {
+                        let (a, da) = activation.apply_with_slope(*v);
+                        *v = a;
+                        *t *= da;
+                    }
+                } else {
+                    y.iter_mut().for_each(|v| *v = activation.apply(*v));
+                }
             }
             std::mem::swap(&mut input, &mut output);
+            std::mem::swap(&mut tangent_in, &mut tangent_out);
         }
-        model.force_from_output(input[0], sign)
+        let force = model.force_from_output(input[0], sign);
+        if !SLOPE {
+            return (force, 0.0);
+        }
+        // F = mean + std z (plain) or sign(v) max(0, mean + std z) (signed: the tangent
+        // carries d|v|/dv = sign(v) once more, and sign(v)^2 = 1).
+        let cut = model.variant == Variant::Signed
+            && model.target.output_mean + model.target.output_std * input[0] < 0.0;
+        let slope = if cut {
+            0.0
+        } else {
+            seed_sign * model.target.output_std * tangent_in[0]
+        };
+        (force, slope)
+    }
+
+    /// Fills `self.features` for the beam's (v, F_n); false if the law cannot serve
+    /// the beam (a feature is neither supplied nor fixed).
+    fn set_beam_features(&mut self, sliding_velocity: f64, normal_force: f64) -> bool {
+        let (Some(v), Some(f)) = (self.velocity, self.normal_force) else {
+            return false;
+        };
+        for k in 0..self.features.len() {
+            self.features[k] = if k == v {
+                sliding_velocity
+            } else if k == f {
+                normal_force
+            } else {
+                match self.fixed[k] {
+                    Some(value) => value,
+                    None => return false,
+                }
+            };
+        }
+        true
     }
 }
 
@@ -362,21 +469,18 @@ impl FrictionLaw for NeuralLaw {
     /// `normal_force` (N); NaN if the law was not checked with `into_friction_law`
     /// and lacks an input. Allocation-free.
     fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {
-        let (Some(v), Some(f)) = (self.velocity, self.normal_force) else {
+        if !self.set_beam_features(sliding_velocity, normal_force) {
             return f64::NAN;
-        };
-        for k in 0..self.features.len() {
-            self.features[k] = if k == v {
-                sliding_velocity
-            } else if k == f {
-                normal_force
-            } else {
-                match self.fixed[k] {
-                    Some(value) => value,
-                    None => return f64::NAN,
-                }
-            };
         }
         self.evaluate_scratch()
+    }
+
+    /// The force and dF/dv (N s/m) by forward-mode differentiation through the network
+    /// (see `evaluate_scratch_with`); NaN for both where `sliding_force` gives NaN.
+    fn sliding_force_and_slope(&mut self, sliding_velocity: f64, normal_force: f64) -> (f64, f64) {
+        if !self.set_beam_features(sliding_velocity, normal_force) {
+            return (f64::NAN, f64::NAN);
+        }
+        self.evaluate_scratch_with::<true>()
     }
 }
