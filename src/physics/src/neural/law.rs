@@ -23,20 +23,10 @@ use std::path::Path;
 use nalgebra::DMatrix;
 
 use super::error::NeuralError;
-use super::network::Activation;
+use super::forward::Forward;
 use super::weights::FeatureRole;
 use super::weights::{network_input_range, NeuralModel, Variant};
 use crate::friction::{signum_or_zero, FrictionLaw};
-
-/// One layer in inference layout: weights row-major (outputs x inputs), so output o is
-/// a contiguous dot product.
-#[derive(Clone, Debug)]
-struct DenseLayer {
-    inputs: usize,
-    outputs: usize,
-    weights: Vec<f64>,
-    biases: Vec<f64>,
-}
 
 /// The shipped plain-variant weights (`weights/paper-plain.json`).
 pub const PAPER_PLAIN_JSON: &str = include_str!("../../../../weights/paper-plain.json");
@@ -47,8 +37,8 @@ pub const PAPER_SIGNED_JSON: &str = include_str!("../../../../weights/paper-sign
 #[derive(Clone, Debug)]
 pub struct NeuralLaw {
     model: NeuralModel,
-    layers: Vec<DenseLayer>,
-    activation: Activation,
+    /// The network in the time-step loop's layout, with its scratch buffers.
+    forward: Forward,
     /// Per feature: clamp range of the network input, mean and 1/std.
     input_lo: Vec<f64>,
     input_hi: Vec<f64>,
@@ -60,104 +50,20 @@ pub struct NeuralLaw {
     normal_force: Option<usize>,
     /// Values for features the beam does not supply.
     fixed: Vec<Option<f64>>,
-    /// AVX2 + FMA available (detected once, at construction).
-    avx2_fma: bool,
-    /// Scratch: the feature vector and two layer buffers (no allocation per call).
+    /// Scratch: the feature vector (no allocation per call).
     features: Vec<f64>,
-    buffer_a: Vec<f64>,
-    buffer_b: Vec<f64>,
-    /// Scratch of the forward-mode derivative: d(layer values)/dv, two buffers.
-    tangent_a: Vec<f64>,
-    tangent_b: Vec<f64>,
-}
-
-/// Dot product with eight independent partial sums: a single running sum forces strictly
-/// sequential additions, eight let the compiler keep several SIMD additions in flight
-/// (measured: 100 x 100 matrix-vector product 2.3 us with four, 1.8 us with eight).
-/// `FUSED` uses fused multiply-adds; only instantiated where the CPU has FMA.
-#[inline(always)]
-fn dot<const FUSED: bool>(a: &[f64], b: &[f64]) -> f64 {
-    let mut partial = [0.0; 8];
-    let (a8, b8) = (a.chunks_exact(8), b.chunks_exact(8));
-    let tail: f64 = a8
-        .remainder()
-        .iter()
-        .zip(b8.remainder())
-        .map(|(x, y)| x * y)
-        .sum();
-    for (x, y) in a8.zip(b8) {
-        for k in 0..8 {
-            partial[k] = if FUSED {
-                x[k].mul_add(y[k], partial[k])
-            } else {
-                partial[k] + x[k] * y[k]
-            };
-        }
-    }
-    let [p0, p1, p2, p3, p4, p5, p6, p7] = partial;
-    ((p0 + p4) + (p1 + p5)) + ((p2 + p6) + (p3 + p7)) + tail
-}
-
-/// y = W x + b for a row-major W (outputs x inputs).
-#[inline(always)]
-fn affine<const FUSED: bool>(layer: &DenseLayer, x: &[f64], y: &mut [f64]) {
-    for (o, y_o) in y.iter_mut().enumerate() {
-        let row = &layer.weights[o * layer.inputs..(o + 1) * layer.inputs];
-        *y_o = dot::<FUSED>(row, x) + layer.biases[o];
-    }
-}
-
-/// dy = W dx for a row-major W (outputs x inputs): the tangent of `affine`.
-#[inline(always)]
-fn linear<const FUSED: bool>(layer: &DenseLayer, dx: &[f64], dy: &mut [f64]) {
-    for (o, dy_o) in dy.iter_mut().enumerate() {
-        let row = &layer.weights[o * layer.inputs..(o + 1) * layer.inputs];
-        *dy_o = dot::<FUSED>(row, dx);
-    }
-}
-
-/// `linear` compiled for AVX2 + FMA, as `affine_avx2_fma`.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn linear_avx2_fma(layer: &DenseLayer, dx: &[f64], dy: &mut [f64]) {
-    linear::<true>(layer, dx, dy);
-}
-
-/// `affine` compiled for AVX2 + FMA (256-bit vectors, fused multiply-add): 1.0 us
-/// instead of 1.8 us for a 100 x 100 layer here. Called only after run-time detection.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn affine_avx2_fma(layer: &DenseLayer, x: &[f64], y: &mut [f64]) {
-    affine::<true>(layer, x, y);
-}
-
-/// Whether this CPU can run `affine_avx2_fma`.
-fn cpu_has_avx2_fma() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
 }
 
 impl NeuralLaw {
     /// A law from a checked model (any features).
     pub fn new(model: NeuralModel) -> Result<NeuralLaw, NeuralError> {
         model.validate("(model)")?;
-        let layers: Vec<DenseLayer> = model
+        let layers: Vec<(Vec<Vec<f64>>, Vec<f64>)> = model
             .layers
             .iter()
-            .map(|l| DenseLayer {
-                inputs: l.weights.first().map_or(0, Vec::len),
-                outputs: l.weights.len(),
-                weights: l.weights.iter().flatten().copied().collect(),
-                biases: l.biases.clone(),
-            })
+            .map(|l| (l.weights.clone(), l.biases.clone()))
             .collect();
-        let widest = model.layer_sizes.iter().copied().max().unwrap_or(1);
+        let forward = Forward::new(model.features.len(), &layers, model.activation);
         let (input_lo, input_hi): (Vec<f64>, Vec<f64>) = model
             .features
             .iter()
@@ -166,8 +72,7 @@ impl NeuralLaw {
         let velocity = model.feature_with_role(FeatureRole::SlidingVelocity);
         let d = model.features.len();
         Ok(NeuralLaw {
-            layers,
-            activation: model.activation,
+            forward,
             input_lo,
             input_hi,
             input_mean: model.features.iter().map(|f| f.input_mean).collect(),
@@ -180,12 +85,7 @@ impl NeuralLaw {
             velocity,
             normal_force: model.feature_with_role(FeatureRole::NormalForce),
             fixed: vec![None; d],
-            avx2_fma: cpu_has_avx2_fma(),
             features: vec![0.0; d],
-            buffer_a: vec![0.0; widest],
-            buffer_b: vec![0.0; widest],
-            tangent_a: vec![0.0; widest],
-            tangent_b: vec![0.0; widest],
             model,
         })
     }
@@ -337,8 +237,7 @@ impl NeuralLaw {
     #[inline]
     fn evaluate_scratch_with<const SLOPE: bool>(&mut self) -> (f64, f64) {
         let NeuralLaw {
-            layers,
-            activation,
+            forward,
             input_lo,
             input_hi,
             input_mean,
@@ -346,12 +245,7 @@ impl NeuralLaw {
             signed_velocity,
             velocity,
             features,
-            buffer_a,
-            buffer_b,
-            tangent_a,
-            tangent_b,
             model,
-            avx2_fma,
             ..
         } = self;
         let mut sign = 1.0;
@@ -361,79 +255,34 @@ impl NeuralLaw {
         }
         // d|v|/dv, and at v = 0 that of v > 0 (the slope of the magnitude).
         let seed_sign = if sign == 0.0 { 1.0 } else { sign };
-        let d = features.len();
-        for k in 0..d {
-            buffer_a[k] = (features[k].clamp(input_lo[k], input_hi[k]) - input_mean[k])
-                * input_inverse_std[k];
+        let (inputs, tangents) = forward.inputs_mut();
+        for (k, feature) in features.iter().enumerate() {
+            inputs[k] =
+                (feature.clamp(input_lo[k], input_hi[k]) - input_mean[k]) * input_inverse_std[k];
             if SLOPE {
                 // d input / dv: 1/std on the velocity inside its range (times sign(v) for
                 // the signed variant's |v|), 0 for the other features and when clamped.
-                let inside = features[k] >= input_lo[k] && features[k] <= input_hi[k];
-                tangent_a[k] = if Some(k) == *velocity && inside {
+                let inside = *feature >= input_lo[k] && *feature <= input_hi[k];
+                tangents[k] = if Some(k) == *velocity && inside {
                     input_inverse_std[k] * seed_sign
                 } else {
                     0.0
                 };
             }
         }
-        let last = layers.len() - 1;
-        let (mut input, mut output) = (buffer_a, buffer_b);
-        let (mut tangent_in, mut tangent_out) = (tangent_a, tangent_b);
-        for (l, layer) in layers.iter().enumerate() {
-            let x = &input[..layer.inputs];
-            let y = &mut output[..layer.outputs];
-            let dx = &tangent_in[..layer.inputs];
-            let dy = &mut tangent_out[..layer.outputs];
-            #[cfg(target_arch = "x86_64")]
-            if *avx2_fma {
-                // SAFETY: avx2_fma is true only if the running CPU has AVX2 and FMA
-                // (is_x86_feature_detected at construction), the features these
-                // functions are compiled for. They have no other safety requirement.
-                unsafe {
-                    affine_avx2_fma(layer, x, y);
-                    if SLOPE {
-                        linear_avx2_fma(layer, dx, dy);
-                    }
-                }
-            } else {
-                affine::<false>(layer, x, y);
-                if SLOPE {
-                    linear::<false>(layer, dx, dy);
-                }
-            }
-            #[cfg(not(target_arch = "x86_64"))]
-            {
-                affine::<false>(layer, x, y);
-                if SLOPE {
-                    linear::<false>(layer, dx, dy);
-                }
-            }
-            if l != last {
-                if SLOPE {
-                    for (v, t) in y.iter_mut().zip(dy.iter_mut()) {
-                        let (a, da) = activation.apply_with_slope(*v);
-                        *v = a;
-                        *t *= da;
-                    }
-                } else {
-                    y.iter_mut().for_each(|v| *v = activation.apply(*v));
-                }
-            }
-            std::mem::swap(&mut input, &mut output);
-            std::mem::swap(&mut tangent_in, &mut tangent_out);
-        }
-        let force = model.force_from_output(input[0], sign);
+        let (z, dz) = forward.run::<SLOPE>();
+        let force = model.force_from_output(z, sign);
         if !SLOPE {
             return (force, 0.0);
         }
         // F = mean + std z (plain) or sign(v) max(0, mean + std z) (signed: the tangent
         // carries d|v|/dv = sign(v) once more, and sign(v)^2 = 1).
         let cut = model.variant == Variant::Signed
-            && model.target.output_mean + model.target.output_std * input[0] < 0.0;
+            && model.target.output_mean + model.target.output_std * z < 0.0;
         let slope = if cut {
             0.0
         } else {
-            seed_sign * model.target.output_std * tangent_in[0]
+            seed_sign * model.target.output_std * dz
         };
         (force, slope)
     }
