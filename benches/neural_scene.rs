@@ -1,6 +1,7 @@
 //! The paper scene with the neural friction law against the analytical law (Eq. 6), at
-//! modal, beam and plane-stress fidelity, measured in the same run; and where the time
-//! of a neural run goes.
+//! modal, beam and plane-stress fidelity, measured in the same run, for the plain and
+//! the signed network, each evaluated exactly, in f32 and from the table
+//! (`friction.inference`); and where the time of a neural run goes.
 //!
 //! Criterion times whole runs of the stepping (1.2 s, 12 000 steps of 1e-4 s): the
 //! `Simulator` is built outside the timing (model, factorisation, network parsing), so
@@ -10,8 +11,10 @@
 //! - a table of the median wall times and of neural / analytical per fidelity;
 //! - where the time goes: the law evaluations each run makes (counted in an untimed run
 //!   through `Simulator::last_slip_solve`), times the cost of one evaluation of force
-//!   and slope measured here too (group `law_call`, over 20 000 inputs spread over the
-//!   slip range), against the run's extra time over the analytical run.
+//!   and slope measured here too (group `law_call`, over 20 000 velocities spread over
+//!   the slip range at the scene's 100 N), against the run's extra time over the
+//!   analytical run; and the cost of reading the network's weights once, the memory
+//!   bound of an f64 evaluation.
 //!
 //! Run: `cargo bench -p stickslip-tests --bench neural_scene` (about a minute once
 //! built); `-- modal` or `-- beam` for one fidelity.
@@ -20,8 +23,11 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use criterion::{Criterion, SamplingMode, Throughput};
+use stickslip::choice::Choice;
 use stickslip::friction::{ExponentialLaw, FrictionLaw};
+use stickslip::neural::inference::friction_law;
 use stickslip::neural::NeuralLaw;
+use stickslip::scene::Inference;
 use stickslip::scene::{CheckedScene, FidelityLevel, Scene};
 use stickslip::simulation::Simulator;
 use stickslip_tests::bench::{ratio, shown, table_note, Samples};
@@ -29,30 +35,52 @@ use stickslip_tests::bench::{ratio, shown, table_note, Samples};
 const SAMPLE_SIZE: usize = 10;
 const READ: &str = "read the weights";
 
-/// The laws compared, by the name the tables use.
+/// The laws compared: the analytical one, or a shipped network (signed or plain) and
+/// its evaluation.
 #[derive(Clone, Copy, PartialEq)]
 enum Law {
     Analytical,
-    Plain,
-    Signed,
+    Neural { signed: bool, inference: Inference },
 }
 
 impl Law {
-    const ALL: [Law; 3] = [Law::Analytical, Law::Plain, Law::Signed];
+    const ALL: [Law; 7] = [
+        Law::Analytical,
+        Law::neural(false, Inference::Exact),
+        Law::neural(true, Inference::Exact),
+        Law::neural(false, Inference::F32),
+        Law::neural(true, Inference::F32),
+        Law::neural(false, Inference::Table),
+        Law::neural(true, Inference::Table),
+    ];
 
-    fn name(self) -> &'static str {
+    const fn neural(signed: bool, inference: Inference) -> Law {
+        Law::Neural { signed, inference }
+    }
+
+    fn name(self) -> String {
         match self {
-            Law::Analytical => "analytical",
-            Law::Plain => "neural plain",
-            Law::Signed => "neural signed",
+            Law::Analytical => "analytical".into(),
+            Law::Neural { signed, inference } => format!(
+                "{} {}",
+                if signed { "signed" } else { "plain" },
+                inference.name()
+            ),
         }
     }
 
     fn build(self, scene: &CheckedScene) -> Box<dyn FrictionLaw> {
         match self {
             Law::Analytical => Box::new(ExponentialLaw::of(&scene.friction)),
-            Law::Plain => Box::new(NeuralLaw::paper_default().expect("shipped plain weights")),
-            Law::Signed => Box::new(NeuralLaw::paper_signed().expect("shipped signed weights")),
+            Law::Neural { signed, inference } => {
+                let law = if signed {
+                    NeuralLaw::paper_signed()
+                } else {
+                    NeuralLaw::paper_default()
+                }
+                .expect("shipped weights");
+                friction_law(law, inference, scene.loading.normal_force).expect("a friction law")
+            }
         }
     }
 }
@@ -88,6 +116,10 @@ fn evaluations(scene: &CheckedScene, law: Law) -> (usize, usize) {
 
 fn id(level: FidelityLevel, law: Law) -> String {
     format!("{level:?}, {}", law.name())
+}
+
+fn neural_laws() -> impl Iterator<Item = Law> {
+    Law::ALL.into_iter().filter(|l| *l != Law::Analytical)
 }
 
 fn main() {
@@ -129,12 +161,13 @@ fn main() {
     }
     group.finish();
 
-    // One evaluation of force and slope, as the slip solve makes it.
+    // One evaluation of force and slope, as the slip solve makes it: over the slip range
+    // of velocities, at the scene's normal force (the table's).
     let inputs: Vec<(f64, f64)> = (0..20_000)
         .map(|i| {
             let t = i as f64 / 20_000.0;
             let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
-            (sign * (0.001 + 0.05 * t), 95.0 + 10.0 * t)
+            (sign * (0.001 + 0.05 * t), 100.0)
         })
         .collect();
     let paper = scene(FidelityLevel::Modal);
@@ -196,22 +229,29 @@ fn main() {
         "paper scene, 12 000 steps, stepping only ({})",
         table_note(&times)
     );
-    println!(
-        "{:<14} {:>14} {:>14} {:>10} {:>14} {:>10}",
-        "fidelity", "analytical (s)", "plain (s)", "plain / a.", "signed (s)", "signed / a."
-    );
+    println!("wall time (s) and neural / analytical:");
+    print!("{:<13} {:>11}", "fidelity", "analytical");
+    for law in neural_laws() {
+        print!(" {:>21}", law.name());
+    }
+    println!();
     for level in levels {
         let time = |law| times.median(&id(level, law));
         let analytical = time(Law::Analytical);
-        println!(
-            "{:<14} {:>14} {:>14} {:>10} {:>14} {:>10}",
+        print!(
+            "{:<13} {:>11}",
             format!("{level:?}"),
-            shown(analytical, 1.0, 4),
-            shown(time(Law::Plain), 1.0, 4),
-            ratio(time(Law::Plain), analytical, 2),
-            shown(time(Law::Signed), 1.0, 4),
-            ratio(time(Law::Signed), analytical, 2),
+            shown(analytical, 1.0, 4)
         );
+        for law in neural_laws() {
+            let cell = format!(
+                "{} ({}x)",
+                shown(time(law), 1.0, 4),
+                ratio(time(law), analytical, 2)
+            );
+            print!(" {cell:>21}");
+        }
+        println!();
     }
     println!();
     println!(
@@ -222,8 +262,8 @@ fn main() {
         println!(
             "  {:<17} {:>8} ns   ({}x analytical)",
             law.name(),
-            shown(per_call(law), 1e9, 0),
-            ratio(per_call(law), per_call(Law::Analytical), 0)
+            shown(per_call(law), 1e9, 1),
+            ratio(per_call(law), per_call(Law::Analytical), 1)
         );
     }
     let read = times.median(READ).map(|t| t / inputs.len() as f64);
@@ -236,20 +276,20 @@ fn main() {
     println!();
     println!("where a neural run's time goes: law evaluations x time per evaluation, against the run's time over the analytical run");
     println!(
-        "{:<14} {:<14} {:>11} {:>12} {:>14} {:>16}",
+        "{:<13} {:<14} {:>11} {:>12} {:>14} {:>16}",
         "fidelity", "law", "slip steps", "evaluations", "law time (s)", "extra time (s)"
     );
     for level in levels {
         let scene = scene(level);
         let analytical = times.median(&id(level, Law::Analytical));
-        for law in [Law::Plain, Law::Signed] {
+        for law in neural_laws() {
             let (evaluations, slips) = evaluations(&scene, law);
             let extra = times
                 .median(&id(level, law))
                 .zip(analytical)
                 .map(|(t, a)| t - a);
             println!(
-                "{:<14} {:<14} {:>11} {:>12} {:>14} {:>16}",
+                "{:<13} {:<14} {:>11} {:>12} {:>14} {:>16}",
                 format!("{level:?}"),
                 law.name(),
                 slips,

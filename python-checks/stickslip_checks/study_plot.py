@@ -31,7 +31,8 @@ def label(row):
 
     This re-spells the Display of stickslip::study::Configuration because study.csv has
     no label column, only its fields (level, modes, beam_elements, element_size_m, dt_s,
-    integrator); the time step is written with :g where the Rust uses {:e}."""
+    integrator, inference); the time step is written with :g where the Rust uses {:e}.
+    The inference is empty unless the study had a friction-law axis (--inferences)."""
     level = row["level"]
     if level == "modal":
         resolution = f"modal {row['modes']} modes"
@@ -39,7 +40,10 @@ def label(row):
         resolution = f"beam {row['beam_elements']} el."
     else:
         resolution = f"plane stress {row['element_size_m']} m"
-    return f"{resolution}, dt {float(row['dt_s']):g} s, {row['integrator']}"
+    text = f"{resolution}, dt {float(row['dt_s']):g} s, {row['integrator']}"
+    if row.get("inference"):
+        text += f", {row['inference']} inference"
+    return text
 
 
 def pareto(rows):

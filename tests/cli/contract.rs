@@ -350,3 +350,96 @@ fn error_lines_are_the_documented_ones() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `--inference` (and a scene file's `friction.inference`) chooses how the neural law is
+/// evaluated: the table and f32 runs follow the exact one (their errors, 1e-5 N and
+/// less, move the tip by nanometres over half a second), a flag and a scene file give
+/// the same run, and a network with more inputs than the table is refused with its
+/// reason.
+#[test]
+fn inference_is_chosen_by_flag_or_scene_file() {
+    let dir = scratch("inference");
+    let run = |extra: &[&str], name: &str| -> Vec<f64> {
+        let csv = dir.join(format!("{name}.csv"));
+        let mut args = vec![
+            "simulate",
+            "--fidelity",
+            "modal",
+            "--friction",
+            "neural",
+            "--t-end",
+            "0.5",
+            "--out",
+            csv.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let (ok, _, stderr) = stickslip(&args);
+        assert!(ok, "{stderr}");
+        std::fs::read_to_string(&csv)
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+            .collect()
+    };
+    let exact = run(&[], "exact");
+    for inference in ["f32", "table"] {
+        let tip = run(&["--inference", inference], inference);
+        let deviation = exact
+            .iter()
+            .zip(&tip)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(deviation < 1e-7, "{inference}: {deviation} m");
+        assert!(
+            deviation > 0.0,
+            "{inference} runs something else than the exact network"
+        );
+    }
+    let scene = dir.join("table.toml");
+    std::fs::write(
+        &scene,
+        "[friction]\nlaw = \"neural\"\ninference = \"table\"\n",
+    )
+    .unwrap();
+    let by_file = run(&["--scene", scene.to_str().unwrap()], "file");
+    assert_eq!(by_file, run(&["--inference", "table"], "flag"));
+    let weights = dir.join("three.json");
+    std::fs::write(&weights, three_input_weights()).unwrap();
+    let (ok, _, stderr) = stickslip(&[
+        "simulate",
+        "--friction",
+        "neural",
+        "--inference",
+        "table",
+        "--weights",
+        weights.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("friction.inference = table") && stderr.contains("temperature"),
+        "{stderr}"
+    );
+    let (ok, _, stderr) = stickslip(&["simulate", "--inference", "fast"]);
+    assert!(
+        !ok && stderr.contains("exact") && stderr.contains("table"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The shipped plain network with a third input it ignores, `temperature` (as
+/// stickslip_tests::three_input_weights, which this package cannot depend on).
+fn three_input_weights() -> String {
+    use stickslip::neural::{FeatureRole, NeuralModel, PAPER_PLAIN_JSON};
+    let mut model = NeuralModel::from_json(PAPER_PLAIN_JSON, "shipped").unwrap();
+    let mut temperature = model.features[0].clone();
+    temperature.name = "temperature".into();
+    temperature.role = FeatureRole::Other;
+    model.features.push(temperature);
+    model.layer_sizes[0] = 3;
+    for row in &mut model.layers[0].weights {
+        row.push(0.0);
+    }
+    model.to_json().unwrap()
+}

@@ -978,3 +978,84 @@ fn a_version_2_beam_state_with_its_transition_list_restores() {
     assert!(b.set_state(&listed_now).is_err());
     assert!(logged(&log, "unknown field `transitions`"));
 }
+
+/// `friction.inference` of StickSlipBeam: each option runs the library's simulation of
+/// the same scene bit for bit; f32 and the table follow the exact network to nanometres;
+/// a network with more inputs than the table is refused at fmi2ExitInitializationMode
+/// with the reason in the log.
+#[test]
+fn neural_inference_is_a_parameter_of_the_beam() {
+    use stickslip::scene::Inference;
+    let mut runs = Vec::new();
+    for inference in Inference::ALL {
+        let (mut b, _) = beam(false);
+        b.setup_experiment(0.0, Some(0.6)).unwrap();
+        b.set_integer(
+            &[
+                vr::<StickSlipBeam>("fidelity.level"),
+                vr::<StickSlipBeam>("friction.model"),
+                vr::<StickSlipBeam>("friction.inference"),
+            ],
+            &[
+                FidelityLevel::Modal.code(),
+                FrictionLawKind::Neural.code(),
+                inference.code(),
+            ],
+        )
+        .unwrap();
+        b.enter_initialization_mode().unwrap();
+        b.exit_initialization_mode().unwrap();
+        let fmu = run(&mut b, 0.0, 0.6, 1e-3);
+        let mut scene = Scene::default();
+        scene.fidelity.level = FidelityLevel::Modal;
+        scene.friction.law = FrictionLawKind::Neural;
+        scene.friction.inference = *inference;
+        scene.time.end = 0.6;
+        let scene = scene.check().unwrap();
+        let law = stickslip::run::friction_law(&scene).unwrap();
+        let mut sim = Simulator::new(scene, law).unwrap();
+        let library: Vec<f64> = (1..=600)
+            .map(|k| {
+                sim.advance_to(k as f64 * 1e-3).unwrap();
+                sim.sample().tip_deflection
+            })
+            .collect();
+        assert_eq!(fmu, library, "{inference:?}");
+        runs.push(fmu);
+    }
+    for (inference, tip) in Inference::ALL.iter().zip(&runs).skip(1) {
+        let deviation = runs[0]
+            .iter()
+            .zip(tip)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(deviation < 1e-7, "{inference:?}: {deviation} m");
+    }
+
+    let dir = std::env::temp_dir().join(format!("stickslip-inference-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let weights = dir.join("three.json");
+    std::fs::write(&weights, stickslip_tests::three_input_weights()).unwrap();
+    let (mut b, log) = beam(false);
+    b.set_integer(
+        &[
+            vr::<StickSlipBeam>("friction.model"),
+            vr::<StickSlipBeam>("friction.inference"),
+        ],
+        &[FrictionLawKind::Neural.code(), Inference::Table.code()],
+    )
+    .unwrap();
+    b.set_string(
+        &[vr::<StickSlipBeam>("friction.weights")],
+        &[weights.to_str().unwrap()],
+    )
+    .unwrap();
+    b.enter_initialization_mode().unwrap();
+    assert!(b.exit_initialization_mode().is_err());
+    assert!(
+        logged(&log, "friction.inference = table") && logged(&log, "temperature"),
+        "{:?}",
+        log.lock().unwrap()
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

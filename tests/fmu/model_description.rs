@@ -5,8 +5,8 @@ use std::collections::HashSet;
 use stickslip::choice::Choice;
 use stickslip::friction::LawChoice;
 use stickslip::scene::{
-    Clamp, FidelityLevel, FrictionLawKind, HoldingForce, InitialState, ModalBasis, Scheme,
-    SlidingVelocity,
+    Clamp, FidelityLevel, FrictionLawKind, HoldingForce, Inference, InitialState, ModalBasis,
+    Scheme, SlidingVelocity,
 };
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
@@ -188,6 +188,7 @@ fn the_enumeration_types_are_the_scenes_choices() {
         read(FmuKind::StickSlipBeam),
         vec![
             declared::<FrictionLawKind>(),
+            declared::<Inference>(),
             declared::<HoldingForce>(),
             declared::<SlidingVelocity>(),
             declared::<InitialState>(),

@@ -16,6 +16,7 @@ fn configuration(resolution: Resolution, dt: f64, scheme: Scheme) -> Configurati
         resolution,
         dt,
         scheme,
+        inference: None,
     }
 }
 

@@ -8,8 +8,8 @@ use stickslip::friction::LawChoice;
 use stickslip::neural::{Activation, Variant};
 use stickslip::run::{friction_law, run_scene, RunError};
 use stickslip::scene::{
-    Clamp, FidelityLevel, FrictionLawKind, HoldingForce, InitialState, ModalBasis, Scene, Scheme,
-    SlidingVelocity,
+    Clamp, FidelityLevel, FrictionLawKind, HoldingForce, Inference, InitialState, ModalBasis,
+    Scene, Scheme, SlidingVelocity,
 };
 use stickslip::structure::{ModelError, StructuralModel};
 
@@ -47,6 +47,7 @@ fn every_choice_word_is_its_scene_word_and_its_position_its_fmi_code() {
     check_choice!(LawChoice);
     check_choice!(Variant);
     check_choice!(Activation);
+    check_choice!(Inference);
 }
 
 /// The FMI interface numbers these values: auto and external are item 4 of their types,

@@ -116,6 +116,7 @@ fn a_failed_study_run_names_its_configuration_and_keeps_the_reason_as_source() {
         resolution: Resolution::Modal { modes: 1 },
         dt: 3e-4,
         scheme: Scheme::GeneralizedAlpha,
+        inference: None,
     };
     let failed = measure(&Scene::default(), configuration).unwrap_err();
     assert_eq!(

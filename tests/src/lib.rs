@@ -30,3 +30,25 @@ pub fn vr<M: Model>(name: &str) -> u32 {
         .unwrap_or_else(|| panic!("{} has no variable {name}", M::INFO.model_identifier))
         .value_reference
 }
+
+/// The shipped plain network with a third input, `temperature` (role other, range 20 to
+/// 40 C), that it ignores (zero weights): a network with more inputs than the beam
+/// supplies, as a weights file's text.
+pub fn three_input_weights() -> String {
+    use stickslip::neural::{FeatureRole, NeuralModel, PAPER_PLAIN_JSON};
+    let mut model = NeuralModel::from_json(PAPER_PLAIN_JSON, "shipped").expect("shipped weights");
+    let mut temperature = model.features[0].clone();
+    temperature.name = "temperature".into();
+    temperature.unit = "C".into();
+    temperature.role = FeatureRole::Other;
+    temperature.input_mean = 30.0;
+    temperature.input_std = 5.0;
+    temperature.min = 20.0;
+    temperature.max = 40.0;
+    model.features.push(temperature);
+    model.layer_sizes[0] = 3;
+    for row in &mut model.layers[0].weights {
+        row.push(0.0);
+    }
+    model.to_json().expect("weights text")
+}

@@ -9,7 +9,7 @@ use crate::choice::{parser, ChoiceParser};
 use crate::error::CliError;
 use clap::Args;
 use std::path::PathBuf;
-use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Scene, Scheme};
+use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Inference, Scene, Scheme};
 
 /// `--friction`: the scene's laws, plus `analytical`, the command line's name for the
 /// exponential law before the values were the scene's words (scripts use it). The
@@ -68,6 +68,9 @@ pub struct SceneArgs {
     /// Weights file of the neural law (default: the weights shipped with the crate).
     #[arg(long)]
     pub weights: Option<String>,
+    /// How the neural law's network is evaluated: speed for accuracy.
+    #[arg(long, value_parser = parser::<Inference>())]
+    pub inference: Option<Inference>,
 }
 
 impl SceneArgs {
@@ -106,6 +109,9 @@ impl SceneArgs {
         }
         if let Some(w) = &self.weights {
             scene.friction.weights = Some(w.clone());
+        }
+        if let Some(i) = self.inference {
+            scene.friction.inference = i;
         }
         // Before the damping: it checks the scene, and a scene with fidelity auto is
         // valid only with its tolerance.

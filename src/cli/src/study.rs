@@ -7,7 +7,7 @@ use crate::error::CliError;
 use crate::simulate::write;
 use clap::Args;
 use std::path::PathBuf;
-use stickslip::scene::{Scene, Scheme};
+use stickslip::scene::{Inference, Scene, Scheme};
 
 /// Arguments of `stickslip study`.
 #[derive(Args, Debug, Clone)]
@@ -34,6 +34,11 @@ pub struct StudyArgs {
     /// Integrators.
     #[arg(long, value_parser = parser::<Scheme>(), value_delimiter = ',')]
     pub integrators: Option<Vec<Scheme>>,
+    /// The friction-law axis: evaluations of the scene's neural law (speed for
+    /// accuracy), each against the reference with the exact network. Default: the
+    /// scene's own only.
+    #[arg(long, value_parser = parser::<Inference>(), value_delimiter = ',')]
+    pub inferences: Option<Vec<Inference>>,
     /// Output folder: study.csv (every run) and front.json (the Pareto front).
     #[arg(long, default_value = "out/study")]
     pub out: PathBuf,
@@ -70,6 +75,7 @@ pub fn study(args: &StudyArgs) -> Result<(), CliError> {
             Some(list) => list.clone(),
             None => full.schemes,
         },
+        inferences: args.inferences.clone().unwrap_or(full.inferences),
     };
     let reference_configuration = grid.finest().ok_or(CliError::EmptyGrid)?;
     let configurations = grid.configurations();

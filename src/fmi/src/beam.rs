@@ -26,8 +26,8 @@ use stickslip::contact::ContactState;
 use stickslip::friction::{CoulombLaw, ExponentialLaw};
 use stickslip::neural::NeuralError;
 use stickslip::scene::{
-    CheckedScene, Clamp, FidelityLevel, FrictionLawKind, HoldingForce, InitialState, ModalBasis,
-    Scene, SceneError, Scheme, SlidingVelocity,
+    CheckedScene, Clamp, FidelityLevel, FrictionLawKind, HoldingForce, Inference, InitialState,
+    ModalBasis, Scene, SceneError, Scheme, SlidingVelocity,
 };
 use stickslip::simulation::{
     ExternalFriction, SimulationError, SimulationState, Simulator, RECENT_TRANSITIONS,
@@ -327,10 +327,10 @@ impl StickSlipBeam {
         let law: Box<dyn stickslip::friction::FrictionLaw> = match scene.friction.law {
             FrictionLawKind::Neural => {
                 let name = self.settings.weights.clone();
-                self.networks
-                    .get(&name)?
-                    .clone()
-                    .into_friction_law()
+                let network = self.networks.get(&name)?.clone();
+                let (inference, normal_force) =
+                    (scene.friction.inference, scene.loading.normal_force);
+                stickslip::neural::inference::friction_law(network, inference, normal_force)
                     .map_err(|source| BuildError::NotAFrictionLaw { name, source })?
             }
             // The inputs replace the law while the external model is on; the simulator
@@ -615,6 +615,13 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         },
         depends_on: None,
     },
+    enum_parameter!(
+        16,
+        "friction.inference",
+        Inference,
+        "Evaluation of the network for friction.model = neural",
+        |s| s.friction.inference
+    ),
     enum_parameter!(
         20,
         "contact.holding_force",

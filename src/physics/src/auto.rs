@@ -291,6 +291,7 @@ mod tests {
                 resolution: Resolution::Beam { elements },
                 dt: 1e-3,
                 scheme: Scheme::GeneralizedAlpha,
+                inference: None,
             },
             seconds,
             rms_error,

@@ -131,6 +131,14 @@ impl Kinetic<'_> {
         }
     }
 
+    /// The law's resolution (N, see [`FrictionLaw::resolution`]).
+    fn resolution(&self) -> f64 {
+        match self {
+            Kinetic::Law { law, .. } => law.resolution(),
+            Kinetic::External { .. } => 0.0,
+        }
+    }
+
     /// The force (N) and its slope dF/dv (N s/m) at `v` (m/s).
     fn force_and_slope(&mut self, v: f64) -> (f64, f64) {
         match self {
@@ -565,7 +573,8 @@ impl Residual {
 /// (r(F_j+) < 0) or in the jump, where the equation has no solution and the fixed-point
 /// iteration's answer is kept (see the module notes).
 ///
-/// Converged when the Newton correction is below [`SLIP_TOLERANCE`], or when two
+/// Converged when the Newton correction is below [`SLIP_TOLERANCE`] (or the law's
+/// resolution, if coarser: [`FrictionLaw::resolution`]), or when two
 /// successive Newton corrections shrink by q < 1/2 and the bound on the error of a
 /// sequence converging at rate q, q / (1 - q) |correction|, is below it: Newton
 /// converges faster than that bound assumes, and the test saves the evaluation that
@@ -574,6 +583,7 @@ fn newton(argument: &SlipArgument, start: f64, law: &mut CountedLaw<'_, '_>) -> 
     let reversal = argument.reversal();
     let mut reversal_seen = false;
     let (mut below, mut above) = (f64::NEG_INFINITY, f64::INFINITY);
+    let resolution = law.kinetic.resolution();
     let mut current = Residual::new(argument.at(start), law);
     // The Newton correction that led to `current`, if a Newton step did.
     let mut last_correction: Option<f64> = None;
@@ -594,7 +604,7 @@ fn newton(argument: &SlipArgument, start: f64, law: &mut CountedLaw<'_, '_>) -> 
         let newton_valid = current.slope > 0.0 && newton.is_finite();
         if newton_valid {
             let correction = (newton - current.force).abs();
-            let tolerance = SLIP_TOLERANCE * (1.0 + newton.abs());
+            let tolerance = (SLIP_TOLERANCE * (1.0 + newton.abs())).max(resolution);
             let rate = last_correction.map_or(1.0, |last| correction / last);
             if correction <= tolerance
                 || (rate < 0.5 && rate / (1.0 - rate) * correction <= tolerance)

@@ -39,6 +39,13 @@ pub trait FrictionLaw: Send {
     /// A law that jumps at v = 0 (sign(v) times a magnitude) gives there its force 0 and
     /// the slope of its magnitude; the contact handles the jump itself.
     fn sliding_force_and_slope(&mut self, sliding_velocity: f64, normal_force: f64) -> (f64, f64);
+
+    /// The force difference (N) below which this law's values are rounding noise: a law
+    /// evaluated in f32 moves in steps of ~1e-6 N as its inputs round. The slip solve
+    /// resolves the force no finer (0, the default, for laws evaluated in f64).
+    fn resolution(&self) -> f64 {
+        0.0
+    }
 }
 
 /// The paper's exponential law (Eq. 6):

@@ -108,6 +108,22 @@ crate::choice! {
     }
 }
 
+crate::choice! {
+    /// How the neural law is evaluated in the time loop (ignored by the other laws).
+    #[choice(name = "Inference", description = "How the network of a neural law is evaluated")]
+    #[derive(Default)]
+    pub enum Inference {
+        /// The network in f64, as trained.
+        #[default]
+        Exact = "exact": "the network in f64, as trained",
+        /// The network in f32 (`neural::NeuralLaw::in_f32`).
+        F32 = "f32": "the network in single precision (its largest deviation measured at build)",
+        /// A table of the network over its training range, built at initialisation
+        /// (`neural::table`).
+        Table = "table": "a table of the network over its training range, built at initialisation (largest error verified at build)",
+    }
+}
+
 /// Friction parameters (paper, Eq. 3 and Eq. 6) and the stick threshold.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -124,6 +140,9 @@ pub struct Friction {
     pub stick_threshold: f64,
     /// Weights file of the neural law; `None` uses the weights shipped with the crate.
     pub weights: Option<String>,
+    /// How the neural law's network is evaluated (speed for accuracy; the other laws
+    /// ignore it).
+    pub inference: Inference,
 }
 
 impl Default for Friction {
@@ -135,6 +154,7 @@ impl Default for Friction {
             decay: 5.0,
             stick_threshold: 1e-3,
             weights: None,
+            inference: Inference::Exact,
         }
     }
 }

@@ -1,5 +1,6 @@
-//! The speed-accuracy study: one scene run over a grid of fidelity levels, time steps
-//! and integrators, each run timed and compared with a converged reference.
+//! The speed-accuracy study: one scene run over a grid of fidelity levels, time steps,
+//! integrators and, for the neural law, ways of evaluating it (`friction.inference`),
+//! each run timed and compared with a converged reference.
 //!
 //! For every configuration the study records the wall time (model build plus stepping,
 //! as [`crate::run::run_scene`] measures it, runs one after the other so that no two
@@ -13,13 +14,15 @@
 //!
 //! The reference is the most expensive configuration of the grid unless given: by
 //! default the finest plane-stress mesh (0.005 m) at the smallest step (1e-5 s) with
-//! generalised-alpha. A configuration is on the Pareto front when no other one is both
-//! faster and more accurate (in RMS).
+//! generalised-alpha, with the scene's own inference (exact by default). A configuration
+//! is on the Pareto front when no other one is both faster and more accurate (in RMS).
+//! The wall time does not include building the friction law (parsing the network,
+//! tabulating it: 1 to 25 ms for the shipped networks), as [`run_scene`] times it.
 
 use crate::choice::Choice;
 use crate::metrics::Summary;
 use crate::run::{run_scene, RunError};
-use crate::scene::{CheckedScene, FidelityLevel, Scene, SceneError, Scheme};
+use crate::scene::{CheckedScene, FidelityLevel, Inference, Scene, SceneError, Scheme};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -61,18 +64,24 @@ impl fmt::Display for Resolution {
     }
 }
 
-/// One point of the grid: resolution, time step and integrator.
+/// One point of the grid: resolution, time step, integrator and the evaluation of a
+/// neural law.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Configuration {
     pub resolution: Resolution,
     /// Time step (s).
     pub dt: f64,
     pub scheme: Scheme,
+    /// `friction.inference`; None keeps the scene's (the `auto` fidelity's front has
+    /// none, so that its choice leaves the inference alone).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inference: Option<Inference>,
 }
 
 impl Configuration {
-    /// `scene` with this configuration's fidelity, time step and integrator; every
-    /// other field (geometry, material, loading, friction, damping, end time) kept.
+    /// `scene` with this configuration's fidelity, time step, integrator and inference
+    /// (if it has one); every other field (geometry, material, loading, friction,
+    /// damping, end time) kept.
     pub fn apply(&self, scene: &Scene) -> Scene {
         let mut scene = scene.clone();
         scene.fidelity.level = self.resolution.level();
@@ -83,6 +92,9 @@ impl Configuration {
         }
         scene.time.step = self.dt;
         scene.integrator.scheme = self.scheme;
+        if let Some(inference) = self.inference {
+            scene.friction.inference = inference;
+        }
         scene
     }
 
@@ -99,7 +111,11 @@ impl fmt::Display for Configuration {
             self.resolution,
             self.dt,
             self.scheme_name()
-        )
+        )?;
+        match self.inference {
+            Some(inference) => write!(f, ", {} inference", inference.name()),
+            None => Ok(()),
+        }
     }
 }
 
@@ -111,6 +127,8 @@ pub struct Grid {
     pub element_sizes: Vec<f64>,
     pub time_steps: Vec<f64>,
     pub schemes: Vec<Scheme>,
+    /// Evaluations of a neural law; empty: the scene's own.
+    pub inferences: Vec<Inference>,
 }
 
 impl Grid {
@@ -123,6 +141,7 @@ impl Grid {
             element_sizes: vec![0.08, 0.04, 0.02, 0.01, 0.005],
             time_steps: vec![1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5],
             schemes: vec![Scheme::GeneralizedAlpha, Scheme::MoreauJean],
+            inferences: Vec::new(),
         }
     }
 
@@ -142,15 +161,23 @@ impl Grid {
                     .iter()
                     .map(|&element_size| Resolution::PlaneStress { element_size }),
             );
+        let inferences: Vec<Option<Inference>> = if self.inferences.is_empty() {
+            vec![None]
+        } else {
+            self.inferences.iter().copied().map(Some).collect()
+        };
         let mut out = Vec::new();
         for resolution in resolutions {
             for &dt in &self.time_steps {
                 for &scheme in &self.schemes {
-                    out.push(Configuration {
-                        resolution,
-                        dt,
-                        scheme,
-                    });
+                    for &inference in &inferences {
+                        out.push(Configuration {
+                            resolution,
+                            dt,
+                            scheme,
+                            inference,
+                        });
+                    }
                 }
             }
         }
@@ -158,7 +185,8 @@ impl Grid {
     }
 
     /// The default reference: the finest mesh (or, without plane stress, the finest
-    /// beam) at the smallest step, with generalised-alpha.
+    /// beam) at the smallest step, with generalised-alpha and the exact network if the
+    /// grid has an inference axis.
     pub fn finest(&self) -> Option<Configuration> {
         let dt = self.time_steps.iter().copied().fold(f64::NAN, f64::min);
         let resolution = if let Some(size) = self.element_sizes.iter().copied().reduce(f64::min) {
@@ -174,6 +202,7 @@ impl Grid {
             resolution,
             dt,
             scheme: Scheme::GeneralizedAlpha,
+            inference: (!self.inferences.is_empty()).then_some(Inference::Exact),
         })
     }
 }
@@ -333,7 +362,7 @@ pub fn front(rows: &[Row]) -> Vec<&Row> {
 }
 
 /// The CSV header of [`csv_line`].
-pub const CSV_HEADER: &str = "level,modes,beam_elements,element_size_m,dt_s,integrator,dofs,wall_s,realtime_factor,err_breakaway_s,err_first_slip_duration_s,err_period_s,err_corridor_m,err_rms_m,pareto";
+pub const CSV_HEADER: &str = "level,modes,beam_elements,element_size_m,dt_s,integrator,inference,dofs,wall_s,realtime_factor,err_breakaway_s,err_first_slip_duration_s,err_period_s,err_corridor_m,err_rms_m,pareto";
 
 /// One CSV line of a row; missing values are empty fields.
 pub fn csv_line(row: &Row, end_time: f64) -> String {
@@ -349,9 +378,10 @@ pub fn csv_line(row: &Row, end_time: f64) -> String {
     let opt = |v: Option<f64>| v.map(|v| format!("{v:.6e}")).unwrap_or_default();
     let e = &row.errors;
     format!(
-        "{level},{modes},{elements},{size},{:e},{},{},{:.6e},{:.3},{},{},{},{},{:.6e},{}",
+        "{level},{modes},{elements},{size},{:e},{},{},{},{:.6e},{:.3},{},{},{},{},{:.6e},{}",
         c.dt,
         c.scheme_name(),
+        c.inference.map_or("", Inference::name),
         row.measured.dofs,
         row.measured.seconds,
         end_time / row.measured.seconds,
@@ -396,6 +426,7 @@ mod tests {
                     resolution: Resolution::Beam { elements: 1 },
                     dt: 1e-3,
                     scheme: Scheme::GeneralizedAlpha,
+                    inference: None,
                 },
                 dofs: 2,
                 seconds,

@@ -68,6 +68,13 @@ pub enum NeuralError {
     #[error("this model cannot be used as the beam's friction law: {0}")]
     NotAFrictionLaw(String),
 
+    /// An inference option (`friction.inference`) cannot serve this model.
+    #[error("friction.inference = {inference}: {reason}")]
+    Inference {
+        inference: &'static str,
+        reason: String,
+    },
+
     /// A network's layer sizes or a fixed feature value are unusable.
     #[error("{0}")]
     InvalidInput(String),

@@ -4,19 +4,21 @@
 //!
 //! # Layout
 //! A hidden layer z = W x + b is computed as a sum of columns, z = b + sum_i W[:, i] x_i,
-//! in blocks of [`BLOCK`] outputs: the block's partial sums stay in vector registers
-//! (5 AVX2 registers of 4 doubles, 10 with the tangent z' = W x'), each weight is loaded
-//! once (and used twice for the tangent), and the weights of a block are stored column
-//! after column, so that they stream in order. A layer whose width is not a multiple of
-//! [`BLOCK`] ends in blocks of [`LANES`] outputs, padded with zero weights. The output
-//! layer (one unit) is a dot product with eight partial sums. The shipped networks'
-//! 100 units make five blocks per layer.
+//! in blocks of [`VECTORS`] vector registers of outputs (20 doubles, 40 floats in
+//! AVX2): the block's partial sums stay in registers (10 with the tangent z' = W x'),
+//! each weight is loaded once (and used twice for the tangent), and the weights of a
+//! block are stored column after column, so that they stream in order. A layer whose
+//! width is not a multiple of the block ends in one narrower block, padded with zero
+//! weights to whole vectors. The output layer (one unit) is a dot product with eight
+//! partial sums. The shipped networks' 100 units make five blocks per layer in f64, two
+//! and one of 24 in f32.
 //!
-//! # Vector width
-//! The code is plain Rust written for the auto-vectoriser; it is compiled twice: for the
-//! x86_64 baseline (SSE2) and, behind run-time detection, for AVX2 + FMA (fused
-//! multiply-adds, 4 doubles per register). No target feature is assumed at build time,
-//! so the FMU loads on any x86_64.
+//! # Vector width and precision
+//! The code is plain Rust written for the auto-vectoriser, generic over the precision
+//! ([`Real`]: f64, and f32 for `Inference::F32`, 8 floats per AVX2 register, blocks of
+//! 40). It is compiled twice: for the x86_64 baseline (SSE2) and, behind run-time
+//! detection, for AVX2 + FMA (fused multiply-adds). No target feature is assumed at
+//! build time, so the FMU loads on any x86_64.
 //!
 //! # tanh
 //! [`tanh`]: tanh(|z|) = m / (m + 2) with m = expm1(2|z|), the sign copied from z.
@@ -30,44 +32,144 @@
 //! within 1e-16 absolute but loses the relative accuracy near 0. 300 of them take about
 //! a third of the time of 300 with libm's exp.
 
+use std::fmt::Debug;
+use std::ops::{Add, Div, Mul, MulAssign, Sub};
+
 use super::network::Activation;
 
-/// Outputs per block of a hidden layer: 5 vectors of [`LANES`].
-pub const BLOCK: usize = 20;
-/// Doubles per AVX2 register; the granularity of the padding.
-pub const LANES: usize = 4;
+/// Vector registers per block of a hidden layer's outputs: 5 (20 doubles or 40 floats
+/// in AVX2; 10 registers with the tangent).
+const VECTORS: usize = 5;
+
+/// The precision of a forward pass: f64 (exact) or f32.
+pub trait Real:
+    Copy
+    + Default
+    + Debug
+    + PartialOrd
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + MulAssign
+    + Div<Output = Self>
+    + Send
+    + Sync
+    + 'static
+{
+    /// Values per AVX2 register: the padding of a layer's outputs.
+    const LANES: usize;
+    const ZERO: Self;
+    const ONE: Self;
+    const HALF: Self;
+    fn from_f64(x: f64) -> Self;
+    fn to_f64(self) -> f64;
+    /// a b + c, fused where `FUSED` (compiled for FMA).
+    fn multiply_add<const FUSED: bool>(a: Self, b: Self, c: Self) -> Self;
+    /// tanh in this precision (see [`tanh`], [`tanh_f32`]).
+    fn tanh<const FUSED: bool>(self) -> Self;
+    /// The whole forward pass, instantiated with this type's vector width.
+    fn network<const FUSED: bool, const SLOPE: bool>(
+        network: &Network<Self>,
+        buffers: &mut Buffers<Self>,
+    ) -> (Self, Self);
+}
+
+impl Real for f64 {
+    const LANES: usize = 4;
+    const ZERO: f64 = 0.0;
+    const ONE: f64 = 1.0;
+    const HALF: f64 = 0.5;
+    fn from_f64(x: f64) -> f64 {
+        x
+    }
+    fn to_f64(self) -> f64 {
+        self
+    }
+    #[inline(always)]
+    fn multiply_add<const FUSED: bool>(a: f64, b: f64, c: f64) -> f64 {
+        if FUSED {
+            a.mul_add(b, c)
+        } else {
+            a * b + c
+        }
+    }
+    #[inline(always)]
+    fn tanh<const FUSED: bool>(self) -> f64 {
+        tanh::<FUSED>(self)
+    }
+    #[inline(always)]
+    fn network<const FUSED: bool, const SLOPE: bool>(
+        network: &Network<f64>,
+        buffers: &mut Buffers<f64>,
+    ) -> (f64, f64) {
+        run_network::<f64, 4, FUSED, SLOPE>(network, buffers)
+    }
+}
+
+impl Real for f32 {
+    const LANES: usize = 8;
+    const ZERO: f32 = 0.0;
+    const ONE: f32 = 1.0;
+    const HALF: f32 = 0.5;
+    fn from_f64(x: f64) -> f32 {
+        x as f32
+    }
+    fn to_f64(self) -> f64 {
+        f64::from(self)
+    }
+    #[inline(always)]
+    fn multiply_add<const FUSED: bool>(a: f32, b: f32, c: f32) -> f32 {
+        if FUSED {
+            a.mul_add(b, c)
+        } else {
+            a * b + c
+        }
+    }
+    #[inline(always)]
+    fn tanh<const FUSED: bool>(self) -> f32 {
+        tanh_f32::<FUSED>(self)
+    }
+    #[inline(always)]
+    fn network<const FUSED: bool, const SLOPE: bool>(
+        network: &Network<f32>,
+        buffers: &mut Buffers<f32>,
+    ) -> (f32, f32) {
+        run_network::<f32, 8, FUSED, SLOPE>(network, buffers)
+    }
+}
 
 /// One layer, its weights in blocks of outputs (see the module notes).
 #[derive(Clone, Debug)]
-pub struct BlockedLayer {
+pub struct BlockedLayer<T> {
     inputs: usize,
     /// Outputs of the layer (unpadded).
     outputs: usize,
-    /// Outputs rounded up to a multiple of [`LANES`].
+    /// Outputs rounded up to a multiple of `T::LANES`.
     padded: usize,
     /// Per block of width w starting at output o: w x inputs weights, column i at
     /// [i w, (i + 1) w), W[o + j, i] at i w + j; blocks one after the other.
-    weights: Vec<f64>,
+    weights: Vec<T>,
     /// Biases, padded with zeros.
-    biases: Vec<f64>,
+    biases: Vec<T>,
 }
 
-impl BlockedLayer {
-    /// The layer with row-major weights `rows[o][i]` (outputs x inputs) and `biases`.
-    pub fn new(rows: &[Vec<f64>], biases: &[f64]) -> BlockedLayer {
+impl<T: Real> BlockedLayer<T> {
+    /// The layer with row-major weights `rows[o][i]` (outputs x inputs) and `biases`,
+    /// rounded to `T`.
+    pub fn new(rows: &[Vec<f64>], biases: &[f64]) -> BlockedLayer<T> {
         let outputs = rows.len();
         let inputs = rows.first().map_or(0, Vec::len);
-        let padded = outputs.div_ceil(LANES) * LANES;
+        let padded = outputs.div_ceil(T::LANES) * T::LANES;
         let mut weights = Vec::with_capacity(padded * inputs);
-        for (start, width) in blocks(padded) {
+        for (start, width) in blocks(padded, T::LANES) {
             for i in 0..inputs {
                 for o in start..start + width {
-                    weights.push(rows.get(o).map_or(0.0, |row| row[i]));
+                    weights.push(T::from_f64(rows.get(o).map_or(0.0, |row| row[i])));
                 }
             }
         }
-        let mut padded_biases = biases.to_vec();
-        padded_biases.resize(padded, 0.0);
+        let mut padded_biases: Vec<T> = biases.iter().map(|b| T::from_f64(*b)).collect();
+        padded_biases.resize(padded, T::ZERO);
         BlockedLayer {
             inputs,
             outputs,
@@ -85,102 +187,96 @@ impl BlockedLayer {
         self.outputs
     }
 
-    /// Outputs rounded up to a multiple of [`LANES`]: the room its output buffer needs.
+    /// Outputs rounded up to a multiple of `T::LANES`: the room its output buffer needs.
     pub fn padded_outputs(&self) -> usize {
         self.padded
     }
 }
 
-/// The blocks (start, width) of `padded` outputs: of [`BLOCK`], then of [`LANES`].
-fn blocks(padded: usize) -> impl Iterator<Item = (usize, usize)> {
-    let full = padded / BLOCK;
+/// The blocks (start, width) of `padded` outputs: of [`VECTORS`] x `lanes`, then one of
+/// the rest (fewer vectors: one block keeps several independent sums in flight where
+/// blocks of one vector would each wait on a single chain of additions).
+fn blocks(padded: usize, lanes: usize) -> impl Iterator<Item = (usize, usize)> {
+    let block = VECTORS * lanes;
+    let full = padded / block;
+    let rest = padded - full * block;
     (0..full)
-        .map(|b| (b * BLOCK, BLOCK))
-        .chain((full * BLOCK..padded).step_by(LANES).map(|s| (s, LANES)))
+        .map(move |b| (b * block, block))
+        .chain((rest > 0).then_some((full * block, rest)))
 }
 
-/// a b + c, fused (one rounding) where the CPU has FMA and this code is compiled for it.
+/// z (and with `SLOPE` the tangent z' = W x') of one block of `V` x `L` outputs, from
+/// the block's weights `w` (column after column) and biases `b`. The partial sums are
+/// `V` groups of `L`, one vector register each.
 #[inline(always)]
-fn multiply_add<const FUSED: bool>(a: f64, b: f64, c: f64) -> f64 {
-    if FUSED {
-        a.mul_add(b, c)
-    } else {
-        a * b + c
-    }
-}
-
-/// z (and with `SLOPE` the tangent z' = W x') of one block of `V` x [`LANES`] outputs,
-/// from the block's weights `w` (column after column) and biases `b`. The partial sums
-/// are `V` groups of [`LANES`], one vector register each.
-#[inline(always)]
-fn block<const V: usize, const FUSED: bool, const SLOPE: bool>(
-    w: &[f64],
-    b: &[f64],
-    x: &[f64],
-    dx: &[f64],
-    z: &mut [f64],
-    dz: &mut [f64],
+fn block<T: Real, const L: usize, const V: usize, const FUSED: bool, const SLOPE: bool>(
+    w: &[T],
+    b: &[T],
+    x: &[T],
+    dx: &[T],
+    z: &mut [T],
+    dz: &mut [T],
 ) {
-    let mut value = [[0.0; LANES]; V];
-    for (group, bias) in value.iter_mut().zip(b.chunks_exact(LANES)) {
+    let mut value = [[T::ZERO; L]; V];
+    for (group, bias) in value.iter_mut().zip(b.chunks_exact(L)) {
         group.copy_from_slice(bias);
     }
-    let mut tangent = [[0.0; LANES]; V];
-    for (i, column) in w.chunks_exact(V * LANES).enumerate() {
+    let mut tangent = [[T::ZERO; L]; V];
+    for (i, column) in w.chunks_exact(V * L).enumerate() {
         let xi = x[i];
-        let dxi = if SLOPE { dx[i] } else { 0.0 };
-        for (g, weights) in column.chunks_exact(LANES).enumerate() {
-            for l in 0..LANES {
-                value[g][l] = multiply_add::<FUSED>(weights[l], xi, value[g][l]);
+        let dxi = if SLOPE { dx[i] } else { T::ZERO };
+        for (g, weights) in column.chunks_exact(L).enumerate() {
+            for l in 0..L {
+                value[g][l] = T::multiply_add::<FUSED>(weights[l], xi, value[g][l]);
                 if SLOPE {
-                    tangent[g][l] = multiply_add::<FUSED>(weights[l], dxi, tangent[g][l]);
+                    tangent[g][l] = T::multiply_add::<FUSED>(weights[l], dxi, tangent[g][l]);
                 }
             }
         }
     }
     for (g, group) in value.iter().enumerate() {
-        z[g * LANES..(g + 1) * LANES].copy_from_slice(group);
+        z[g * L..(g + 1) * L].copy_from_slice(group);
     }
     if SLOPE {
         for (g, group) in tangent.iter().enumerate() {
-            dz[g * LANES..(g + 1) * LANES].copy_from_slice(group);
+            dz[g * L..(g + 1) * L].copy_from_slice(group);
         }
     }
 }
 
 /// a = phi(z) of a hidden layer, in place, and with `SLOPE` a' = phi'(z) z'.
 #[inline(always)]
-fn activate<const FUSED: bool, const SLOPE: bool>(
+fn activate<T: Real, const FUSED: bool, const SLOPE: bool>(
     activation: Activation,
-    z: &mut [f64],
-    dz: &mut [f64],
+    z: &mut [T],
+    dz: &mut [T],
 ) {
     match activation {
         Activation::Tanh => {
             for (v, t) in z.iter_mut().zip(dz.iter_mut()) {
-                let a = tanh::<FUSED>(*v);
+                let a = v.tanh::<FUSED>();
                 *v = a;
                 if SLOPE {
-                    *t *= 1.0 - a * a;
+                    *t *= T::ONE - a * a;
                 }
             }
         }
         Activation::Sigmoid => {
             // sigma(z) = (1 + tanh(z / 2)) / 2, sigma' = sigma (1 - sigma).
             for (v, t) in z.iter_mut().zip(dz.iter_mut()) {
-                let s = 0.5 + 0.5 * tanh::<FUSED>(0.5 * *v);
+                let s = T::HALF + T::HALF * (T::HALF * *v).tanh::<FUSED>();
                 *v = s;
                 if SLOPE {
-                    *t *= s * (1.0 - s);
+                    *t *= s * (T::ONE - s);
                 }
             }
         }
         Activation::Relu => {
             for (v, t) in z.iter_mut().zip(dz.iter_mut()) {
-                let positive = *v > 0.0;
-                *v = if positive { *v } else { 0.0 };
+                let positive = *v > T::ZERO;
+                *v = if positive { *v } else { T::ZERO };
                 if SLOPE && !positive {
-                    *t = 0.0;
+                    *t = T::ZERO;
                 }
             }
         }
@@ -191,29 +287,31 @@ fn activate<const FUSED: bool, const SLOPE: bool>(
 /// hold at least `layer.inputs()` values, `y`, `dy` room for `layer.padded_outputs()`
 /// (the padding gets phi(0)).
 #[inline(always)]
-fn hidden<const FUSED: bool, const SLOPE: bool>(
-    layer: &BlockedLayer,
+fn hidden<T: Real, const L: usize, const FUSED: bool, const SLOPE: bool>(
+    layer: &BlockedLayer<T>,
     activation: Activation,
-    x: &[f64],
-    dx: &[f64],
-    y: &mut [f64],
-    dy: &mut [f64],
+    x: &[T],
+    dx: &[T],
+    y: &mut [T],
+    dy: &mut [T],
 ) {
     let n = layer.inputs;
     let (x, dx) = (&x[..n], &dx[..n]);
     let mut offset = 0;
-    for (start, width) in blocks(layer.padded) {
+    for (start, width) in blocks(layer.padded, L) {
         let w = &layer.weights[offset..offset + width * n];
         let b = &layer.biases[start..start + width];
         let (z, dz) = (&mut y[start..start + width], &mut dy[start..start + width]);
-        if width == BLOCK {
-            block::<{ BLOCK / LANES }, FUSED, SLOPE>(w, b, x, dx, z, dz);
-        } else {
-            block::<1, FUSED, SLOPE>(w, b, x, dx, z, dz);
+        match width / L {
+            1 => block::<T, L, 1, FUSED, SLOPE>(w, b, x, dx, z, dz),
+            2 => block::<T, L, 2, FUSED, SLOPE>(w, b, x, dx, z, dz),
+            3 => block::<T, L, 3, FUSED, SLOPE>(w, b, x, dx, z, dz),
+            4 => block::<T, L, 4, FUSED, SLOPE>(w, b, x, dx, z, dz),
+            _ => block::<T, L, VECTORS, FUSED, SLOPE>(w, b, x, dx, z, dz),
         }
         // Right away, while the next block's weights stream in: the activation's
         // arithmetic overlaps the loads (measured: 10 % faster than after the layer).
-        activate::<FUSED, SLOPE>(activation, z, dz);
+        activate::<T, FUSED, SLOPE>(activation, z, dz);
         offset += width * n;
     }
 }
@@ -221,18 +319,16 @@ fn hidden<const FUSED: bool, const SLOPE: bool>(
 /// Dot product with eight independent partial sums (a single running sum would chain
 /// every addition; eight keep several vector additions in flight).
 #[inline(always)]
-fn dot<const FUSED: bool>(a: &[f64], b: &[f64]) -> f64 {
-    let mut partial = [0.0; 8];
+fn dot<T: Real, const FUSED: bool>(a: &[T], b: &[T]) -> T {
+    let mut partial = [T::ZERO; 8];
     let (a8, b8) = (a.chunks_exact(8), b.chunks_exact(8));
-    let tail: f64 = a8
-        .remainder()
-        .iter()
-        .zip(b8.remainder())
-        .map(|(x, y)| x * y)
-        .sum();
+    let mut tail = T::ZERO;
+    for (x, y) in a8.remainder().iter().zip(b8.remainder()) {
+        tail = tail + *x * *y;
+    }
     for (x, y) in a8.zip(b8) {
         for k in 0..8 {
-            partial[k] = multiply_add::<FUSED>(x[k], y[k], partial[k]);
+            partial[k] = T::multiply_add::<FUSED>(x[k], y[k], partial[k]);
         }
     }
     let [p0, p1, p2, p3, p4, p5, p6, p7] = partial;
@@ -242,44 +338,38 @@ fn dot<const FUSED: bool>(a: &[f64], b: &[f64]) -> f64 {
 /// The network's standardised output z and with `SLOPE` its tangent z', from the
 /// standardised inputs in `buffers.value[0]` and their tangents in `buffers.tangent[0]`.
 #[inline(always)]
-fn network<const FUSED: bool, const SLOPE: bool>(
-    layers: &[BlockedLayer],
-    output: &[f64],
-    output_bias: f64,
-    activation: Activation,
-    buffers: &mut Buffers,
-) -> (f64, f64) {
+fn run_network<T: Real, const L: usize, const FUSED: bool, const SLOPE: bool>(
+    network: &Network<T>,
+    buffers: &mut Buffers<T>,
+) -> (T, T) {
     let Buffers { value, tangent } = buffers;
     let [x, y] = value;
     let [dx, dy] = tangent;
     let (mut x, mut y) = (x.as_mut_slice(), y.as_mut_slice());
     let (mut dx, mut dy) = (dx.as_mut_slice(), dy.as_mut_slice());
-    for layer in layers {
-        hidden::<FUSED, SLOPE>(layer, activation, x, dx, y, dy);
+    for layer in &network.layers {
+        hidden::<T, L, FUSED, SLOPE>(layer, network.activation, x, dx, y, dy);
         std::mem::swap(&mut x, &mut y);
         std::mem::swap(&mut dx, &mut dy);
     }
-    let n = output.len();
-    let z = dot::<FUSED>(output, &x[..n]) + output_bias;
+    let n = network.output.len();
+    let z = dot::<T, FUSED>(&network.output, &x[..n]) + network.output_bias;
     let dz = if SLOPE {
-        dot::<FUSED>(output, &dx[..n])
+        dot::<T, FUSED>(&network.output, &dx[..n])
     } else {
-        0.0
+        T::ZERO
     };
     (z, dz)
 }
 
-/// `network` for AVX2 + FMA. Called only after run-time detection.
+/// The forward pass compiled for AVX2 + FMA. Called only after run-time detection.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-fn network_avx2_fma<const SLOPE: bool>(
-    layers: &[BlockedLayer],
-    output: &[f64],
-    output_bias: f64,
-    activation: Activation,
-    buffers: &mut Buffers,
-) -> (f64, f64) {
-    network::<true, SLOPE>(layers, output, output_bias, activation, buffers)
+fn network_avx2_fma<T: Real, const SLOPE: bool>(
+    network: &Network<T>,
+    buffers: &mut Buffers<T>,
+) -> (T, T) {
+    T::network::<true, SLOPE>(network, buffers)
 }
 
 /// Whether this CPU runs the AVX2 + FMA build of the forward pass.
@@ -296,41 +386,47 @@ fn cpu_has_avx2_fma() -> bool {
 
 /// Two value and two tangent buffers, each as wide as the widest padded layer.
 #[derive(Clone, Debug)]
-pub struct Buffers {
-    value: [Vec<f64>; 2],
-    tangent: [Vec<f64>; 2],
+pub struct Buffers<T> {
+    value: [Vec<T>; 2],
+    tangent: [Vec<T>; 2],
+}
+
+/// The layers of a network with one output, in the time-step loop's layout.
+#[derive(Clone, Debug)]
+pub struct Network<T> {
+    /// Hidden layers.
+    layers: Vec<BlockedLayer<T>>,
+    /// Output layer: one unit's weights and bias.
+    output: Vec<T>,
+    output_bias: T,
+    activation: Activation,
 }
 
 /// A network in the layout of the time-step loop, with its scratch buffers.
 #[derive(Clone, Debug)]
-pub struct Forward {
-    /// Hidden layers.
-    layers: Vec<BlockedLayer>,
-    /// Output layer: one unit's weights and bias.
-    output: Vec<f64>,
-    output_bias: f64,
-    activation: Activation,
+pub struct Forward<T> {
+    network: Network<T>,
     avx2_fma: bool,
-    buffers: Buffers,
+    buffers: Buffers<T>,
 }
 
-impl Forward {
+impl<T: Real> Forward<T> {
     /// Runs the x86_64-baseline build even where AVX2 + FMA is there (to test it).
     #[cfg(test)]
-    fn baseline_only(mut self) -> Forward {
+    fn baseline_only(mut self) -> Forward<T> {
         self.avx2_fma = false;
         self
     }
 
     /// From the row-major layers (`weights[o][i]`, biases) of a network with one
-    /// output; `inputs` features.
+    /// output; `inputs` features. The weights are rounded to `T`.
     pub fn new(
         inputs: usize,
         layers: &[(Vec<Vec<f64>>, Vec<f64>)],
         activation: Activation,
-    ) -> Forward {
+    ) -> Forward<T> {
         let (last, hidden) = layers.split_last().expect("a network has an output layer");
-        let hidden: Vec<BlockedLayer> = hidden
+        let hidden: Vec<BlockedLayer<T>> = hidden
             .iter()
             .map(|(rows, biases)| BlockedLayer::new(rows, biases))
             .collect();
@@ -340,12 +436,14 @@ impl Forward {
             .chain([inputs])
             .max()
             .unwrap_or(inputs);
-        let buffer = vec![0.0; widest];
+        let buffer = vec![T::ZERO; widest];
         Forward {
-            layers: hidden,
-            output: last.0[0].clone(),
-            output_bias: last.1[0],
-            activation,
+            network: Network {
+                layers: hidden,
+                output: last.0[0].iter().map(|w| T::from_f64(*w)).collect(),
+                output_bias: T::from_f64(last.1[0]),
+                activation,
+            },
             avx2_fma: cpu_has_avx2_fma(),
             buffers: Buffers {
                 value: [buffer.clone(), buffer.clone()],
@@ -356,20 +454,17 @@ impl Forward {
 
     /// The input buffers to fill before [`Forward::run`]: the standardised inputs and,
     /// for the slope, their derivatives.
-    pub fn inputs_mut(&mut self) -> (&mut [f64], &mut [f64]) {
+    pub fn inputs_mut(&mut self) -> (&mut [T], &mut [T]) {
         let Buffers { value, tangent } = &mut self.buffers;
         (&mut value[0], &mut tangent[0])
     }
 
     /// The standardised output z and with `SLOPE` its derivative along the input
-    /// tangent (0 without).
+    /// tangent (0 without), in f64.
     #[inline]
     pub fn run<const SLOPE: bool>(&mut self) -> (f64, f64) {
         let Forward {
-            layers,
-            output,
-            output_bias,
-            activation,
+            network,
             avx2_fma,
             buffers,
         } = self;
@@ -378,12 +473,12 @@ impl Forward {
             // SAFETY: avx2_fma is true only if the running CPU has AVX2 and FMA
             // (is_x86_feature_detected at construction), the features this function is
             // compiled for. It has no other safety requirement.
-            return unsafe {
-                network_avx2_fma::<SLOPE>(layers, output, *output_bias, *activation, buffers)
-            };
+            let (z, dz) = unsafe { network_avx2_fma::<T, SLOPE>(network, buffers) };
+            return (z.to_f64(), dz.to_f64());
         }
         let _ = avx2_fma;
-        network::<false, SLOPE>(layers, output, *output_bias, *activation, buffers)
+        let (z, dz) = T::network::<false, SLOPE>(network, buffers);
+        (z.to_f64(), dz.to_f64())
     }
 }
 
@@ -414,7 +509,7 @@ pub fn tanh<const FUSED: bool>(z: f64) -> f64 {
         1.0 / 479_001_600.0,
         1.0 / 6_227_020_800.0,
     ];
-    let fma = multiply_add::<FUSED>;
+    let fma = <f64 as Real>::multiply_add::<FUSED>;
     let magnitude = z.abs();
     // 2|z| <= 40, where tanh = 1 - 2 / (e^40 + 1) already rounds to 1. The comparison
     // is false for NaN, which goes on as NaN.
@@ -440,6 +535,51 @@ pub fn tanh<const FUSED: bool>(z: f64) -> f64 {
     // 2^n from the integer in `shifted`'s low bits (0 <= n <= 58).
     let n_bits = shifted.to_bits().wrapping_sub(ROUND.to_bits());
     let scale = f64::from_bits(n_bits.wrapping_add(1023) << 52);
+    let m = fma(scale, expm1_r, scale - 1.0);
+    let t = m / (m + 2.0);
+    t.copysign(z)
+}
+
+/// tanh(z) in f32, the same construction as [`tanh`] with f32 constants: ln 2 split as
+/// 0.693359375 (9 significant bits, so n LN2_HI is exact for n <= 58) plus the rest, and
+/// a degree-7 Taylor polynomial for expm1(r) (truncation 1.3e-8 relative, below f32's
+/// 6e-8). Within 3 ulp (f32) of tanh (tested).
+#[inline(always)]
+pub fn tanh_f32<const FUSED: bool>(z: f32) -> f32 {
+    const LN2_HI: f32 = 0.693_359_4;
+    const LN2_LO: f32 = -2.121_944_4e-4;
+    const LOG2_E: f32 = std::f32::consts::LOG2_E;
+    // 1.5 2^23: adding it rounds to an integer, which lands in the low mantissa bits.
+    const ROUND: f32 = 12_582_912.0;
+    // 1 / k! for k = 2..7.
+    const C: [f32; 6] = [
+        1.0 / 2.0,
+        1.0 / 6.0,
+        1.0 / 24.0,
+        1.0 / 120.0,
+        1.0 / 720.0,
+        1.0 / 5_040.0,
+    ];
+    let fma = <f32 as Real>::multiply_add::<FUSED>;
+    let magnitude = z.abs();
+    let x = if 2.0 * magnitude > 40.0 {
+        40.0
+    } else {
+        2.0 * magnitude
+    };
+    let shifted = fma(x, LOG2_E, ROUND);
+    let n = shifted - ROUND;
+    let r = fma(-n, LN2_LO, fma(-n, LN2_HI, x));
+    let r2 = r * r;
+    let r4 = r2 * r2;
+    let q = fma(
+        fma(C[5], r, C[4]),
+        r4,
+        fma(fma(C[3], r, C[2]), r2, fma(C[1], r, C[0])),
+    );
+    let expm1_r = fma(r2, q, r);
+    let n_bits = shifted.to_bits().wrapping_sub(ROUND.to_bits());
+    let scale = f32::from_bits(n_bits.wrapping_add(127) << 23);
     let m = fma(scale, expm1_r, scale - 1.0);
     let t = m / (m + 2.0);
     t.copysign(z)
@@ -507,10 +647,10 @@ mod tests {
                 (rows, (0..pair[1]).map(|o| 0.01 * o as f64 - 0.3).collect())
             })
             .collect();
-        let mut detected = Forward::new(2, &layers, Activation::Tanh);
-        let mut baseline = Forward::new(2, &layers, Activation::Tanh).baseline_only();
+        let mut detected = Forward::<f64>::new(2, &layers, Activation::Tanh);
+        let mut baseline = Forward::<f64>::new(2, &layers, Activation::Tanh).baseline_only();
         for (v, f) in [(0.3, -1.2), (-2.0, 0.5), (0.0, 0.0)] {
-            let run = |forward: &mut Forward| {
+            let run = |forward: &mut Forward<f64>| {
                 let (inputs, tangents) = forward.inputs_mut();
                 inputs[..2].copy_from_slice(&[v, f]);
                 tangents[..2].copy_from_slice(&[1.0, 0.0]);
@@ -541,12 +681,12 @@ mod tests {
                 })
                 .collect();
             let biases: Vec<f64> = (0..outputs).map(|o| o as f64 * 0.01).collect();
-            let layer = BlockedLayer::new(&rows, &biases);
+            let layer = BlockedLayer::<f64>::new(&rows, &biases);
             let x: Vec<f64> = (0..inputs).map(|i| (i as f64).sin()).collect();
             let dx: Vec<f64> = (0..inputs).map(|i| (i as f64).cos()).collect();
             let mut y = vec![f64::NAN; layer.padded_outputs()];
             let mut dy = vec![f64::NAN; layer.padded_outputs()];
-            hidden::<false, true>(&layer, Activation::Relu, &x, &dx, &mut y, &mut dy);
+            hidden::<f64, 4, false, true>(&layer, Activation::Relu, &x, &dx, &mut y, &mut dy);
             for o in 0..outputs {
                 let z: f64 = biases[o] + rows[o].iter().zip(&x).map(|(w, x)| w * x).sum::<f64>();
                 let dz: f64 = rows[o].iter().zip(&dx).map(|(w, x)| w * x).sum();

@@ -23,10 +23,11 @@ use std::path::Path;
 use nalgebra::DMatrix;
 
 use super::error::NeuralError;
-use super::forward::Forward;
+use super::forward::{Forward, Real};
 use super::weights::FeatureRole;
 use super::weights::{network_input_range, NeuralModel, Variant};
 use crate::friction::{signum_or_zero, FrictionLaw};
+use crate::scene::Inference;
 
 /// The shipped plain-variant weights (`weights/paper-plain.json`).
 pub const PAPER_PLAIN_JSON: &str = include_str!("../../../../weights/paper-plain.json");
@@ -38,7 +39,13 @@ pub const PAPER_SIGNED_JSON: &str = include_str!("../../../../weights/paper-sign
 pub struct NeuralLaw {
     model: NeuralModel,
     /// The network in the time-step loop's layout, with its scratch buffers.
-    forward: Forward,
+    forward: Forward<f64>,
+    /// The same network in f32, which evaluations use instead when present
+    /// (`Inference::F32`, see [`NeuralLaw::in_f32`]).
+    forward_f32: Option<Forward<f32>>,
+    /// The f32 network's largest deviation from the exact one over the training range
+    /// (N), measured when it was built.
+    f32_deviation: Option<f64>,
     /// Per feature: clamp range of the network input, mean and 1/std.
     input_lo: Vec<f64>,
     input_hi: Vec<f64>,
@@ -73,6 +80,8 @@ impl NeuralLaw {
         let d = model.features.len();
         Ok(NeuralLaw {
             forward,
+            forward_f32: None,
+            f32_deviation: None,
             input_lo,
             input_hi,
             input_mean: model.features.iter().map(|f| f.input_mean).collect(),
@@ -88,6 +97,82 @@ impl NeuralLaw {
             features: vec![0.0; d],
             model,
         })
+    }
+
+    /// The same law evaluated in f32 (`friction.inference = f32`): the weights rounded
+    /// to f32, every product and sum in f32, inputs and output converted at the edges.
+    /// Its largest deviation from the exact network is measured over the training range
+    /// here ([`NeuralLaw::f32_deviation`]).
+    pub fn in_f32(mut self) -> NeuralLaw {
+        let layers: Vec<(Vec<Vec<f64>>, Vec<f64>)> = self
+            .model
+            .layers
+            .iter()
+            .map(|l| (l.weights.clone(), l.biases.clone()))
+            .collect();
+        let f32_forward =
+            Forward::<f32>::new(self.model.features.len(), &layers, self.model.activation);
+        let mut deviation: f64 = 0.0;
+        for point in sample_points(&self) {
+            self.forward_f32 = None;
+            let exact = self.evaluate(&point);
+            self.forward_f32 = Some(f32_forward.clone());
+            let single = self.evaluate(&point);
+            if let (Ok(exact), Ok(single)) = (exact, single) {
+                deviation = deviation.max((single - exact).abs());
+            }
+        }
+        self.forward_f32 = Some(f32_forward);
+        self.f32_deviation = Some(deviation);
+        self
+    }
+
+    /// How this law is evaluated: `Exact` or `F32` (the table is its own law,
+    /// `table::TableLaw`).
+    pub fn inference(&self) -> Inference {
+        if self.forward_f32.is_some() {
+            Inference::F32
+        } else {
+            Inference::Exact
+        }
+    }
+
+    /// For an f32 law, its largest deviation from the exact network over the training
+    /// range (N, target units), measured when it was built; None for the exact law.
+    pub fn f32_deviation(&self) -> Option<f64> {
+        self.f32_deviation
+    }
+
+    /// The values given to features with [`NeuralLaw::with_fixed_feature`], by feature.
+    pub fn fixed_features(&self) -> &[Option<f64>] {
+        &self.fixed
+    }
+
+    /// The feature with the sliding-velocity role.
+    pub fn velocity(&self) -> Option<usize> {
+        self.velocity
+    }
+
+    /// The feature with the normal-force role.
+    pub fn normal_force(&self) -> Option<usize> {
+        self.normal_force
+    }
+
+    /// The training range of the normal force (N), the range the network clamps it to;
+    /// (0, 0) without a normal-force feature.
+    pub fn normal_force_range(&self) -> (f64, f64) {
+        self.normal_force
+            .map_or((0.0, 0.0), |k| (self.input_lo[k], self.input_hi[k]))
+    }
+
+    /// `normal_force` (N) clamped to the training range, as the network sees it.
+    pub fn clamped_normal_force(&self, normal_force: f64) -> f64 {
+        let (lo, hi) = self.normal_force_range();
+        if self.normal_force.is_some() {
+            normal_force.clamp(lo, hi)
+        } else {
+            0.0
+        }
     }
 
     /// Loads and checks a weights file.
@@ -238,12 +323,8 @@ impl NeuralLaw {
     fn evaluate_scratch_with<const SLOPE: bool>(&mut self) -> (f64, f64) {
         let NeuralLaw {
             forward,
-            input_lo,
-            input_hi,
-            input_mean,
-            input_inverse_std,
+            forward_f32,
             signed_velocity,
-            velocity,
             features,
             model,
             ..
@@ -255,22 +336,19 @@ impl NeuralLaw {
         }
         // d|v|/dv, and at v = 0 that of v > 0 (the slope of the magnitude).
         let seed_sign = if sign == 0.0 { 1.0 } else { sign };
-        let (inputs, tangents) = forward.inputs_mut();
-        for (k, feature) in features.iter().enumerate() {
-            inputs[k] =
-                (feature.clamp(input_lo[k], input_hi[k]) - input_mean[k]) * input_inverse_std[k];
-            if SLOPE {
-                // d input / dv: 1/std on the velocity inside its range (times sign(v) for
-                // the signed variant's |v|), 0 for the other features and when clamped.
-                let inside = *feature >= input_lo[k] && *feature <= input_hi[k];
-                tangents[k] = if Some(k) == *velocity && inside {
-                    input_inverse_std[k] * seed_sign
-                } else {
-                    0.0
-                };
-            }
-        }
-        let (z, dz) = forward.run::<SLOPE>();
+        let inputs = Inputs {
+            features,
+            lo: &self.input_lo,
+            hi: &self.input_hi,
+            mean: &self.input_mean,
+            inverse_std: &self.input_inverse_std,
+            velocity: self.velocity,
+            seed_sign,
+        };
+        let (z, dz) = match forward_f32 {
+            Some(forward) => inputs.run::<f32, SLOPE>(forward),
+            None => inputs.run::<f64, SLOPE>(forward),
+        };
         let force = model.force_from_output(z, sign);
         if !SLOPE {
             return (force, 0.0);
@@ -309,6 +387,100 @@ impl NeuralLaw {
     }
 }
 
+/// Points of the training range at which the f32 network is compared with the exact
+/// one when it is built: a 64 x 16 grid over (sliding velocity, normal force), or 1024
+/// points of a low-discrepancy sequence over the features' box for other models.
+pub const F32_SAMPLES: usize = 1024;
+
+/// The points of the features' box at which to compare two evaluations of `law`: its
+/// training range (the range the network clamps to), the beam's features on a grid
+/// when the model is a friction law of the beam, otherwise a Halton sequence.
+fn sample_points(law: &NeuralLaw) -> Vec<Vec<f64>> {
+    let model = law.model();
+    let ranges: Vec<(f64, f64)> = model.features.iter().map(|f| (f.min, f.max)).collect();
+    let fixed = law.fixed_features();
+    let point = |u: &[f64]| -> Vec<f64> {
+        ranges
+            .iter()
+            .zip(u)
+            .zip(fixed)
+            .map(|(((lo, hi), t), fixed)| fixed.unwrap_or(lo + (hi - lo) * t))
+            .collect()
+    };
+    if let (Some(v), Some(f), None) = (law.velocity(), law.normal_force(), law.beam_problem()) {
+        let (columns, rows) = (64, F32_SAMPLES / 64);
+        let mut points = Vec::with_capacity(F32_SAMPLES);
+        for i in 0..columns {
+            for j in 0..rows {
+                let mut u = vec![0.5; ranges.len()];
+                u[v] = (i as f64 + 0.5) / columns as f64;
+                u[f] = j as f64 / (rows - 1) as f64;
+                points.push(point(&u));
+            }
+        }
+        points
+    } else {
+        const PRIMES: [u64; 8] = [2, 3, 5, 7, 11, 13, 17, 19];
+        (1..=F32_SAMPLES as u64)
+            .map(|n| {
+                let u: Vec<f64> = (0..ranges.len())
+                    .map(|k| radical_inverse(n, PRIMES[k % PRIMES.len()]))
+                    .collect();
+                point(&u)
+            })
+            .collect()
+    }
+}
+
+/// The van der Corput radical inverse of `n` in base `base`, in [0, 1).
+fn radical_inverse(mut n: u64, base: u64) -> f64 {
+    let (mut value, mut scale) = (0.0, 1.0 / base as f64);
+    while n > 0 {
+        value += (n % base) as f64 * scale;
+        n /= base;
+        scale /= base as f64;
+    }
+    value
+}
+
+/// One sample's features (the signed variant's velocity already |v|) and what maps
+/// them to the network's standardised inputs.
+struct Inputs<'a> {
+    features: &'a [f64],
+    lo: &'a [f64],
+    hi: &'a [f64],
+    mean: &'a [f64],
+    inverse_std: &'a [f64],
+    velocity: Option<usize>,
+    /// d|v|/dv for the signed variant (1 for the plain one).
+    seed_sign: f64,
+}
+
+impl Inputs<'_> {
+    /// Clamps and standardises the features into `forward`'s input buffer (and their
+    /// derivatives along v into its tangent buffer), then runs it: z and z'.
+    #[inline]
+    fn run<T: Real, const SLOPE: bool>(&self, forward: &mut Forward<T>) -> (f64, f64) {
+        let (inputs, tangents) = forward.inputs_mut();
+        for (k, feature) in self.features.iter().enumerate() {
+            inputs[k] = T::from_f64(
+                (feature.clamp(self.lo[k], self.hi[k]) - self.mean[k]) * self.inverse_std[k],
+            );
+            if SLOPE {
+                // d input / dv: 1/std on the velocity inside its range (times sign(v) for
+                // the signed variant's |v|), 0 for the other features and when clamped.
+                let inside = *feature >= self.lo[k] && *feature <= self.hi[k];
+                tangents[k] = T::from_f64(if Some(k) == self.velocity && inside {
+                    self.inverse_std[k] * self.seed_sign
+                } else {
+                    0.0
+                });
+            }
+        }
+        forward.run::<SLOPE>()
+    }
+}
+
 impl FrictionLaw for NeuralLaw {
     fn name(&self) -> &str {
         crate::choice::Choice::name(crate::scene::FrictionLawKind::Neural)
@@ -322,6 +494,13 @@ impl FrictionLaw for NeuralLaw {
             return f64::NAN;
         }
         self.evaluate_scratch()
+    }
+
+    /// In f32, the largest deviation from the exact network over the training range
+    /// (measured at build, [`NeuralLaw::f32_deviation`]): the slip solve does not resolve
+    /// the force more finely than the law's own error; 0 in f64.
+    fn resolution(&self) -> f64 {
+        self.f32_deviation.unwrap_or(0.0)
     }
 
     /// The force and dF/dv (N s/m) by forward-mode differentiation through the network

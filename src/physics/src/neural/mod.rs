@@ -42,8 +42,10 @@
 
 mod error;
 pub mod forward;
+pub mod inference;
 pub mod law;
 pub mod network;
+pub mod table;
 pub mod weights;
 
 use std::path::Path;
@@ -75,14 +77,20 @@ pub fn load_friction_law(path: &Path) -> Result<Box<dyn FrictionLaw>, NeuralErro
 }
 
 /// The neural law a checked scene asks for: its weights file (`friction.weights`), or the
-/// shipped plain-variant weights (the paper's model) when none is given.
+/// shipped plain-variant weights (the paper's model) when none is given, evaluated as
+/// `friction.inference` asks.
 pub fn scene_law(scene: &CheckedScene) -> Result<Box<dyn FrictionLaw>, SceneLawError> {
+    let inference = scene.friction.inference;
     match &scene.friction.weights {
-        Some(path) => load_friction_law(Path::new(path)).map_err(|source| SceneLawError::Weights {
-            path: path.clone(),
-            source,
-        }),
-        None => default_friction_law(Variant::Plain).map_err(SceneLawError::Shipped),
+        Some(path) => NeuralLaw::from_file(Path::new(path))
+            .and_then(|law| inference::friction_law(law, inference, scene.loading.normal_force))
+            .map_err(|source| SceneLawError::Weights {
+                path: path.clone(),
+                source,
+            }),
+        None => NeuralLaw::paper_default()
+            .and_then(|law| inference::friction_law(law, inference, scene.loading.normal_force))
+            .map_err(SceneLawError::Shipped),
     }
 }
 
