@@ -4,9 +4,11 @@
 //! This module holds what the simulation needs to *use* a trained network:
 //! - `network`: fully connected network and its batched forward pass (the trainer's);
 //! - `forward`: the single-sample forward pass of the time-step loop (blocked layout,
-//!   vectorisable tanh, the slope by forward mode);
+//!   vectorisable tanh, the slope by forward mode), in f64 or f32;
 //! - `weights`: the self-describing JSON weights file; `law`: `NeuralLaw`, the trained
 //!   model as a `crate::friction::FrictionLaw`;
+//! - `inference`: the law as `friction.inference` asks (exact, f32, table); `table`: the
+//!   network tabulated at initialisation, with its verified error;
 //! - `error`: `NeuralError`, why a weights file or an evaluation was refused.
 //!
 //! Training (data, CSV, backpropagation, L-BFGS, the objective, search) lives in the
