@@ -10,6 +10,8 @@ out="$root/out"
 mkdir -p "$out"
 bash scripts/system-deps.sh
 echo "== fmu-build: target/fmu/StickSlipBeam.fmu and target/fmu/NeuralFriction.fmu"
+# zig and cargo-zigbuild (.venv-zig): fmu-build links the FMU binary for glibc 2.17.
+bash scripts/zig-env.sh >/dev/null
 cargo run --release -p fmu-build
 # --workspace: the same feature set as fmu-build's builds, so nothing is rebuilt.
 cargo build --release --workspace --bins

@@ -11,6 +11,8 @@ cargo fmt --all -- --check
 echo "== cargo clippy -D warnings"
 cargo clippy --release --workspace --all-targets -- -D warnings
 echo "== fmu-build (the FMU tests import the packaged .fmu files)"
+# zig and cargo-zigbuild (.venv-zig): fmu-build links the FMU binary for glibc 2.17.
+bash scripts/zig-env.sh >/dev/null
 cargo run --release -p fmu-build
 echo "== cargo test"
 mkdir -p target
