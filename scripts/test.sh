@@ -20,6 +20,9 @@ cargo test --release --workspace --all-targets 2>&1 | tee target/cargo-test.log
 # A summary line that the CI log readers understand, over every test binary.
 awk '/^test result:/ {p += $4; f += $6; i += $8} END {printf "rust: %d passed, %d failed, %d skipped\n", p, f, i}' target/cargo-test.log
 
+echo "== the packaged FMU binary under Debian 11's glibc 2.31 (scripts/old-glibc.sh)"
+bash scripts/old-glibc.sh
+
 echo "== valgrind (memcheck) over an FMI importer loop"
 bash scripts/valgrind.sh
 
