@@ -70,6 +70,11 @@ fn run() -> Result<(), BuildError> {
             library.display(),
             requirements.needed.join(", ")
         );
+    } else if problems.is_empty() {
+        eprintln!(
+            "fmu-build: WARNING: --host-toolchain: the FMUs carry {}, linked against this machine's glibc (they need glibc {oldest} or later); the portable build is cargo-zigbuild's.",
+            library.display()
+        );
     } else {
         eprintln!(
             "fmu-build: WARNING: --host-toolchain: the FMUs carry {}, linked against this machine's glibc; they need glibc {oldest} or later and do not load on glibc {} ({}). Do not distribute them; the packaged-binary tests fail on them.",
