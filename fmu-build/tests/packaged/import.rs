@@ -136,7 +136,7 @@ struct BeamVrs {
     stick: u32,
     transitions: u32,
     fidelity: u32,
-    friction_model: u32,
+    friction_law: u32,
     kinetic_force: u32,
     static_limit: u32,
 }
@@ -154,7 +154,7 @@ impl BeamVrs {
             stick: vr(import, "stick"),
             transitions: vr(import, "transitions"),
             fidelity: vr(import, "fidelity.level"),
-            friction_model: vr(import, "friction.model"),
+            friction_law: vr(import, "friction.law"),
             kinetic_force: vr(import, "external.kinetic_force"),
             static_limit: vr(import, "external.static_limit"),
         }
@@ -895,7 +895,7 @@ fn e_neural_friction_fmu_matches_the_law() {
 }
 
 // ---------------------------------------------------------------------------------------
-// f. Coupled: StickSlipBeam (friction.model = external) + NeuralFriction (exponential).
+// f. Coupled: StickSlipBeam (friction.law = external) + NeuralFriction (exponential).
 
 /// How far the coupled tip deflection may stray from the monolithic run (m), up to the
 /// second major slip (0.7051 s). The coupling holds the kinetic force of t_k over
@@ -928,7 +928,7 @@ fn f_coupled_with_neural_friction_fmu_matches_the_monolithic_run() {
         "coupled-beam",
         &[
             (vrs.fidelity, FidelityLevel::Beam.code()),
-            (vrs.friction_model, FrictionLawKind::External.code()),
+            (vrs.friction_law, FrictionLawKind::External.code()),
         ],
     );
     let mut friction = start_friction(
@@ -962,14 +962,14 @@ fn f_coupled_with_neural_friction_fmu_matches_the_monolithic_run() {
         coupled.push(beam.outputs());
     }
 
-    // Monolithic: the same beam with friction.model = exponential, i.e. the library.
+    // Monolithic: the same beam with friction.law = exponential, i.e. the library.
     let monolithic_fmu = {
         let mut mono = Beam::start(
             &beam_import,
             "coupled-monolithic",
             &[
                 (vrs.fidelity, FidelityLevel::Beam.code()),
-                (vrs.friction_model, FrictionLawKind::Exponential.code()),
+                (vrs.friction_law, FrictionLawKind::Exponential.code()),
             ],
         );
         mono.run_from_start(STEPS)
