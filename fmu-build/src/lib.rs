@@ -1,8 +1,11 @@
 //! Packages the FMUs: `modelDescription.xml` (generated from the Rust variable tables),
 //! `binaries/linux64/<modelIdentifier>.so` (the one stickslip-fmi cdylib under each
-//! model's name) and `resources/` (the network weights).
+//! model's name) and `resources/` (the network weights). Then the SSP system files
+//! around them and fmucontainer's link lists (`ssp`).
 //!
 //! Archives are reproducible: entries in a fixed order with a fixed timestamp.
+
+pub mod ssp;
 
 use std::fs;
 use std::io::Write;
@@ -24,6 +27,9 @@ pub enum BuildError {
         .0.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
     )]
     Drift(Vec<PathBuf>),
+    /// A system file's names or values do not fit the FMUs' tables.
+    #[error(transparent)]
+    Ssp(#[from] ssp::SspError),
     /// `cargo build` of the library could not be started.
     #[error("cannot run cargo: {0}")]
     CargoNotRun(#[source] std::io::Error),
