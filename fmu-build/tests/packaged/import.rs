@@ -1120,3 +1120,53 @@ fn h_outputs_read_in_initialization_mode_do_not_freeze_the_belt_speed() {
         &library,
     );
 }
+
+// ---------------------------------------------------------------------------------------
+// Bad parameters reach the importer: fmi2Error and the reason in the log.
+
+#[test]
+fn h_a_negative_modulus_fails_initialisation_with_the_reason_logged() {
+    let import = import(FmuKind::StickSlipBeam);
+    let name = "negative-modulus";
+    let mut inst = import
+        .instantiate_cs(name, false, false)
+        .expect("fmi2Instantiate");
+    inst.setup_experiment(None, 0.0, Some(STOP))
+        .expect("fmi2SetupExperiment");
+    Common::enter_initialization_mode(&mut inst).expect("fmi2EnterInitializationMode");
+    inst.set_real(&[vr(&import, "material.youngs_modulus")], &[-1.0])
+        .expect("a negative modulus is checked with the whole scene, not when set");
+    assert!(matches!(
+        Common::exit_initialization_mode(&mut inst),
+        Err(Fmi2Error::Error)
+    ));
+    let messages = messages_of(name);
+    assert!(
+        messages.iter().any(|(level, text)| *level == log::Level::Error
+            && text == "fmi2ExitInitializationMode: invalid scene: material.youngs_modulus = -1e0; it must be finite and > 0 (Pa)"),
+        "logged: {messages:?}"
+    );
+}
+
+#[test]
+fn h_an_out_of_range_choice_code_is_refused_with_the_allowed_codes() {
+    let import = import(FmuKind::StickSlipBeam);
+    let name = "bad-choice";
+    let mut inst = import
+        .instantiate_cs(name, false, false)
+        .expect("fmi2Instantiate");
+    inst.setup_experiment(None, 0.0, Some(STOP))
+        .expect("fmi2SetupExperiment");
+    Common::enter_initialization_mode(&mut inst).expect("fmi2EnterInitializationMode");
+    let law = vr(&import, "friction.law");
+    assert!(matches!(
+        inst.set_integer(&[law], &[5]),
+        Err(Fmi2Error::Error)
+    ));
+    let messages = messages_of(name);
+    assert!(
+        messages.iter().any(|(level, text)| *level == log::Level::Error
+            && text == "fmi2SetInteger: friction.law: 5 is not a FrictionModel code; allowed: 1 = exponential, 2 = coulomb, 3 = neural, 4 = external"),
+        "logged: {messages:?}"
+    );
+}
