@@ -19,6 +19,7 @@ masters of python-checks/requirements-masters.txt (scripts/python-env.sh install
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 import textwrap
@@ -273,9 +274,13 @@ def test_fmpy_ssp_starts_the_connected_inputs_at_zero(built):
 # ----------------------------------------------------------------------------- FMU errors
 
 
-def run_script(code: str) -> subprocess.CompletedProcess:
+def run_script(code: str, tmp: Path | None = None) -> subprocess.CompletedProcess:
     """`code` in a fresh Python process (libcosim aborts the whole process on an FMU
-    error), with stdout and stderr together."""
+    error), with stdout and stderr together; `tmp` as its TMPDIR (an aborted libcosim
+    leaves its unpacked FMUs there)."""
+    env = dict(os.environ)
+    if tmp is not None:
+        env["TMPDIR"] = str(tmp)
     return subprocess.run(
         [sys.executable, "-c", textwrap.dedent(code)],
         stdout=subprocess.PIPE,
@@ -283,15 +288,17 @@ def run_script(code: str) -> subprocess.CompletedProcess:
         text=True,
         timeout=120,
         check=False,
+        env=env,
     )
 
 
 REASON = "invalid scene: material.youngs_modulus = -1e0; it must be finite and > 0 (Pa)"
 
 
-def test_libcosim_shows_the_reason_then_aborts_the_process(built):
+def test_libcosim_shows_the_reason_then_aborts_the_process(built, tmp_path):
     """libcosim logs the FMU's reason at error level, then ends the whole process with
-    SIGABRT from an uncaught C++ exception: no Python exception, nothing after it runs."""
+    SIGABRT from an uncaught C++ exception: no Python exception, nothing after it runs,
+    and its unpacked FMU is left in the temporary folder."""
     need(built)
     done = run_script(
         f"""
@@ -299,9 +306,11 @@ def test_libcosim_shows_the_reason_then_aborts_the_process(built):
         masters.run_libcosim(fmu={str(fmu_paths()[BEAM])!r},
                              parameters={{"beam": {{"material.youngs_modulus": -1.0}}}})
         print("still running")
-        """
+        """,
+        tmp_path,
     )
     assert done.returncode == -6, done.stdout  # SIGABRT
+    assert list(tmp_path.glob("libcosim_*")), "libcosim cleaned up after all"
     logged = f"[error]   [FMI status=error, category=logStatusError] fmi2GetReal: {REASON}"
     assert logged in done.stdout
     assert f"what():  Model error: fmi2GetReal: {REASON}" in done.stdout
