@@ -50,6 +50,9 @@ echo
 echo "== System-level co-simulation: coupling error against the monolithic FMU, Jacobi and Gauss-Seidel"
 "$python" -m stickslip_checks.cosim_convergence "$out"
 echo
+echo "== The coupled system's SSP file in other masters: libcosim, Ecos, fmucontainer, fmpy.ssp"
+"$python" -m stickslip_checks.masters "$out"
+echo
 echo "== Stick-slip map: Dask sweep of StickSlipBeam.fmu over belt speed (LocalCluster, 2 workers)"
 "$python" -m stickslip_checks.sweep --out "$out"
 echo

@@ -1,6 +1,7 @@
 //! Packages the FMUs: `modelDescription.xml` (generated from the Rust variable tables),
 //! `binaries/linux64/<modelIdentifier>.so` (the one stickslip-fmi cdylib under each
-//! model's name) and `resources/` (the network weights).
+//! model's name) and `resources/` (the network weights). Then the SSP system files
+//! around them and fmucontainer's link lists (`ssp`).
 //!
 //! The packaged cdylib is the portable one ([`build_portable_library`]): linked by zig
 //! through cargo-zigbuild against glibc 2.17 symbol versions, so it loads on glibc 2.17
@@ -12,6 +13,7 @@
 //! Archives are reproducible: entries in a fixed order with a fixed timestamp.
 
 pub mod glibc;
+pub mod ssp;
 
 use std::fs;
 use std::io::Write;
@@ -35,6 +37,9 @@ pub enum BuildError {
         .0.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
     )]
     Drift(Vec<PathBuf>),
+    /// A system file's names or values do not fit the FMUs' tables.
+    #[error(transparent)]
+    Ssp(#[from] ssp::SspError),
     /// `cargo build` of the library could not be started.
     #[error("cannot run cargo: {0}")]
     CargoNotRun(#[source] std::io::Error),

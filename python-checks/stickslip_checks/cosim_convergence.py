@@ -3,11 +3,11 @@ communication step h, for a Jacobi and a Gauss-Seidel master over fmpy's FMU2Sla
 
 Set-up
     StickSlipBeam at beam fidelity (fidelity.level = beam, internal step time.step =
-    1e-4 s) with friction.model = external, coupled to NeuralFriction with law =
+    1e-4 s) with friction.law = external, coupled to NeuralFriction with law =
     exponential: beam relative_velocity -> friction sliding_velocity; friction
     friction_force_magnitude -> beam external.kinetic_force and static_limit -> beam
     external.static_limit. The normal force of both FMUs stays at its start value 100 N.
-    The monolithic reference is StickSlipBeam alone with friction.model = exponential
+    The monolithic reference is StickSlipBeam alone with friction.law = exponential
     at the same fidelity, run once at h = 1e-4 s (its internal step) and sampled at the
     coarse communication points. That the monolithic FMU does not depend on h at the
     internal grid is checked by comparing it with a monolithic run at h = 1e-3 s.
@@ -105,7 +105,7 @@ def _grid(h: float, t_end: float) -> None:
 
 
 def run_monolithic(fmus: Fmus, h: float, t_end: float = T_END) -> Series:
-    """StickSlipBeam alone, friction.model = exponential, stepped at h with FMU2Slave."""
+    """StickSlipBeam alone, friction.law = exponential, stepped at h with FMU2Slave."""
     _grid(h, t_end)
     began = time.perf_counter()
     trace = master.run_alone(
@@ -114,7 +114,7 @@ def run_monolithic(fmus: Fmus, h: float, t_end: float = T_END) -> Series:
         "monolithic",
         h,
         t_end,
-        parameters={BEAM: {"fidelity.level": FIDELITY_LEVEL, "friction.model": "exponential"}},
+        parameters={BEAM: {"fidelity.level": FIDELITY_LEVEL, "friction.law": "exponential"}},
         record={BEAM: ["tip_deflection", "stick"]},
     )
     wall = time.perf_counter() - began

@@ -6,7 +6,7 @@
    simulate_fmu, at every structural fidelity (fidelity.level's items but auto, read from
    the model description by artifacts.fidelities) and with the analytical exponential
    law and the neural law (friction.weights = paper-plain.json and paper-signed.json).
-3. Couples StickSlipBeam (friction.model = external) with NeuralFriction.fmu (law neural
+3. Couples StickSlipBeam (friction.law = external) with NeuralFriction.fmu (law neural
    with paper-plain.json, and law exponential) with the Gauss-Seidel master (master.run,
    beam first; cosim_convergence compares with Jacobi) over FMU2Slave at 1 ms: beam
    relative_velocity -> friction sliding_velocity; friction friction_force_magnitude ->
@@ -134,7 +134,7 @@ def run_embedded(fmus: Fmus, fidelity: str, law: str, weights: str | None = None
     beam = fmus.models[BEAM]
     start = {
         "fidelity.level": beam.code("fidelity.level", fidelity),
-        "friction.model": beam.code("friction.model", law),
+        "friction.law": beam.code("friction.law", law),
     }
     if weights is not None:
         start["friction.weights"] = weights
@@ -165,7 +165,7 @@ def run_embedded(fmus: Fmus, fidelity: str, law: str, weights: str | None = None
 
 
 def run_coupled(fmus: Fmus, fidelity: str, law: str, weights: str = WEIGHTS[0]) -> Run:
-    """StickSlipBeam (friction.model = external) + NeuralFriction, Gauss-Seidel at DT.
+    """StickSlipBeam (friction.law = external) + NeuralFriction, Gauss-Seidel at DT.
     The normal force of both is the paper's 100 N (start values)."""
     friction = {"law": law}
     if law == "neural":

@@ -50,7 +50,7 @@ class Link:
     input: str
 
 
-# StickSlipBeam with friction.model = external, coupled to NeuralFriction.
+# StickSlipBeam with friction.law = external, coupled to NeuralFriction.
 BEAM_FRICTION_LINKS = (
     Link(BEAM, "relative_velocity", FRICTION, "sliding_velocity"),
     Link(FRICTION, "friction_force_magnitude", BEAM, "external.kinetic_force"),
@@ -230,7 +230,7 @@ def run_coupled(
     scheme: str = GAUSS_SEIDEL,
     order=BEAM_FRICTION_ORDER,
 ) -> Trace:
-    """StickSlipBeam (friction.model = external, parameters `beam`) coupled to
+    """StickSlipBeam (friction.law = external, parameters `beam`) coupled to
     NeuralFriction (parameters `friction`) through BEAM_FRICTION_LINKS, both instantiated
     for this run; the normal force of both stays at its start value."""
     with instantiated(fmus, {BEAM: "beam", FRICTION: "friction"}) as slaves:
@@ -241,6 +241,6 @@ def run_coupled(
             t_end,
             scheme=scheme,
             order=order,
-            parameters={BEAM: {**beam, "friction.model": "external"}, FRICTION: friction},
+            parameters={BEAM: {**beam, "friction.law": "external"}, FRICTION: friction},
             record=record,
         )

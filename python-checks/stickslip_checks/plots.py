@@ -335,7 +335,7 @@ def stick_slip_map(
         2, 1, figsize=(10, 8.5), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]}
     )
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    # Enumeration, Boolean or String values (e.g. --grid friction.model=exponential,coulomb)
+    # Choice, Boolean or String values (e.g. --grid friction.law=exponential,coulomb)
     # go at evenly spaced positions with their names as tick labels.
     categories = list(dict.fromkeys(r[x_name] for r in rows))
     categorical = any(isinstance(c, (str, bool)) for c in categories)

@@ -78,7 +78,7 @@ fn outputs<M: Model>(fmu: &mut Instance<M>) -> BTreeMap<String, u64> {
                     fmu.get_real(&vr, &mut out).unwrap();
                     out[0].to_bits()
                 }
-                Access::Integer { .. } | Access::Enumeration { .. } => {
+                Access::Integer { .. } | Access::Choice { .. } => {
                     let mut out = [0];
                     fmu.get_integer(&vr, &mut out).unwrap();
                     out[0] as u64
@@ -279,7 +279,7 @@ fn beam(model: FrictionLawKind) -> Instance<StickSlipBeam> {
             .unwrap()
     };
     set_code(&mut fmu, "fidelity.level", FidelityLevel::Modal.code());
-    set_code(&mut fmu, "friction.model", model.code());
+    set_code(&mut fmu, "friction.law", model.code());
     fmu.setup_experiment(0.0, Some(1.2)).unwrap();
     fmu
 }

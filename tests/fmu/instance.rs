@@ -161,7 +161,7 @@ fn non_finite_and_out_of_range_values_are_refused_when_set() {
     assert!(b
         .set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[7])
         .is_err());
-    assert!(logged(&log, "7 is not a FidelityLevel value"));
+    assert!(logged(&log, "7 is not a FidelityLevel code"));
     b.reset();
     assert!(b
         .set_real(&[vr::<StickSlipBeam>("tip_deflection")], &[1.0])
@@ -530,8 +530,8 @@ fn breakaway_through_the_fmu_is_at_0_400_s() {
 
 #[test]
 fn external_friction_equal_to_the_law_reproduces_coulomb() {
-    // friction.model = external with inputs mu_k F_n and mu_s F_n is Coulomb friction
-    // with the static limit mu_s F_n: same as friction.model = coulomb.
+    // friction.law = external with inputs mu_k F_n and mu_s F_n is Coulomb friction
+    // with the static limit mu_s F_n: same as friction.law = coulomb.
     let runs: Vec<Vec<f64>> = [FrictionLawKind::Coulomb, FrictionLawKind::External]
         .iter()
         .map(|&model| {
@@ -540,7 +540,7 @@ fn external_friction_equal_to_the_law_reproduces_coulomb() {
             b.set_integer(
                 &[
                     vr::<StickSlipBeam>("fidelity.level"),
-                    vr::<StickSlipBeam>("friction.model"),
+                    vr::<StickSlipBeam>("friction.law"),
                 ],
                 &[FidelityLevel::Modal.code(), model.code()],
             )
@@ -828,7 +828,7 @@ fn the_beam_reads_a_network_only_for_the_neural_law() {
     assert_eq!(b.model().networks_read(), 0);
     b.reset();
     assert_eq!(b.model().networks_read(), 0);
-    let law = vr::<StickSlipBeam>("friction.model");
+    let law = vr::<StickSlipBeam>("friction.law");
     let level = vr::<StickSlipBeam>("fidelity.level");
     for _ in 0..2 {
         b.reset();
@@ -896,7 +896,7 @@ fn a_version_1_beam_state_restores_into_the_scene_fields() {
     let mut codes = [0; 2];
     b.get_integer(
         &[
-            vr::<StickSlipBeam>("friction.model"),
+            vr::<StickSlipBeam>("friction.law"),
             vr::<StickSlipBeam>("fidelity.level"),
         ],
         &mut codes,

@@ -2,12 +2,12 @@
 //!
 //! Parameters are the scene's fields under the scene file's names (`geometry.length`,
 //! `fidelity.level`, ...), checked together at fmi2ExitInitializationMode with the
-//! scene's messages; the enumerations are the scene's choice enums. The belt speed and
-//! normal force are inputs. `friction.model = external` (the scene's
-//! `friction.law = external`) takes the kinetic force magnitude and the static limit
-//! from two more inputs, held over each communication step, so that the beam can be
-//! coupled to NeuralFriction.fmu or any other friction FMU. `fidelity.level = auto` is
-//! resolved by the `auto` module at fmi2ExitInitializationMode.
+//! scene's messages; the choices are the scene's choice enums, set by their codes. The
+//! belt speed and normal force are inputs. `friction.law = external` takes the kinetic
+//! force magnitude and the static limit from two more inputs, held over each
+//! communication step, so that the beam can be coupled to NeuralFriction.fmu or any
+//! other friction FMU. `fidelity.level = auto` is resolved by the `auto` module at
+//! fmi2ExitInitializationMode.
 //!
 //! The FMU steps at `time.step` and ends each communication step with one shorter step
 //! when the communication point is not on that grid (`Simulator::advance_to`).
@@ -15,7 +15,7 @@
 use crate::model::{Model, ModelInfo};
 use crate::networks::{weights_name, NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use crate::variables::{
-    choice_at, Access, Causality, Dependencies, EnumerationType, InitialDependencies, Variability,
+    choice_at, Access, Causality, ChoiceType, Dependencies, InitialDependencies, Variability,
     Variable,
 };
 use serde::{Deserialize, Serialize};
@@ -413,8 +413,8 @@ macro_rules! real_parameter {
     };
 }
 
-/// A scene field holding a choice `$choice`: the FMI enumeration type, its items and
-/// the value's code are all read off the choice.
+/// A scene field holding a choice `$choice`: its codes, words and the value's code are
+/// all read off the choice.
 macro_rules! enum_parameter {
     ($vr:expr, $name:expr, $choice:ty, $description:expr, |$s:ident| $field:expr) => {
         Variable {
@@ -423,8 +423,8 @@ macro_rules! enum_parameter {
             causality: Causality::Parameter,
             variability: Variability::Fixed,
             description: $description,
-            access: Access::Enumeration {
-                kind: EnumerationType::of::<$choice>(),
+            access: Access::Choice {
+                kind: ChoiceType::of::<$choice>(),
                 get: |m: &StickSlipBeam| {
                     let $s = &m.settings.scene;
                     $field.code()
@@ -566,9 +566,9 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
     ),
     enum_parameter!(
         10,
-        "friction.model",
+        "friction.law",
         FrictionLawKind,
-        "Kinetic friction model",
+        "Kinetic friction law",
         |s| s.friction.law
     ),
     real_parameter!(
@@ -605,7 +605,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         causality: Causality::Parameter,
         variability: Variability::Fixed,
         description:
-            "Network weights for friction.model = neural: a file in resources/ or an absolute path",
+            "Network weights for friction.law = neural: a file in resources/ or an absolute path",
         access: Access::String {
             get: |m: &StickSlipBeam| m.settings.weights.clone(),
             set: Some(|m: &mut StickSlipBeam, v: &str| {
@@ -701,7 +701,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
     count_parameter!(
         53,
         "fidelity.modes",
-        10_000,
+        stickslip::scene::MAX_MODES as i32,
         "Number of modes of the modal level",
         modes
     ),
@@ -761,7 +761,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         102,
         "external.kinetic_force",
         "N",
-        "Kinetic friction force magnitude (friction.model = external)",
+        "Kinetic friction force magnitude (friction.law = external)",
         kinetic_force,
         non_negative
     ),
@@ -769,7 +769,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         103,
         "external.static_limit",
         "N",
-        "Static limit, the largest holding force (friction.model = external)",
+        "Static limit, the largest holding force (friction.law = external)",
         static_limit,
         non_negative
     ),

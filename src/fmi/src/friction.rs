@@ -10,8 +10,8 @@
 use crate::model::{Model, ModelInfo};
 use crate::networks::{weights_name, NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use crate::variables::{
-    choice_at, Access, Causality, Dependencies, DependencyKind, EnumerationType,
-    InitialDependencies, Variability, Variable,
+    choice_at, Access, Causality, ChoiceType, Dependencies, DependencyKind, InitialDependencies,
+    Variability, Variable,
 };
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -274,8 +274,8 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         causality: Causality::Parameter,
         variability: Variability::Fixed,
         description: "Friction law: the network, or the analytical law for comparison",
-        access: Access::Enumeration {
-            kind: EnumerationType::of::<LawChoice>(),
+        access: Access::Choice {
+            kind: ChoiceType::of::<LawChoice>(),
             get: |m: &NeuralFriction| m.settings.law.code(),
             set: Some(|m: &mut NeuralFriction, v: i32| {
                 m.settings.law = choice_at::<LawChoice>(v)?;

@@ -10,11 +10,15 @@
 //!   `Outputs` with the inputs that reach it directly and their `dependenciesKind`,
 //!   `InitialUnknowns` with the inputs and parameters it is computed from (there only
 //!   "dependent" is meaningful, so no `dependenciesKind`).
+//! - A choice (`Access::Choice`) is an `<Integer min="1" max="N">` whose description ends
+//!   with its codes, "[1 = exponential, 2 = coulomb, ...]", and whose codes, words and
+//!   descriptions are listed for programs in `<VendorAnnotations><Tool name="stickslip">`
+//!   ([`CHOICES_TOOL`]). FMI Enumerations are not used: libcosim and Ecos ignore them.
 //! - No generation date, so that the file is reproducible byte for byte.
 
 use crate::model::Model;
 use crate::variables::{
-    Access, Causality, DependencyKind, EnumerationType, InitialDependencies, Variability, Variable,
+    Access, Causality, ChoiceType, DependencyKind, InitialDependencies, Variability, Variable,
     UNITS,
 };
 use std::fmt::Write;
@@ -53,17 +57,38 @@ fn real(value: f64) -> String {
     format!("{value:?}")
 }
 
-/// The enumeration types the table uses, in first-use order.
-fn enumeration_types<M: Model>() -> Vec<&'static EnumerationType> {
-    let mut types: Vec<&'static EnumerationType> = Vec::new();
-    for v in M::variables() {
-        if let Access::Enumeration { kind, .. } = &v.access {
-            if !types.iter().any(|t| t.name == kind.name) {
-                types.push(kind);
-            }
-        }
+/// The `name` of the `<Tool>` under `<VendorAnnotations>` that lists the choices:
+///
+/// ```xml
+/// <Tool name="stickslip">
+///   <Choices>
+///     <Choice variable="friction.law" type="FrictionLaw" description="...">
+///       <Item code="1" name="exponential" description="..."/>
+/// ```
+///
+/// One `<Choice>` per choice variable, in table order, and one `<Item>` per code.
+/// (FMI 2.0 allows a single element inside a `<Tool>`, hence `<Choices>`; per-variable
+/// `<Annotations>` would be closer, but some importers, the `fmi` crate among them,
+/// refuse unknown elements inside a ScalarVariable.)
+pub const CHOICES_TOOL: &str = "stickslip";
+
+/// The choice variables of the table: (name, values).
+fn choice_variables<M>(variables: &[Variable<M>]) -> Vec<(&'static str, &ChoiceType)> {
+    variables
+        .iter()
+        .filter_map(|v| match &v.access {
+            Access::Choice { kind, .. } => Some((v.name, kind)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The description written for variable `v`: a choice's ends with its codes.
+pub fn description<M>(v: &Variable<M>) -> String {
+    match &v.access {
+        Access::Choice { kind, .. } => format!("{} [{}]", v.description, kind.codes()),
+        _ => v.description.to_string(),
     }
-    types
 }
 
 fn body<M: Model>(guid: &str) -> String {
@@ -108,31 +133,6 @@ fn body<M: Model>(guid: &str) -> String {
     }
     let _ = writeln!(w, "  </UnitDefinitions>");
 
-    let types = enumeration_types::<M>();
-    if !types.is_empty() {
-        let _ = writeln!(w, "  <TypeDefinitions>");
-        for t in &types {
-            let _ = writeln!(
-                w,
-                r#"    <SimpleType name="{}" description="{}">"#,
-                t.name,
-                escape(t.description)
-            );
-            let _ = writeln!(w, "      <Enumeration>");
-            for (value, name, description) in t.items() {
-                let _ = writeln!(
-                    w,
-                    r#"        <Item name="{}" value="{value}" description="{}"/>"#,
-                    escape(name),
-                    escape(description)
-                );
-            }
-            let _ = writeln!(w, "      </Enumeration>");
-            let _ = writeln!(w, "    </SimpleType>");
-        }
-        let _ = writeln!(w, "  </TypeDefinitions>");
-    }
-
     let _ = writeln!(w, "  <LogCategories>");
     for (name, description) in LOG_CATEGORIES {
         let _ = writeln!(
@@ -150,6 +150,34 @@ fn body<M: Model>(guid: &str) -> String {
         real(info.step_size)
     );
 
+    let choices = choice_variables(variables);
+    if !choices.is_empty() {
+        let _ = writeln!(w, "  <VendorAnnotations>");
+        let _ = writeln!(w, r#"    <Tool name="{CHOICES_TOOL}">"#);
+        let _ = writeln!(w, "      <Choices>");
+        for (name, kind) in choices {
+            let _ = writeln!(
+                w,
+                r#"        <Choice variable="{}" type="{}" description="{}">"#,
+                escape(name),
+                escape(kind.name),
+                escape(kind.description)
+            );
+            for (code, word, description) in kind.items() {
+                let _ = writeln!(
+                    w,
+                    r#"          <Item code="{code}" name="{}" description="{}"/>"#,
+                    escape(word),
+                    escape(description)
+                );
+            }
+            let _ = writeln!(w, "        </Choice>");
+        }
+        let _ = writeln!(w, "      </Choices>");
+        let _ = writeln!(w, "    </Tool>");
+        let _ = writeln!(w, "  </VendorAnnotations>");
+    }
+
     let _ = writeln!(w, "  <ModelVariables>");
     for v in variables {
         let initial = match v.causality {
@@ -162,7 +190,7 @@ fn body<M: Model>(guid: &str) -> String {
             r#"    <ScalarVariable name="{}" valueReference="{}" description="{}" causality="{}" variability="{}"{initial}>"#,
             escape(v.name),
             v.value_reference,
-            escape(v.description),
+            escape(&description(v)),
             v.causality.as_str(),
             v.variability.as_str()
         );
@@ -195,13 +223,13 @@ fn body<M: Model>(guid: &str) -> String {
                 };
                 format!("<Boolean{start}/>")
             }
-            Access::Enumeration { kind, get, .. } => {
+            Access::Choice { kind, get, .. } => {
                 let start = if with_start {
                     format!(r#" start="{}""#, get(&defaults))
                 } else {
                     String::new()
                 };
-                format!(r#"<Enumeration declaredType="{}"{start}/>"#, kind.name)
+                format!(r#"<Integer min="1" max="{}"{start}/>"#, kind.len)
             }
             Access::String { get, .. } => {
                 let start = if with_start {

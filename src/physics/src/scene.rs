@@ -89,8 +89,9 @@ impl Default for Loading {
 }
 
 crate::choice! {
-    /// Which kinetic friction law acts during slip. (The FMI type keeps the name
-    /// `FrictionModel` of the StickSlipBeam variable `friction.model`.)
+    /// Which kinetic friction law acts during slip (the scene's `friction.law`, and
+    /// StickSlipBeam's parameter of that name). The type is named `FrictionModel`, apart
+    /// from NeuralFriction's `FrictionLaw` (`friction::LawChoice`), whose values differ.
     #[choice(name = "FrictionModel", description = "Where the kinetic friction force comes from")]
     pub enum FrictionLawKind {
         /// mu(v) = mu_k + (mu_s - mu_k) exp(-alpha |v|) (paper, Eq. 6).
