@@ -70,20 +70,21 @@ import xml.etree.ElementTree as ET
 
 root = ET.parse(sys.argv[1]).getroot()
 vr = {v.get("name"): v.get("valueReference") for v in root.iter("ScalarVariable")}
+# Choice codes: the <Choice> list in the stickslip tool's vendor annotations.
 items = {
-    (t.get("name"), i.get("name")): i.get("value")
-    for t in root.iter("SimpleType")
-    for i in t.iter("Item")
+    (c.get("variable"), i.get("name")): i.get("code")
+    for c in root.iter("Choice")
+    for i in c.iter("Item")
 }
 print(
     root.get("guid"),
     vr["tip_deflection"],
     vr["fidelity.level"],
-    vr["friction.model"],
-    items[("FidelityLevel", "modal")],
-    items[("FidelityLevel", "beam")],
-    items[("FrictionModel", "exponential")],
-    items[("FrictionModel", "neural")],
+    vr["friction.law"],
+    items[("fidelity.level", "modal")],
+    items[("fidelity.level", "beam")],
+    items[("friction.law", "exponential")],
+    items[("friction.law", "neural")],
 )
 EOF
 )

@@ -5,7 +5,7 @@
  * is meant to load on.
  *
  * Usage: driver LIBRARY GUID RESOURCE_URI TIP_VR STEPS [VR=VALUE ...]
- * (VR=VALUE: Integer or Enumeration parameters set in initialization mode.)
+ * (VR=VALUE: Integer parameters (the choices are Integer codes) set in initialization mode.)
  * Exit status: 0 ran; 2 the library did not load (the loader's reason on stderr);
  * 3 an FMI call failed. */
 #include <dlfcn.h>

@@ -425,7 +425,7 @@ fn packaged_stick_slip_beam_equals_the_host_build_bit_for_bit() {
             let tag = format!("{}-{law_name}", level.name());
             let mut parameters = vec![
                 Parameter::Integer("fidelity.level", level.code()),
-                Parameter::Integer("friction.model", law.code()),
+                Parameter::Integer("friction.law", law.code()),
             ];
             if let Some(weights) = weights {
                 parameters.push(Parameter::String("friction.weights", weights));
