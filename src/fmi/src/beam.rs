@@ -30,7 +30,8 @@ use stickslip::scene::{
     Scene, SceneError, Scheme, SlidingVelocity,
 };
 use stickslip::simulation::{
-    ExternalFriction, SimulationError, SimulationState, Simulator, RECENT_TRANSITIONS,
+    ExternalFriction, ExternalKinetic, SimulationError, SimulationState, Simulator,
+    RECENT_TRANSITIONS,
 };
 use stickslip::study::Configuration;
 
@@ -355,7 +356,7 @@ impl StickSlipBeam {
 
     fn external_friction(&self) -> ExternalFriction {
         ExternalFriction {
-            kinetic_force: self.settings.inputs.kinetic_force,
+            kinetic: ExternalKinetic::Magnitude(self.settings.inputs.kinetic_force),
             static_limit: self.settings.inputs.static_limit,
         }
     }
