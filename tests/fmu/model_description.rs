@@ -8,6 +8,7 @@ use stickslip::scene::{
     Clamp, FidelityLevel, FrictionLawKind, HoldingForce, InitialState, ModalBasis, Scheme,
     SlidingVelocity,
 };
+use stickslip::simulation::ExternalCoupling;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::model::Model;
@@ -188,6 +189,7 @@ fn the_enumeration_types_are_the_scenes_choices() {
         read(FmuKind::StickSlipBeam),
         vec![
             declared::<FrictionLawKind>(),
+            declared::<ExternalCoupling>(),
             declared::<HoldingForce>(),
             declared::<SlidingVelocity>(),
             declared::<InitialState>(),

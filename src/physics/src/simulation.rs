@@ -80,6 +80,21 @@ pub struct ExternalFriction {
     pub static_limit: f64,
 }
 
+crate::choice! {
+    /// How a coupled friction model hands over its kinetic force (the StickSlipBeam
+    /// FMU's `external.coupling`, with `friction.law = external`).
+    #[choice(name = "ExternalCoupling", description = "How friction.model = external reads the coupled friction model")]
+    #[derive(Default)]
+    pub enum ExternalCoupling {
+        /// [`ExternalKinetic::Magnitude`] from `external.kinetic_force`.
+        #[default]
+        Magnitude = "magnitude": "external.kinetic_force along v_rel: for laws sign(v) g(|v|) (exponential, Coulomb, the signed network)",
+        /// [`ExternalKinetic::Signed`] from `external.friction_force`,
+        /// `external.friction_slope` and `external.sliding_velocity`.
+        Signed = "signed": "the tangent external.friction_force + external.friction_slope (v - external.sliding_velocity): for smooth signed laws (the plain network)",
+    }
+}
+
 /// How a coupled friction model gives the kinetic force.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub enum ExternalKinetic {
