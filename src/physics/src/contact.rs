@@ -533,7 +533,7 @@ impl Contact {
             };
             let residual = force - model;
             let derivative = 1.0 - model_slope * per_force;
-            if !(derivative.abs() > f64::EPSILON) {
+            if derivative.is_nan() || derivative.abs() <= f64::EPSILON {
                 return held;
             }
             let next = force - residual / derivative;
