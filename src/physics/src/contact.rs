@@ -95,8 +95,9 @@ pub enum Kinetic<'a> {
     /// and slope `slope` = dF/dv (N s/m) at the sliding velocity `velocity` (m/s) it was
     /// evaluated at, all held over the step. The step's force is the law's tangent
     /// F(v) ~ force + slope (v - velocity) at the step's own sliding velocity, solved
-    /// implicitly like the scene's law (see [`Contact::resolve`]). With slope 0 it is the
-    /// held force itself, whatever the direction of sliding.
+    /// implicitly like the scene's law, and acting along v_rel where the tangent points
+    /// against it (see `Contact::slip_tangent`). With slope 0 it is the held force, or
+    /// its magnitude along v_rel.
     ExternalSigned {
         force: f64,
         slope: f64,
@@ -360,8 +361,8 @@ impl Contact {
     /// plain network rises from -13 N to +50 N within 1 mm/s of v = 0 (dK/dv up to
     /// ~1.4e5 N s/m), against (1 - alpha_f) dv_tip/dF ~ 1.3e-4 m/(s N) at beam fidelity,
     /// a gain of ~19; the iterates then swing between two forces on either side of the
-    /// root, and the 50th is no solution of the step (up to 0.7 s of the paper scene,
-    /// 247 of its slip steps ended so). Each iterate tells on which side of the root it
+    /// root, and the 50th is no solution of the step (up to 0.7 s of the paper scene at
+    /// beam fidelity, 247 of its slip steps ended so). Each iterate tells on which side of the root it
     /// lies, r(F_i) = F_i - K(v(F_i)) = F_i - F_{i+1}, so for a continuous law
     /// ([`FrictionLaw::continuous`]) an iteration that does not converge leaves a
     /// bracket, and bisection finds the root in it.

@@ -105,9 +105,10 @@ pub enum ExternalKinetic {
     /// A signed law F(v) by its value `force` (N) and slope `slope` = dF/dv (N s/m) at
     /// the sliding velocity `velocity` (m/s) the model was evaluated at. In slip the
     /// step takes the tangent F(v) ~ force + slope (v - velocity) at its own sliding
-    /// velocity, solved implicitly, in whatever direction it points: for smooth laws
-    /// such as the paper's plain network, which the embedded slip solve uses the same
-    /// way (see `contact::Kinetic::ExternalSigned`).
+    /// velocity, solved implicitly as the embedded slip solve does with a law; where
+    /// the tangent points against v_rel, its magnitude acts along v_rel (friction
+    /// dissipates; see `contact::Kinetic::ExternalSigned`). For smooth signed laws such
+    /// as the paper's plain network.
     Signed {
         force: f64,
         slope: f64,

@@ -301,12 +301,12 @@ impl NeuralLaw {
     /// order, raw units), by forward-mode differentiation: the tangent t = dx/dx_k
     /// enters as 1/std_k in input k (0 when x_k is clamped: the law is flat beyond the
     /// data), passes each layer as W t and each activation as a'(z) t, with
-    /// tanh' = 1 - a^2, sigmoid' = a (1 - a), relu' = [z > 0] (a the activation), and
-    /// leaves scaled by the output's std. The force is `evaluate`'s, bit for bit. For
-    /// the signed variant, F = sign(v) max(y(|v|), 0): dF/dv = [y > 0] dy/d|v| on
-    /// either side of v = 0 (the jump at 0 itself has no slope), and any other feature
-    /// takes the sign. Refuses what `evaluate` refuses and a feature index out of
-    /// range. Allocation-free.
+    /// tanh' = 1 - a^2, sigmoid' = a (1 - a) and relu' = 1 for z > 0, else 0 (a the
+    /// activation), and leaves scaled by the output's std. The force is `evaluate`'s,
+    /// bit for bit. For the signed variant, F = sign(v) max(y(|v|), 0): dF/dv = dy/d|v|
+    /// where y > 0 (else 0) on either side of v = 0 (the jump at 0 itself has no
+    /// slope), and any other feature takes the sign. Refuses what `evaluate` refuses
+    /// and a feature index out of range. Allocation-free.
     pub fn evaluate_with_slope(
         &mut self,
         features: &[f64],
