@@ -265,12 +265,17 @@ pub struct CheckedSystem {
 pub fn coupled() -> System {
     System {
         name: "StickSlipCoupled",
-        description: "StickSlipBeam (friction.law = external) coupled to NeuralFriction (the shipped plain network)",
+        description: "StickSlipBeam (friction.law = external, external.coupling = signed) coupled to NeuralFriction (the shipped plain network)",
         components: vec![
             Component {
                 name: "beam",
                 fmu: FmuKind::StickSlipBeam,
-                set: vec![("friction.law", Setting::Choice("external"))],
+                // The plain network is a smooth signed law, steep at v = 0: the beam
+                // reads its tangent (`signed`), not a magnitude along its own v_rel.
+                set: vec![
+                    ("friction.law", Setting::Choice("external")),
+                    ("external.coupling", Setting::Choice("signed")),
+                ],
             },
             Component {
                 name: "friction",
@@ -290,6 +295,18 @@ pub fn coupled() -> System {
             Connection {
                 from: ("friction", "static_limit"),
                 to: ("beam", "external.static_limit"),
+            },
+            Connection {
+                from: ("friction", "friction_force"),
+                to: ("beam", "external.friction_force"),
+            },
+            Connection {
+                from: ("friction", "friction_force_slope"),
+                to: ("beam", "external.friction_slope"),
+            },
+            Connection {
+                from: ("friction", "evaluated_velocity"),
+                to: ("beam", "external.sliding_velocity"),
             },
         ],
     }

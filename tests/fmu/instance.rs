@@ -883,7 +883,10 @@ fn a_version_1_beam_state_restores_into_the_scene_fields() {
     assert_eq!(current.version, STATE_VERSION);
     let mut v1 = current.clone();
     v1.version = 1;
+    assert!(v1.model["running"].is_null());
     let settings = v1.model["settings"].as_object_mut().unwrap();
+    // A version-1 state has no external.coupling (it came later).
+    settings.remove("coupling").unwrap();
     settings["scene"]["fidelity"]
         .as_object_mut()
         .unwrap()

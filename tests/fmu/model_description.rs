@@ -8,6 +8,7 @@ use stickslip::scene::{
     Clamp, FidelityLevel, FrictionLawKind, HoldingForce, InitialState, ModalBasis, Scheme,
     SlidingVelocity,
 };
+use stickslip::simulation::ExternalCoupling;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::model::Model;
@@ -197,6 +198,7 @@ fn the_annotated_choices_are_the_scenes_choices() {
         annotated_choices(&checked_in(FmuKind::StickSlipBeam)),
         vec![
             declared::<FrictionLawKind>("friction.law"),
+            declared::<ExternalCoupling>("external.coupling"),
             declared::<HoldingForce>("contact.holding_force"),
             declared::<SlidingVelocity>("contact.sliding_velocity"),
             declared::<InitialState>("contact.initial_state"),

@@ -196,6 +196,24 @@ fn the_coupled_system_is_wired_beam_to_friction_and_back() {
             "external.kinetic_force",
         ),
         ("friction", "static_limit", "beam", "external.static_limit"),
+        (
+            "friction",
+            "friction_force",
+            "beam",
+            "external.friction_force",
+        ),
+        (
+            "friction",
+            "friction_force_slope",
+            "beam",
+            "external.friction_slope",
+        ),
+        (
+            "friction",
+            "evaluated_velocity",
+            "beam",
+            "external.sliding_velocity",
+        ),
     ];
     assert_eq!(ssd.matches("<ssd:Connection ").count(), links.len());
     for (a, x, b, y) in links {

@@ -4,9 +4,19 @@
 //! `fidelity.level`, ...), checked together at fmi2ExitInitializationMode with the
 //! scene's messages; the choices are the scene's choice enums, set by their codes. The
 //! belt speed and normal force are inputs. `friction.law = external` takes the kinetic
-//! force magnitude and the static limit from two more inputs, held over each
-//! communication step, so that the beam can be coupled to NeuralFriction.fmu or any
-//! other friction FMU. `fidelity.level = auto` is resolved by the `auto` module at
+//! force and the static limit (`external.static_limit`) from further inputs, held over
+//! each communication step, so that the beam can be coupled to NeuralFriction.fmu or any
+//! other friction FMU. How it reads the kinetic force is `external.coupling`:
+//! - `magnitude` (the default): `external.kinetic_force` along v_rel, right for laws
+//!   F(v) = sign(v) g(|v|) (exponential, Coulomb, the signed network), whose jump at
+//!   v = 0 the beam places itself;
+//! - `signed`: the law's tangent at the velocity the model was evaluated at,
+//!   `external.friction_force` + `external.friction_slope` (v -
+//!   `external.sliding_velocity`), solved within each internal step, for smooth signed
+//!   laws such as the paper's plain network (see `stickslip::contact`, and the README's
+//!   co-simulation section for the coupling errors).
+//!
+//! `fidelity.level = auto` is resolved by the `auto` module at
 //! fmi2ExitInitializationMode.
 //!
 //! The FMU steps at `time.step` and ends each communication step with one shorter step
@@ -30,7 +40,8 @@ use stickslip::scene::{
     Scene, SceneError, Scheme, SlidingVelocity,
 };
 use stickslip::simulation::{
-    ExternalFriction, SimulationError, SimulationState, Simulator, RECENT_TRANSITIONS,
+    ExternalCoupling, ExternalFriction, ExternalKinetic, SimulationError, SimulationState,
+    Simulator, RECENT_TRANSITIONS,
 };
 use stickslip::study::Configuration;
 
@@ -42,6 +53,14 @@ pub struct BeamInputs {
     pub normal_force: f64,
     pub kinetic_force: f64,
     pub static_limit: f64,
+    /// The signed coupling's inputs; absent from states saved before it (version 3 and
+    /// earlier), where they read as 0.
+    #[serde(default)]
+    pub friction_force: f64,
+    #[serde(default)]
+    pub friction_slope: f64,
+    #[serde(default)]
+    pub sliding_velocity: f64,
 }
 
 /// Everything set from outside: parameters and inputs. The friction model and the
@@ -51,6 +70,9 @@ pub struct BeamInputs {
 struct Settings {
     scene: Scene,
     weights: String,
+    /// Absent from states saved before it: the magnitude coupling they ran.
+    #[serde(default)]
+    coupling: ExternalCoupling,
     inputs: BeamInputs,
 }
 
@@ -69,10 +91,14 @@ impl Default for Settings {
             normal_force: scene.loading.normal_force,
             kinetic_force: f.kinetic_coefficient * scene.loading.normal_force,
             static_limit: f.static_coefficient * scene.loading.normal_force,
+            friction_force: 0.0,
+            friction_slope: 0.0,
+            sliding_velocity: 0.0,
         };
         Self {
             scene,
             weights: DEFAULT_WEIGHTS.into(),
+            coupling: ExternalCoupling::default(),
             inputs,
         }
     }
@@ -196,6 +222,7 @@ impl From<SettingsV1> for Settings {
         Settings {
             scene,
             weights: v1.weights,
+            coupling: ExternalCoupling::default(),
             inputs: v1.inputs,
         }
     }
@@ -354,9 +381,17 @@ impl StickSlipBeam {
     }
 
     fn external_friction(&self) -> ExternalFriction {
+        let inputs = &self.settings.inputs;
         ExternalFriction {
-            kinetic_force: self.settings.inputs.kinetic_force,
-            static_limit: self.settings.inputs.static_limit,
+            kinetic: match self.settings.coupling {
+                ExternalCoupling::Magnitude => ExternalKinetic::Magnitude(inputs.kinetic_force),
+                ExternalCoupling::Signed => ExternalKinetic::Signed {
+                    force: inputs.friction_force,
+                    slope: inputs.friction_slope,
+                    velocity: inputs.sliding_velocity,
+                },
+            },
+            static_limit: inputs.static_limit,
         }
     }
 
@@ -615,6 +650,22 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         },
         depends_on: None,
     },
+    Variable {
+        name: "external.coupling",
+        value_reference: 16,
+        causality: Causality::Parameter,
+        variability: Variability::Fixed,
+        description: "friction.law = external: how the kinetic force is read from the inputs",
+        access: Access::Choice {
+            kind: ChoiceType::of::<ExternalCoupling>(),
+            get: |m: &StickSlipBeam| m.settings.coupling.code(),
+            set: Some(|m: &mut StickSlipBeam, v: i32| {
+                m.settings.coupling = choice_at::<ExternalCoupling>(v)?;
+                Ok(())
+            }),
+        },
+        depends_on: None,
+    },
     enum_parameter!(
         20,
         "contact.holding_force",
@@ -772,6 +823,27 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         "Static limit, the largest holding force (friction.law = external)",
         static_limit,
         non_negative
+    ),
+    input!(
+        104,
+        "external.friction_force",
+        "N",
+        "Signed kinetic friction force F(v) at external.sliding_velocity (external.coupling = signed)",
+        friction_force
+    ),
+    input!(
+        105,
+        "external.friction_slope",
+        "N.s/m",
+        "dF/dv at external.sliding_velocity (external.coupling = signed)",
+        friction_slope
+    ),
+    input!(
+        106,
+        "external.sliding_velocity",
+        "m/s",
+        "Sliding velocity the friction model was evaluated at (external.coupling = signed)",
+        sliding_velocity
     ),
     real_output!(
         200,

@@ -197,6 +197,8 @@ pub enum DependencyKind {
     /// A fixed factor: y = p v, with p fixed once fmi2ExitInitializationMode returns (a
     /// function of `fixed` parameters). Only for Real outputs at communication points.
     Fixed,
+    /// A constant factor: y = c v, c known before the FMU runs.
+    Constant,
 }
 
 impl DependencyKind {
@@ -204,6 +206,7 @@ impl DependencyKind {
         match self {
             DependencyKind::Dependent => "dependent",
             DependencyKind::Fixed => "fixed",
+            DependencyKind::Constant => "constant",
         }
     }
 }
@@ -293,6 +296,12 @@ pub const UNITS: &[Unit] = &[
         kg: 1,
         m: 1,
         s: -2,
+    },
+    Unit {
+        name: "N.s/m",
+        kg: 1,
+        m: 0,
+        s: -1,
     },
     Unit {
         name: "Pa",

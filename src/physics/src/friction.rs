@@ -31,6 +31,13 @@ pub trait FrictionLaw: Send {
     /// Signed kinetic friction force (N) in the direction of `sliding_velocity` (m/s),
     /// under `normal_force` (N).
     fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64;
+
+    /// Whether the force is continuous in the sliding velocity: false for laws
+    /// sign(v) g(|v|), which jump at v = 0. The slip solve finishes an unconverged
+    /// iteration by bisection only for continuous laws (see `contact`).
+    fn continuous(&self) -> bool {
+        false
+    }
 }
 
 /// The paper's exponential law (Eq. 6):
@@ -60,6 +67,18 @@ impl ExponentialLaw {
         self.kinetic_coefficient
             + (self.static_coefficient - self.kinetic_coefficient)
                 * (-self.decay * speed.abs()).exp()
+    }
+
+    /// dF/dv (N s/m) of the law at sliding velocity `sliding_velocity` (m/s) under
+    /// `normal_force` (N): F = sign(v) mu(|v|) F_n is odd, so
+    /// dF/dv = mu'(|v|) F_n = -alpha (mu_s - mu_k) exp(-alpha |v|) F_n on either side of
+    /// v = 0. The jump of 2 mu_s F_n at v = 0 itself has no slope; there this is the
+    /// one-sided limit.
+    pub fn slope(&self, sliding_velocity: f64, normal_force: f64) -> f64 {
+        -self.decay
+            * (self.static_coefficient - self.kinetic_coefficient)
+            * (-self.decay * sliding_velocity.abs()).exp()
+            * normal_force
     }
 }
 

@@ -100,12 +100,13 @@ crate::choice! {
         Coulomb = "coulomb": "mu = mu_k",
         /// A trained network (see the `neural` module); weights from `friction.weights`.
         Neural = "neural": "the network in friction.weights",
-        /// The kinetic force magnitude and the static limit come from outside, as the
-        /// StickSlipBeam FMU's inputs `external.kinetic_force` and
-        /// `external.static_limit` (to couple it with NeuralFriction or any other
-        /// friction FMU). Only a run that has those inputs can honour it: a stand-alone
-        /// run refuses it (`run::friction_law`).
-        External = "external": "inputs external.kinetic_force and external.static_limit",
+        /// The kinetic force and the static limit come from outside, as the
+        /// StickSlipBeam FMU's inputs `external.*` (to couple it with NeuralFriction or
+        /// any other friction FMU): a magnitude `external.kinetic_force` or a signed
+        /// tangent, as `external.coupling` says (`simulation::ExternalKinetic`), and
+        /// `external.static_limit`. Only a run that has those inputs can honour it: a
+        /// stand-alone run refuses it (`run::friction_law`).
+        External = "external": "inputs external.*: the kinetic force as external.coupling says, and external.static_limit",
     }
 }
 

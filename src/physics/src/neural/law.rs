@@ -62,10 +62,13 @@ pub struct NeuralLaw {
     fixed: Vec<Option<f64>>,
     /// AVX2 + FMA available (detected once, at construction).
     avx2_fma: bool,
-    /// Scratch: the feature vector and two layer buffers (no allocation per call).
+    /// Scratch: the feature vector and two layer buffers (no allocation per call), and
+    /// two more for the tangent of `evaluate_with_slope`.
     features: Vec<f64>,
     buffer_a: Vec<f64>,
     buffer_b: Vec<f64>,
+    tangent_a: Vec<f64>,
+    tangent_b: Vec<f64>,
 }
 
 /// Dot product with eight independent partial sums: a single running sum forces strictly
@@ -165,6 +168,8 @@ impl NeuralLaw {
             features: vec![0.0; d],
             buffer_a: vec![0.0; widest],
             buffer_b: vec![0.0; widest],
+            tangent_a: vec![0.0; widest],
+            tangent_b: vec![0.0; widest],
             model,
         })
     }
@@ -291,6 +296,99 @@ impl NeuralLaw {
         Ok(self.evaluate_scratch())
     }
 
+    /// The force (target units) and its derivative with respect to feature `feature`
+    /// (target units per unit of that feature) at one sample of `features` (model
+    /// order, raw units), by forward-mode differentiation: the tangent t = dx/dx_k
+    /// enters as 1/std_k in input k (0 when x_k is clamped: the law is flat beyond the
+    /// data), passes each layer as W t and each activation as a'(z) t, with
+    /// tanh' = 1 - a^2, sigmoid' = a (1 - a) and relu' = 1 for z > 0, else 0 (a the
+    /// activation), and leaves scaled by the output's std. The force is `evaluate`'s,
+    /// bit for bit. For the signed variant, F = sign(v) max(y(|v|), 0): dF/dv = dy/d|v|
+    /// where y > 0 (else 0) on either side of v = 0 (the jump at 0 itself has no
+    /// slope), and any other feature takes the sign. Refuses what `evaluate` refuses
+    /// and a feature index out of range. Allocation-free.
+    pub fn evaluate_with_slope(
+        &mut self,
+        features: &[f64],
+        feature: usize,
+    ) -> Result<(f64, f64), NeuralError> {
+        let force = self.evaluate(features)?;
+        if feature >= features.len() {
+            return Err(NeuralError::InvalidInput(format!(
+                "feature index {feature} is out of range: the model has {} features ({})",
+                features.len(),
+                self.feature_names().join(", ")
+            )));
+        }
+        let d = features.len();
+        let NeuralLaw {
+            layers,
+            activation,
+            input_lo,
+            input_hi,
+            input_mean,
+            input_inverse_std,
+            signed_velocity,
+            buffer_a: value,
+            buffer_b: next_value,
+            tangent_a: tangent,
+            tangent_b: next_tangent,
+            model,
+            ..
+        } = self;
+        let mut output_sign = 1.0;
+        for k in 0..d {
+            let mut x = features[k];
+            if Some(k) == *signed_velocity {
+                // F depends on |v| and sign(v): d|v|/dv = sign(v) cancels against the
+                // sign F takes, so the velocity's tangent enters unsigned.
+                if k != feature {
+                    output_sign = signum_or_zero(x);
+                }
+                x = x.abs();
+            }
+            let inside = x >= input_lo[k] && x <= input_hi[k];
+            value[k] = (x.clamp(input_lo[k], input_hi[k]) - input_mean[k]) * input_inverse_std[k];
+            tangent[k] = if k == feature && inside {
+                input_inverse_std[k]
+            } else {
+                0.0
+            };
+        }
+        let last = layers.len() - 1;
+        for (l, layer) in layers.iter().enumerate() {
+            for o in 0..layer.outputs {
+                let row = &layer.weights[o * layer.inputs..(o + 1) * layer.inputs];
+                let z = dot::<false>(row, &value[..layer.inputs]) + layer.biases[o];
+                let dz = dot::<false>(row, &tangent[..layer.inputs]);
+                if l == last {
+                    next_value[o] = z;
+                    next_tangent[o] = dz;
+                } else {
+                    let a = activation.apply(z);
+                    let derivative = match activation {
+                        Activation::Tanh => 1.0 - a * a,
+                        Activation::Sigmoid => a * (1.0 - a),
+                        Activation::Relu => f64::from(u8::from(z > 0.0)),
+                    };
+                    next_value[o] = a;
+                    next_tangent[o] = derivative * dz;
+                }
+            }
+            std::mem::swap(value, next_value);
+            std::mem::swap(tangent, next_tangent);
+        }
+        let target = &model.target;
+        let y = target.output_mean + target.output_std * value[0];
+        let slope = target.output_std
+            * tangent[0]
+            * match model.variant {
+                Variant::Plain => 1.0,
+                Variant::Signed => output_sign * f64::from(u8::from(y > 0.0)),
+            };
+        Ok((force, slope))
+    }
+
     /// Batch evaluation: `features` has one row per feature (model order) and one column
     /// per sample; uses matrix-matrix products. Same results as `evaluate` up to rounding.
     pub fn evaluate_batch(&self, features: &DMatrix<f64>) -> Result<Vec<f64>, NeuralError> {
@@ -356,6 +454,12 @@ impl NeuralLaw {
 impl FrictionLaw for NeuralLaw {
     fn name(&self) -> &str {
         crate::choice::Choice::name(crate::scene::FrictionLawKind::Neural)
+    }
+
+    /// The plain variant is a smooth network output; the signed variant jumps by
+    /// 2 g(0) at v = 0.
+    fn continuous(&self) -> bool {
+        self.model.variant == Variant::Plain
     }
 
     /// Signed force (N) in the direction of `sliding_velocity` (m/s) under
