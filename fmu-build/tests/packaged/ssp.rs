@@ -11,6 +11,7 @@ use std::io::Read;
 use stickslip::choice::Choice;
 use stickslip::friction::LawChoice;
 use stickslip::scene::FrictionLawKind;
+use stickslip::simulation::ExternalCoupling;
 use stickslip_fmi::FmuKind;
 
 fn checked(system: System) -> CheckedSystem {
@@ -153,9 +154,13 @@ fn parameters_are_the_defaults_except_what_the_system_sets() {
     assert_eq!(
         ssd_parameters(&coupled, "beam"),
         with(
-            &beam_starts,
-            "friction.law",
-            FrictionLawKind::External.code()
+            &with(
+                &beam_starts,
+                "friction.law",
+                FrictionLawKind::External.code()
+            ),
+            "external.coupling",
+            ExternalCoupling::Signed.code()
         )
     );
     assert_eq!(ssd_parameters(&coupled, "friction"), friction_starts);
