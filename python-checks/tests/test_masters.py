@@ -33,7 +33,7 @@ from fmpy.validation import validate_fmu
 
 from stickslip_checks import masters
 from stickslip_checks.artifacts import BEAM, FRICTION, fmu_paths
-from stickslip_checks.master import GAUSS_SEIDEL, JACOBI, run_coupled
+from stickslip_checks.master import COUPLINGS, GAUSS_SEIDEL, JACOBI, run_coupled
 from stickslip_checks.masters import COUPLED, MONOLITHIC, H, T_END
 
 N = round(T_END / H)
@@ -112,11 +112,13 @@ def test_the_system_files_are_valid_ssp(built):
         (c.startElement, c.startConnector, c.endElement, c.endConnector)
         for c in coupled.system.connections
     }
+    # The signed coupling's links: the ones our master runs the same system with.
+    element = {BEAM: "beam", FRICTION: "friction"}
     assert links == {
-        ("beam", "relative_velocity", "friction", "sliding_velocity"),
-        ("friction", "friction_force_magnitude", "beam", "external.kinetic_force"),
-        ("friction", "static_limit", "beam", "external.static_limit"),
+        (element[link.source], link.output, element[link.target], link.input)
+        for link in COUPLINGS["signed"]
     }
+    assert ("friction", "friction_force_slope", "beam", "external.friction_slope") in links
     monolithic = read_ssd(str(masters.ssp_path(MONOLITHIC)))
     assert [c.name for c in monolithic.system.elements] == ["beam"]
 
@@ -266,7 +268,14 @@ def test_fmpy_ssp_starts_the_connected_inputs_at_zero(built):
     assert series.at_grid(TIP, 10)[1] != jacobi[1]
     # Ours: no transition before breakaway.
     ours = run_coupled(
-        fmus, H, 0.01, beam={}, friction={}, record={BEAM: ["transitions"]}, scheme=JACOBI
+        fmus,
+        H,
+        0.01,
+        beam={},
+        friction={},
+        record={BEAM: ["transitions"]},
+        scheme=JACOBI,
+        coupling="signed",
     )
     assert (ours[BEAM, "transitions"] == 0).all()
 
