@@ -1,3 +1,4 @@
 //! The neural friction law: inference, weights files, training and search.
 
+mod inference;
 mod training;

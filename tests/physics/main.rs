@@ -10,4 +10,5 @@ mod errors;
 mod extremes;
 mod layering;
 mod scene_validation;
+mod slip_solve;
 mod statics;

@@ -148,10 +148,7 @@ impl NeuralFriction {
                     }
                 }
                 // A network without a velocity feature does not depend on it: slope 0.
-                let evaluated = match velocity {
-                    Some(k) => network.evaluate_with_slope(&features, k),
-                    None => network.evaluate(&features).map(|force| (force, 0.0)),
-                };
+                let evaluated = network.evaluate_with_velocity_slope(&features);
                 self.scratch = features;
                 evaluated.map_err(|source| EvaluateError::Evaluation {
                     weights: s.weights,

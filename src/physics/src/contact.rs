@@ -12,9 +12,22 @@
 //!   holding force F_hold compared with mu_s F_n is that reaction, or, with
 //!   `holding_force = "euler-bernoulli"`, the paper's literal rule
 //!   P = E h^3 delta / (4 L^3) = 3 EI delta / L^3 (b = 1) at the deflection stick gives.
-//! - **Slip solve.** F = F_law(v_rel(F)) is implicit, since v_rel depends on F; it is
-//!   solved by fixed-point iteration. The iteration contracts because
-//!   |dF/dv| * (dv_tip/dF) ~ 150 N s/m * 1e-5 m/(s N) << 1 at the paper's step.
+//! - **Slip solve.** F = F_law(x(F)) is implicit, since the law's argument x (v_rel at
+//!   the law's time level) depends on F, affinely: x = x_0 + x' F. It is solved by a
+//!   safeguarded Newton iteration on r(F) = F - F_law(x(F)), with the law's exact slope
+//!   dF_law/dv from the same evaluation ([`FrictionLaw::sliding_force_and_slope`]):
+//!   r' = 1 - F_law' x'. Where the problem is well posed (|F_law' x'| < 1, the
+//!   condition under which the implicit step has one solution) r increases with F, so
+//!   every evaluated F also brackets the root, and a Newton step that leaves the
+//!   bracket is replaced by bisection. The law jumps at x = 0 (sign(v) times a
+//!   magnitude): there r jumps up by twice the force at v -> 0, and when zero lies in
+//!   that jump the equation has no solution on either side. The slip force is then the
+//!   F at which x = 0, inside [F_law(0-), F_law(0+)]: the solution of the set-valued law
+//!   (Filippov), and the switch decides. Newton converges quadratically, 2 evaluations
+//!   for a typical slip step, 3 at the reversals, where the fixed-point iteration
+//!   F <- F_law(x(F)) of earlier versions ([`SlipSolver::FixedPoint`], kept as the
+//!   reference) took 6 to 7 with the analytical law at the paper's step and did not
+//!   converge where |F_law' x'| > 1 (the plain network's steep zero crossing).
 //! - **Switch.** Which of the two forces the step takes.
 //!
 //! The contact is posed the way the integrator's scheme is, chosen once at construction:
@@ -53,9 +66,25 @@ use crate::integrator::{Coefficients, TrialStep};
 use crate::scene::{CheckedScene, HoldingForce, SlidingVelocity};
 use serde::{Deserialize, Serialize};
 
-/// Most fixed-point iterations for the slip force; the iteration contracts by ~1e-3 per
-/// pass at the paper's step, so this is a guard, not a tuning knob.
+/// Most law evaluations of one slip solve: Newton needs 1 to 3 and the fixed-point
+/// reference 6 to 15 where it converges; a guard, not a tuning knob.
 const SLIP_ITERATIONS: usize = 50;
+
+/// Convergence of the slip force: the last correction |dF| <= SLIP_TOLERANCE (1 + |F|)
+/// (N). For Newton the correction estimates the error of the iterate it starts from, and
+/// the iterate it gives is closer still (quadratic convergence).
+pub const SLIP_TOLERANCE: f64 = 1e-12;
+
+/// How the slip force F = F_law(x(F)) is solved (see the module notes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SlipSolver {
+    /// Safeguarded Newton with the law's exact slope: 1 to 3 evaluations per slip step.
+    #[default]
+    Newton,
+    /// The fixed-point iteration F <- F_law(x(F)) of earlier versions, kept as the
+    /// reference the Newton solve is tested against (tests/physics/slip_solve.rs).
+    FixedPoint,
+}
 
 /// Contact state of the tip.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -106,16 +135,6 @@ pub enum Kinetic<'a> {
 }
 
 impl Kinetic<'_> {
-    /// Whether the force is continuous in v, with no jump at v = 0
-    /// ([`FrictionLaw::continuous`]).
-    fn continuous(&self) -> bool {
-        match self {
-            Kinetic::Law { law, .. } => law.continuous(),
-            Kinetic::External { .. } => false,
-            Kinetic::ExternalSigned { .. } => true,
-        }
-    }
-
     /// Signed kinetic force (N) at sliding velocity `v` (m/s).
     fn force(&mut self, v: f64) -> f64 {
         match self {
@@ -128,6 +147,48 @@ impl Kinetic<'_> {
             } => *force + *slope * (v - *velocity),
         }
     }
+
+    /// The force (N) and its slope dF/dv (N s/m) at `v` (m/s).
+    fn force_and_slope(&mut self, v: f64) -> (f64, f64) {
+        match self {
+            Kinetic::Law { law, normal_force } => law.sliding_force_and_slope(v, *normal_force),
+            Kinetic::External { force } => (signum_or_zero(v) * *force, 0.0),
+            Kinetic::ExternalSigned {
+                force,
+                slope,
+                velocity,
+            } => (*force + *slope * (v - *velocity), *slope),
+        }
+    }
+}
+
+/// The kinetic force of one slip solve, counting its evaluations.
+struct CountedLaw<'a, 'k> {
+    kinetic: &'a mut Kinetic<'k>,
+    evaluations: usize,
+}
+
+impl CountedLaw<'_, '_> {
+    fn force(&mut self, v: f64) -> f64 {
+        self.evaluations += 1;
+        self.kinetic.force(v)
+    }
+
+    fn force_and_slope(&mut self, v: f64) -> (f64, f64) {
+        self.evaluations += 1;
+        self.kinetic.force_and_slope(v)
+    }
+}
+
+/// How the slip solve of a step went.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SlipSolve {
+    /// Evaluations of the law (value, or value and slope: one pass each).
+    pub evaluations: usize,
+    /// Whether F = F_law(x(F)) was solved. False when it has no solution (zero in the
+    /// law's jump; the force is then the fixed-point iteration's, see the module notes)
+    /// or the solver stopped at its limit of evaluations.
+    pub solved: bool,
 }
 
 /// What the contact decided for one step.
@@ -141,6 +202,8 @@ pub struct Resolution {
     /// Holding force F_hold (N): what stick needs this step, the quantity compared with
     /// mu_s F_n (for Moreau-Jean, see the module notes).
     pub holding_force: f64,
+    /// The slip solve, if the step needed one (whatever state it then took).
+    pub slip: Option<SlipSolve>,
 }
 
 /// How the contact is posed, fixed by the integrator's scheme.
@@ -162,6 +225,7 @@ pub struct Contact {
     sliding_velocity: SlidingVelocity,
     /// eps (m/s).
     stick_threshold: f64,
+    solver: SlipSolver,
 }
 
 /// The stick reaction of a step: the force that keeps the tip with the belt (N) and the
@@ -187,7 +251,13 @@ impl Contact {
             euler_bernoulli_stiffness: scene.euler_bernoulli_tip_stiffness(),
             sliding_velocity: scene.contact.sliding_velocity,
             stick_threshold: scene.friction.stick_threshold,
+            solver: SlipSolver::default(),
         }
+    }
+
+    /// Solves the slip force with `solver` from now on (the default is Newton).
+    pub fn set_slip_solver(&mut self, solver: SlipSolver) {
+        self.solver = solver;
     }
 
     /// Decides the tip force of the step whose force-free `trial` the integrator just
@@ -234,7 +304,7 @@ impl Contact {
             tip_displacement: target,
         };
         let holding_force = self.holding(&stick);
-        let (state, force) = match previous.state {
+        let (state, force, slip) = match previous.state {
             ContactState::Stick => {
                 match next_state(
                     ContactState::Stick,
@@ -244,27 +314,25 @@ impl Contact {
                     0.0,
                     0.0,
                 ) {
-                    ContactState::Stick => (ContactState::Stick, stick.force),
+                    ContactState::Stick => (ContactState::Stick, stick.force, None),
                     ContactState::Slip => {
-                        let (force, _) =
-                            self.slip(trial, previous, belt_speed, &mut kinetic, alpha_f);
-                        (ContactState::Slip, force)
+                        let slip = self.slip(trial, previous, belt_speed, &mut kinetic, alpha_f);
+                        (ContactState::Slip, slip.force, Some(slip.solve))
                     }
                 }
             }
             ContactState::Slip => {
-                let (slip_force, relative_velocity) =
-                    self.slip(trial, previous, belt_speed, &mut kinetic, alpha_f);
+                let slip = self.slip(trial, previous, belt_speed, &mut kinetic, alpha_f);
                 match next_state(
                     ContactState::Slip,
                     holding_force,
                     static_limit,
                     previous.relative_velocity,
-                    relative_velocity,
+                    slip.relative_velocity,
                     self.stick_threshold,
                 ) {
-                    ContactState::Stick => (ContactState::Stick, stick.force),
-                    ContactState::Slip => (ContactState::Slip, slip_force),
+                    ContactState::Stick => (ContactState::Stick, stick.force, Some(slip.solve)),
+                    ContactState::Slip => (ContactState::Slip, slip.force, Some(slip.solve)),
                 }
             }
         };
@@ -272,6 +340,7 @@ impl Contact {
             state,
             force,
             holding_force,
+            slip,
         }
     }
 
@@ -291,18 +360,19 @@ impl Contact {
             tip_displacement: trial.free_tip_displacement + force * trial.displacement_per_force,
         };
         let holding_force = self.holding(&stick);
-        let (state, force) = match impulse_clamp(stick.force, static_limit) {
-            ContactState::Stick => (ContactState::Stick, stick.force),
+        let (state, force, slip) = match impulse_clamp(stick.force, static_limit) {
+            ContactState::Stick => (ContactState::Stick, stick.force, None),
             ContactState::Slip => {
                 // Moreau-Jean's law level is t_{n+1}: no weight on t_n.
-                let (force, _) = self.slip(trial, previous, belt_speed, &mut kinetic, 0.0);
-                (ContactState::Slip, force)
+                let slip = self.slip(trial, previous, belt_speed, &mut kinetic, 0.0);
+                (ContactState::Slip, slip.force, Some(slip.solve))
             }
         };
         Resolution {
             state,
             force,
             holding_force,
+            slip,
         }
     }
 
@@ -315,10 +385,8 @@ impl Contact {
         }
     }
 
-    /// The slip force F = F_law(v(F)) (N) and v_rel at t_{n+1} (m/s) under it: by
-    /// fixed-point iteration for the scene's law and the external magnitude
-    /// ([`Self::slip_fixed_point`]), by Newton's method for the external tangent
-    /// ([`Self::slip_tangent`]).
+    /// The slip force F = F_law(x(F)), solved from the last step's force, and v_rel at
+    /// t_{n+1} under it.
     ///
     /// The law sees v_rel at t_{n+1-alpha_f}, (1 - alpha_f) v_rel,n+1 + alpha_f v_rel,n;
     /// with `sliding_velocity = "tip"` it sees |v_tip| at that level instead, in the
@@ -330,222 +398,339 @@ impl Contact {
         belt_speed: f64,
         kinetic: &mut Kinetic<'_>,
         alpha_f: f64,
-    ) -> (f64, f64) {
-        let force = match *kinetic {
-            Kinetic::ExternalSigned {
-                force,
-                slope,
-                velocity,
-            } => self.slip_tangent(
-                trial,
-                previous,
-                belt_speed,
-                alpha_f,
-                Tangent {
+    ) -> Slip {
+        let argument = SlipArgument {
+            belt_speed,
+            free_tip_velocity: trial.free_tip_velocity,
+            velocity_per_force: trial.velocity_per_force,
+            alpha_f,
+            previous_relative_velocity: previous.relative_velocity,
+            start_tip_velocity: trial.start_tip_velocity,
+            sliding_velocity: self.sliding_velocity,
+        };
+        let mut law = CountedLaw {
+            kinetic,
+            evaluations: 0,
+        };
+        let (force, solved) = match (&*law.kinetic, self.solver) {
+            (
+                Kinetic::ExternalSigned {
                     force,
                     slope,
                     velocity,
                 },
-            ),
-            _ => self.slip_fixed_point(trial, previous, belt_speed, kinetic, alpha_f),
+                _,
+            ) => {
+                let tangent = Tangent {
+                    force: *force,
+                    slope: *slope,
+                    velocity: *velocity,
+                };
+                tangent_newton(&argument, tangent, &mut law)
+            }
+            (_, SlipSolver::Newton) => newton(&argument, previous.force, &mut law),
+            (_, SlipSolver::FixedPoint) => fixed_point(&argument, previous.force, &mut law),
         };
-        let v_tip = trial.free_tip_velocity + force * trial.velocity_per_force;
-        (force, belt_speed - v_tip)
-    }
-
-    /// F = K(v(F)) by fixed-point iteration from the last step's force, K the kinetic
-    /// force and v(F) its argument ([`Self::argument`]).
-    ///
-    /// The iteration contracts when |dK/dv| |dv/dF| < 1: by ~1e-3 per pass for the
-    /// exponential law at the paper's step. A steeper law makes it diverge: the paper's
-    /// plain network rises from -13 N to +50 N within 1 mm/s of v = 0 (dK/dv up to
-    /// ~1.4e5 N s/m), against (1 - alpha_f) dv_tip/dF ~ 1.3e-4 m/(s N) at beam fidelity,
-    /// a gain of ~19; the iterates then swing between two forces on either side of the
-    /// root, and the 50th is no solution of the step (up to 0.7 s of the paper scene at
-    /// beam fidelity, 247 of its slip steps ended so). Each iterate tells on which side of the root it
-    /// lies, r(F_i) = F_i - K(v(F_i)) = F_i - F_{i+1}, so for a continuous law
-    /// ([`FrictionLaw::continuous`]) an iteration that does not converge leaves a
-    /// bracket, and bisection finds the root in it.
-    ///
-    /// A law with a jump at v = 0 (exponential, Coulomb, the signed network, the
-    /// external magnitude) keeps the 50th iterate, as it always has. Where the step
-    /// would carry v across 0 it may have no root, and bisection would only close in on
-    /// the jump (the residual check below would refuse that). But its iteration also
-    /// ends unconverged at times on a root of one side, mostly at coarse steps (1592
-    /// steps in 1400 s of the paper scene at modal fidelity and dt = 1e-3 s, none in its
-    /// 1.2 s at dt = 1e-4 s): finishing those would move runs that are compared bit for
-    /// bit across the project (the FMU's long run, the study, `auto`'s calibrations),
-    /// which is a decision of its own.
-    fn slip_fixed_point(
-        &self,
-        trial: &TrialStep,
-        previous: Previous,
-        belt_speed: f64,
-        kinetic: &mut Kinetic<'_>,
-        alpha_f: f64,
-    ) -> f64 {
-        // An iterate with r < 0 and one with r > 0, with their residuals.
-        let mut below: Option<(f64, f64)> = None;
-        let mut above: Option<(f64, f64)> = None;
-        let mut force = previous.force;
-        for _ in 0..SLIP_ITERATIONS {
-            let (argument, _) = self.argument(trial, previous, belt_speed, alpha_f, force);
-            let next = kinetic.force(argument);
-            let converged = (next - force).abs() <= 1e-12 * (1.0 + next.abs());
-            let residual = force - next;
-            if residual < 0.0 {
-                below = Some((force, residual));
-            } else if residual > 0.0 {
-                above = Some((force, residual));
-            }
-            force = next;
-            if converged {
-                return force;
-            }
-        }
-        if !kinetic.continuous() {
-            return force;
-        }
-        match (below, above) {
-            (Some(below), Some(above)) => self
-                .bisect(trial, previous, belt_speed, kinetic, alpha_f, below, above)
-                .unwrap_or(force),
-            _ => force,
+        Slip {
+            force,
+            relative_velocity: argument.relative_velocity(force),
+            solve: SlipSolve {
+                evaluations: law.evaluations,
+                solved,
+            },
         }
     }
+}
 
-    /// The root of r(F) = F - K(v(F)) between `below` = (F, r(F)) with r < 0 and `above`
-    /// with r > 0, by bisection to the resolution of f64; `None` when the residual at
-    /// the end has not shrunk below 1e-6 of the bracket's first residuals: r jumps
-    /// there, and there is no root.
-    #[allow(clippy::too_many_arguments)]
-    fn bisect(
-        &self,
-        trial: &TrialStep,
-        previous: Previous,
-        belt_speed: f64,
-        kinetic: &mut Kinetic<'_>,
-        alpha_f: f64,
-        below: (f64, f64),
-        above: (f64, f64),
-    ) -> Option<f64> {
-        let scale = below.1.abs() + above.1.abs();
-        let (mut low, mut high) = (below.0, above.0);
-        let (mut low_residual, mut high_residual) = (below.1, above.1);
-        // 2 x 64 halvings take any bracket of finite f64 to adjacent numbers.
-        for _ in 0..128 {
-            let middle = 0.5 * (low + high);
-            if middle == low || middle == high {
-                break;
-            }
-            let (argument, _) = self.argument(trial, previous, belt_speed, alpha_f, middle);
-            let residual = middle - kinetic.force(argument);
-            if residual < 0.0 {
-                (low, low_residual) = (middle, residual);
-            } else if residual > 0.0 {
-                (high, high_residual) = (middle, residual);
-            } else {
-                return Some(middle);
-            }
-        }
-        let (root, residual) = if low_residual.abs() <= high_residual.abs() {
-            (low, low_residual)
-        } else {
-            (high, high_residual)
-        };
-        (residual.abs() <= 1e-6 * scale).then_some(root)
+/// The result of a slip solve.
+struct Slip {
+    /// Tip force F (N).
+    force: f64,
+    /// v_rel at t_{n+1} (m/s) under it.
+    relative_velocity: f64,
+    solve: SlipSolve,
+}
+
+/// The law's argument x during one slip step as a function of the tip force F: the
+/// tip responds linearly, v_tip,n+1 = v_free + F dv/dF.
+struct SlipArgument {
+    belt_speed: f64,
+    free_tip_velocity: f64,
+    velocity_per_force: f64,
+    alpha_f: f64,
+    /// v_rel,n (m/s).
+    previous_relative_velocity: f64,
+    /// v_tip,n (m/s).
+    start_tip_velocity: f64,
+    sliding_velocity: SlidingVelocity,
+}
+
+impl SlipArgument {
+    /// v_rel at t_{n+1} (m/s) under the tip force `force` (N).
+    fn relative_velocity(&self, force: f64) -> f64 {
+        self.belt_speed - (self.free_tip_velocity + force * self.velocity_per_force)
     }
 
-    /// The law's argument (m/s) when the step ends with tip force `force` (N), and its
-    /// derivative with respect to that force (m/(s N)).
-    fn argument(
-        &self,
-        trial: &TrialStep,
-        previous: Previous,
-        belt_speed: f64,
-        alpha_f: f64,
-        force: f64,
-    ) -> (f64, f64) {
-        let v_tip = trial.free_tip_velocity + force * trial.velocity_per_force;
-        let v_rel = belt_speed - v_tip;
-        let rel_eval = (1.0 - alpha_f) * v_rel + alpha_f * previous.relative_velocity;
-        let per_force = (1.0 - alpha_f) * trial.velocity_per_force;
+    /// The law's argument under `force` (N).
+    fn at(&self, force: f64) -> Point {
+        let alpha_f = self.alpha_f;
+        let v_tip = self.free_tip_velocity + force * self.velocity_per_force;
+        let v_rel = self.belt_speed - v_tip;
+        let rel_eval = (1.0 - alpha_f) * v_rel + alpha_f * self.previous_relative_velocity;
+        let direction = signum_or_zero(rel_eval);
         match self.sliding_velocity {
-            SlidingVelocity::Relative => (rel_eval, -per_force),
+            SlidingVelocity::Relative => Point {
+                force,
+                x: rel_eval,
+                slope: -(1.0 - alpha_f) * self.velocity_per_force,
+                direction,
+            },
             SlidingVelocity::Tip => {
-                let tip_eval = (1.0 - alpha_f) * v_tip + alpha_f * trial.start_tip_velocity;
-                let direction = signum_or_zero(rel_eval);
-                (
-                    direction * tip_eval.abs(),
-                    direction * signum_or_zero(tip_eval) * per_force,
-                )
+                let tip = (1.0 - alpha_f) * v_tip + alpha_f * self.start_tip_velocity;
+                Point {
+                    force,
+                    x: direction * tip.abs(),
+                    slope: direction
+                        * signum_or_zero(tip)
+                        * (1.0 - alpha_f)
+                        * self.velocity_per_force,
+                    direction,
+                }
             }
         }
     }
 
-    /// The slip force (N) under a coupled model's tangent T(v) = F_k + S (v - v_k):
-    /// the root of r(F) = F - T(v(F)), with v(F) the law's argument at the end of the
-    /// step under F ([`Self::argument`]), by Newton's method.
-    ///
-    /// - **Implicit, with the slope.** The paper's plain network is steep near v = 0:
-    ///   it rises from -13 N to +50 N within 1 mm/s (dF/dv up to ~1.4e5 N s/m). Held
-    ///   as a constant over a communication step, such a law is an explicit feedback
-    ///   whose gain, S times the tip's velocity change per newton, is far above 1 (~19
-    ///   over a single internal step of 1e-4 s at beam fidelity, more over a
-    ///   communication step), and the coupled run swings where the embedded law creeps.
-    ///   Its tangent, solved within each internal step, is what the embedded slip solve
-    ///   sees near v_k.
-    /// - **Along the sliding velocity.** Friction dissipates, F v_rel >= 0, which is
-    ///   why the magnitude coupling applies its magnitude along v_rel. Where the
-    ///   tangent points against the sliding velocity at the step's end, v_rel has
-    ///   crossed 0 since the model was evaluated (a reversal of slip whose re-stick
-    ///   was inadmissible), and the tangent describes the other side of the law's
-    ///   steep zero crossing, which it extrapolates the wrong way (to -190 N within one
-    ///   1 ms step in the paper scene). There its magnitude acts along v_rel, as in the
-    ///   magnitude coupling. The one place where a law itself pushes against v_rel,
-    ///   the plain network's -13 N on 0 < v < 0.1 mm/s, is an artefact of smoothing
-    ///   the jump, and this rule departs from it there.
-    ///
-    /// v(F) is affine in F for `sliding_velocity = "relative"` and piecewise affine
-    /// for "tip", and so is the direction rule: Newton's method ends in one pass on a
-    /// piece, a few across a kink. Where r'(F) = 1 - T' dv/dF vanishes the tangent
-    /// gives no step, and the held force F_k is taken as it is.
-    fn slip_tangent(
-        &self,
-        trial: &TrialStep,
-        previous: Previous,
-        belt_speed: f64,
-        alpha_f: f64,
-        tangent: Tangent,
-    ) -> f64 {
-        let Tangent {
-            force: held,
-            slope,
-            velocity,
-        } = tangent;
-        let mut force = held;
-        for _ in 0..SLIP_ITERATIONS {
-            let (argument, per_force) = self.argument(trial, previous, belt_speed, alpha_f, force);
-            let tangent = held + slope * (argument - velocity);
-            let (model, model_slope) = if tangent * argument < 0.0 {
-                (-tangent, -slope)
-            } else {
-                (tangent, slope)
-            };
-            let residual = force - model;
-            let derivative = 1.0 - model_slope * per_force;
-            if derivative.is_nan() || derivative.abs() <= f64::EPSILON {
-                return held;
-            }
-            let next = force - residual / derivative;
-            let converged = (next - force).abs() <= 1e-12 * (1.0 + next.abs());
-            force = next;
-            if converged {
-                break;
+    /// The direction of sliding, sign(v_rel) at the law's level, where F is above the
+    /// reversal force: d v_rel / dF = -(1 - alpha_f) dv/dF.
+    fn direction_above(&self) -> f64 {
+        -((1.0 - self.alpha_f) * self.velocity_per_force).signum()
+    }
+
+    /// The force (N) at which the direction of sliding reverses (v_rel at the law's
+    /// level is 0), where the law jumps; None if the direction does not depend on F.
+    fn reversal(&self) -> Option<f64> {
+        let alpha_f = self.alpha_f;
+        let rate = (1.0 - alpha_f) * self.velocity_per_force;
+        let force = ((1.0 - alpha_f) * (self.belt_speed - self.free_tip_velocity)
+            + alpha_f * self.previous_relative_velocity)
+            / rate;
+        (rate != 0.0 && force.is_finite()).then_some(force)
+    }
+
+    /// The argument just beside the reversal force `reversal` (N), on the side where F
+    /// is `above` it or below: the magnitude the law sees there (0 for the relative
+    /// velocity, as the smallest normal number so that the law sees the direction),
+    /// with that side's direction.
+    fn beside_reversal(&self, reversal: f64, above: bool) -> Point {
+        let alpha_f = self.alpha_f;
+        let rate = (1.0 - alpha_f) * self.velocity_per_force;
+        let direction = if above {
+            self.direction_above()
+        } else {
+            -self.direction_above()
+        };
+        match self.sliding_velocity {
+            SlidingVelocity::Relative => Point {
+                force: reversal,
+                x: direction * f64::MIN_POSITIVE,
+                slope: -rate,
+                direction,
+            },
+            SlidingVelocity::Tip => {
+                let v_tip = self.free_tip_velocity + reversal * self.velocity_per_force;
+                let tip = (1.0 - alpha_f) * v_tip + alpha_f * self.start_tip_velocity;
+                Point {
+                    force: reversal,
+                    x: direction * tip.abs().max(f64::MIN_POSITIVE),
+                    slope: direction * signum_or_zero(tip) * rate,
+                    direction,
+                }
             }
         }
-        force
     }
+}
+
+/// The law's argument at one tip force.
+#[derive(Clone, Copy, Debug)]
+struct Point {
+    /// Tip force F (N).
+    force: f64,
+    /// x (m/s).
+    x: f64,
+    /// dx/dF (m/(s N)) where x is differentiable.
+    slope: f64,
+    /// Direction of sliding, sign(v_rel) at the law's level (0 exactly at the reversal).
+    direction: f64,
+}
+
+/// One evaluation of r(F) = F - F_law(x(F)): the residual (N), its slope r' (1) and the
+/// Newton iterate F - r / r' (N).
+struct Residual {
+    force: f64,
+    direction: f64,
+    law: f64,
+    value: f64,
+    slope: f64,
+}
+
+impl Residual {
+    fn new(point: Point, law: &mut CountedLaw<'_, '_>) -> Self {
+        let (law, law_slope) = law.force_and_slope(point.x);
+        Self {
+            force: point.force,
+            direction: point.direction,
+            law,
+            value: point.force - law,
+            slope: 1.0 - law_slope * point.slope,
+        }
+    }
+
+    fn newton(&self) -> f64 {
+        self.force - self.value / self.slope
+    }
+}
+
+/// Safeguarded Newton on r(F) = F - F_law(x(F)) from `start` (N); see the module notes.
+/// Returns the force (N) and whether it solves the equation.
+///
+/// r increases with F where the problem is well posed, so each evaluation narrows the
+/// bracket (below, above) of the root: r(below) < 0 < r(above). A Newton iterate outside
+/// it, or from a non-positive slope, is replaced by bisection (or, while one end is still
+/// open, by the fixed-point step). The first iterate that would change the direction of
+/// sliding, where the law jumps, is replaced by a look at both sides of the reversal
+/// force F_j: r(F_j-) <= r(F_j+), so the root lies below (r(F_j-) > 0), above
+/// (r(F_j+) < 0) or in the jump, where the equation has no solution and the fixed-point
+/// iteration's answer is kept (see the module notes).
+///
+/// Converged when the Newton correction is below [`SLIP_TOLERANCE`], or when two
+/// successive Newton corrections shrink by q < 1/2 and the bound on the error of a
+/// sequence converging at rate q, q / (1 - q) |correction|, is below it: Newton
+/// converges faster than that bound assumes, and the test saves the evaluation that
+/// would only confirm convergence.
+fn newton(argument: &SlipArgument, start: f64, law: &mut CountedLaw<'_, '_>) -> (f64, bool) {
+    let reversal = argument.reversal();
+    let mut reversal_seen = false;
+    let (mut below, mut above) = (f64::NEG_INFINITY, f64::INFINITY);
+    let mut current = Residual::new(argument.at(start), law);
+    // The Newton correction that led to `current`, if a Newton step did.
+    let mut last_correction: Option<f64> = None;
+    for _ in 1..SLIP_ITERATIONS {
+        if !current.law.is_finite() {
+            // The simulation reports the non-finite force.
+            return (current.law, false);
+        }
+        if current.value == 0.0 {
+            return (current.force, true);
+        }
+        if current.value < 0.0 {
+            below = below.max(current.force);
+        } else {
+            above = above.min(current.force);
+        }
+        let newton = current.newton();
+        let newton_valid = current.slope > 0.0 && newton.is_finite();
+        if newton_valid {
+            let correction = (newton - current.force).abs();
+            let tolerance = SLIP_TOLERANCE * (1.0 + newton.abs());
+            let rate = last_correction.map_or(1.0, |last| correction / last);
+            if correction <= tolerance
+                || (rate < 0.5 && rate / (1.0 - rate) * correction <= tolerance)
+            {
+                return (newton, true);
+            }
+        }
+        let next = if newton_valid && below < newton && newton < above {
+            newton
+        } else if below.is_finite() && above.is_finite() {
+            0.5 * (below + above)
+        } else {
+            current.law
+        };
+        last_correction = (next == newton).then(|| (newton - current.force).abs());
+        let next = argument.at(next);
+        current = match reversal {
+            Some(reversal)
+                if !reversal_seen
+                    && (current.direction == 0.0 || next.direction != current.direction) =>
+            {
+                reversal_seen = true;
+                last_correction = None;
+                // Look first on the side of the current iterate (below if it has none).
+                let first_above = current.direction == argument.direction_above();
+                let first = Residual::new(argument.beside_reversal(reversal, first_above), law);
+                if first.value == 0.0 {
+                    return (reversal, true);
+                }
+                if (first.value < 0.0) == first_above {
+                    // r(F_j+) < 0 or r(F_j-) > 0: the root lies on this side.
+                    if first_above {
+                        below = reversal;
+                    } else {
+                        above = reversal;
+                    }
+                    first
+                } else {
+                    let second =
+                        Residual::new(argument.beside_reversal(reversal, !first_above), law);
+                    if second.value == 0.0 {
+                        return (reversal, true);
+                    }
+                    if (second.value < 0.0) == first_above || !second.law.is_finite() {
+                        // r(F_j-) < 0 < r(F_j+): zero lies in the jump, no solution.
+                        return (fixed_point(argument, start, law).0, false);
+                    }
+                    if first_above {
+                        above = reversal;
+                    } else {
+                        below = reversal;
+                    }
+                    second
+                }
+            }
+            // (A one-sided evaluation at the jump is the next iterate like any other:
+            // its Newton step lies on its side, inside the bracket that now ends there.)
+            _ => Residual::new(next, law),
+        };
+    }
+    (current.force, false)
+}
+
+/// The fixed-point iteration F <- F_law(x(F)) from `start` (N), stopped when an update
+/// is below the slip tolerance or after [`SLIP_ITERATIONS`] passes: the slip solve of
+/// earlier versions, bit for bit ([`SlipSolver::FixedPoint`]).
+///
+/// Where the equation has no solution (zero in the law's jump) the iteration settles on
+/// a cycle between the two sides and runs all its passes. The map is deterministic, so
+/// once an iterate repeats one p passes before, the sequence repeats with period p and
+/// its last value is known; none of the passes in that cycle converged, so none of the
+/// repeats would have either. The shortcut gives the number the full run gives.
+fn fixed_point(
+    argument: &SlipArgument,
+    start: f64,
+    kinetic: &mut CountedLaw<'_, '_>,
+) -> (f64, bool) {
+    // Iterate F_i sits at history[i % CYCLE]; cycles of up to CYCLE - 1 passes are seen.
+    const CYCLE: usize = 9;
+    let mut history = [f64::NAN; CYCLE];
+    history[0] = start;
+    let mut force = start;
+    for pass in 0..SLIP_ITERATIONS {
+        let next = kinetic.force(argument.at(force).x);
+        if (next - force).abs() <= SLIP_TOLERANCE * (1.0 + next.abs()) {
+            return (next, true);
+        }
+        // next is F_m; F_m = F_{m-p} makes F_N = F_{m-p+((N-m) mod p)}, N the passes.
+        let m = pass + 1;
+        for period in 2..CYCLE.min(m + 1) {
+            if next == history[(m - period) % CYCLE] {
+                let rest = (SLIP_ITERATIONS - m) % period;
+                return (history[(m - period + rest) % CYCLE], false);
+            }
+        }
+        history[m % CYCLE] = next;
+        force = next;
+    }
+    (force, false)
 }
 
 /// A coupled model's tangent: F(v) ~ force + slope (v - velocity) (N, N s/m, m/s).
@@ -554,6 +739,67 @@ struct Tangent {
     force: f64,
     slope: f64,
     velocity: f64,
+}
+
+/// The slip force (N) under a coupled model's tangent T(v) = F_k + S (v - v_k): the root
+/// of r(F) = F - T(x(F)), x(F) the law's argument at the end of the step under F, by
+/// Newton's method. Returns the force and whether the iteration converged.
+///
+/// - **Implicit, with the slope.** The paper's plain network is steep near v = 0: it
+///   rises from -13 N to +50 N within 1 mm/s (dF/dv up to ~1.4e5 N s/m). Held as a
+///   constant over a communication step, such a law is an explicit feedback whose gain,
+///   S times the tip's velocity change per newton, is far above 1 (~19 over a single
+///   internal step of 1e-4 s at beam fidelity, more over a communication step), and the
+///   coupled run swings where the embedded law creeps. Its tangent, solved within each
+///   internal step, is what the embedded slip solve sees near v_k.
+/// - **Along the sliding velocity.** Friction dissipates, F v_rel >= 0, which is why the
+///   magnitude coupling applies its magnitude along v_rel. Where the tangent points
+///   against the sliding velocity at the step's end, v_rel has crossed 0 since the model
+///   was evaluated (a reversal of slip whose re-stick was inadmissible), and the tangent
+///   describes the other side of the law's steep zero crossing, which it extrapolates
+///   the wrong way (to -190 N within one 1 ms step in the paper scene). There its
+///   magnitude acts along v_rel, as in the magnitude coupling. The one place where a law
+///   itself pushes against v_rel, the plain network's -13 N on 0 < v < 0.1 mm/s, is an
+///   artefact of smoothing the jump, and this rule departs from it there.
+///
+/// x(F) is affine in F for `sliding_velocity = "relative"` and piecewise affine for
+/// "tip", and so is the direction rule: Newton's method ends in one pass on a piece, a
+/// few across a kink. Where r'(F) = 1 - T' dx/dF vanishes the tangent gives no step, and
+/// the held force F_k is taken as it is.
+fn tangent_newton(
+    argument: &SlipArgument,
+    tangent: Tangent,
+    law: &mut CountedLaw<'_, '_>,
+) -> (f64, bool) {
+    let Tangent {
+        force: held,
+        slope,
+        velocity,
+    } = tangent;
+    let mut force = held;
+    for _ in 0..SLIP_ITERATIONS {
+        let point = argument.at(force);
+        // One evaluation of the (affine) model per pass, counted like a law's.
+        law.evaluations += 1;
+        let value = held + slope * (point.x - velocity);
+        let (model, model_slope) = if value * point.x < 0.0 {
+            (-value, -slope)
+        } else {
+            (value, slope)
+        };
+        let residual = force - model;
+        let derivative = 1.0 - model_slope * point.slope;
+        if derivative.is_nan() || derivative.abs() <= f64::EPSILON {
+            return (held, false);
+        }
+        let next = force - residual / derivative;
+        let converged = (next - force).abs() <= 1e-12 * (1.0 + next.abs());
+        force = next;
+        if converged {
+            return (force, true);
+        }
+    }
+    (force, false)
 }
 
 /// Leine's switch rule for one step.
@@ -853,7 +1099,8 @@ mod tests {
     }
 
     /// F(v) = 50 N tanh(v / 1e-4 m/s): continuous, with dF/dv = 5e5 N s/m at v = 0,
-    /// steeper than the fixed-point iteration can follow at TRIAL's dv/dF.
+    /// steeper than the fixed-point iteration can follow at TRIAL's dv/dF (the safeguarded
+    /// Newton iteration solves it).
     struct SteepLaw;
 
     impl FrictionLaw for SteepLaw {
@@ -865,8 +1112,9 @@ mod tests {
             50.0 * (v / 1e-4).tanh()
         }
 
-        fn continuous(&self) -> bool {
-            true
+        fn sliding_force_and_slope(&mut self, v: f64, _normal_force: f64) -> (f64, f64) {
+            let t = (v / 1e-4).tanh();
+            (50.0 * t, 50.0 / 1e-4 * (1.0 - t * t))
         }
     }
 
@@ -915,8 +1163,8 @@ mod tests {
         );
         assert_eq!(r.state, Slip);
         let expected = SteepLaw.sliding_force(level(&NEAR_ZERO, 0.0, r.force), 100.0);
-        // Bisection to adjacent f64: the residual is the law's slope times one ulp of
-        // the force, times the gain, ~1e-13 N.
+        // Safeguarded Newton to SLIP_TOLERANCE: the residual is the law's slope times
+        // the last correction, times the gain, well below 1e-9 N.
         assert!(
             (r.force - expected).abs() < 1e-9,
             "F = {} N, law at its argument {expected} N",
@@ -1029,5 +1277,219 @@ mod tests {
         assert_eq!(Kinetic::External { force: 7.0 }.force(0.3), 7.0);
         assert_eq!(Kinetic::External { force: 7.0 }.force(-0.3), -7.0);
         assert_eq!(Kinetic::External { force: 7.0 }.force(0.0), 0.0);
+    }
+
+    /// What the sweep below met, per law.
+    #[derive(Default, Debug)]
+    struct Met {
+        /// Both converged (to each other).
+        agreed: usize,
+        /// No solution: Newton kept the fixed-point iteration's number.
+        jump: usize,
+        /// Of these, with sliding_velocity = "relative" (with "tip" the law's argument
+        /// jumps from |v_tip| to -|v_tip| at the reversal, whatever the law).
+        relative_jump: usize,
+        /// The fixed-point iteration did not converge, Newton found the root.
+        rescued: usize,
+        /// Both converged, to different roots (sliding_velocity = "tip" only).
+        ambiguous: usize,
+    }
+
+    /// Newton against the fixed-point reference over slip steps near the paper's scale:
+    /// tip compliances of the paper's step and of a 10x step, both schemes' law levels,
+    /// both sliding velocities, arguments from -0.05 to 0.05 m/s (reversals included)
+    /// and starting forces on either side.
+    ///
+    /// Where the fixed-point iteration converges, both stop within SLIP_TOLERANCE of the
+    /// root: the fixed point returns F_law(x(F_k)) with |F_law(x(F_k)) - F_k| <= tol, so
+    /// its error is q tol / (1 - q) at contraction q < 1/2, and Newton's correction
+    /// bounds its own; they agree to 2 tol (1 + |F|). Where it does not converge, the
+    /// equation has no solution (Newton then returns the fixed point's number, bit for
+    /// bit, and the residuals just beside the reversal have opposite signs) or Newton
+    /// found a root, |r| / r' <= tol.
+    fn sweep(law: &mut dyn FrictionLaw) -> Met {
+        let mut met = Met::default();
+        let alpha_f = match Coefficients::from_scene(&CheckedScene::paper()) {
+            Coefficients::GeneralizedAlpha { alpha_f, .. } => alpha_f,
+            Coefficients::MoreauJean { .. } => unreachable!(),
+        };
+        for velocity_per_force in [2e-5, 2e-4] {
+            for alpha in [0.0, alpha_f] {
+                for sliding_velocity in [SlidingVelocity::Relative, SlidingVelocity::Tip] {
+                    for k in -50..=50 {
+                        for (start, previous_relative_velocity) in [
+                            (-50.0, -1e-3),
+                            (-20.0, -0.01),
+                            (0.0, 0.0),
+                            (30.0, 2e-3),
+                            (50.0, 0.02),
+                        ] {
+                            let argument = SlipArgument {
+                                belt_speed: BELT,
+                                // x0 = (1 - alpha_f) (v_b - v_free) + ..., from -0.05 to 0.05
+                                // m/s, densest near 0.
+                                free_tip_velocity: BELT - 0.05 * (k as f64 / 50.0).powi(3),
+                                velocity_per_force,
+                                alpha_f: alpha,
+                                previous_relative_velocity,
+                                start_tip_velocity: 0.01,
+                                sliding_velocity,
+                            };
+                            let mut kinetic = Kinetic::Law {
+                                law: &mut *law,
+                                normal_force: 100.0,
+                            };
+                            let mut counted = CountedLaw {
+                                kinetic: &mut kinetic,
+                                evaluations: 0,
+                            };
+                            let (fixed, fixed_converged) =
+                                fixed_point(&argument, start, &mut counted);
+                            let (force, solved) = newton(&argument, start, &mut counted);
+                            let case = format!(
+                                "k {k}, start {start}, dv/dF {velocity_per_force}, alpha_f {alpha}, {sliding_velocity:?}: Newton {force}, fixed point {fixed}"
+                            );
+                            let bound = 2.0 * SLIP_TOLERANCE * (1.0 + force.abs());
+                            if fixed_converged && (force - fixed).abs() <= bound {
+                                assert!(solved, "{case}");
+                                met.agreed += 1;
+                            } else if fixed_converged {
+                                // Several solutions: |v_tip| can run against v_rel, and
+                                // where the law is steep r' = 1 - F_law' x' < 0.
+                                assert!(solved, "{case}");
+                                assert_eq!(sliding_velocity, SlidingVelocity::Tip, "{case}");
+                                assert!(root_error(&argument, force, &mut counted) <= bound / 2.0);
+                                met.ambiguous += 1;
+                            } else if !solved {
+                                assert_eq!(force.to_bits(), fixed.to_bits(), "{case}");
+                                let reversal = argument.reversal().expect(&case);
+                                let mut side = |above| {
+                                    let x = argument.beside_reversal(reversal, above).x;
+                                    reversal - counted.force(x)
+                                };
+                                assert!(side(false) * side(true) < 0.0, "{case}");
+                                met.jump += 1;
+                                if sliding_velocity == SlidingVelocity::Relative {
+                                    met.relative_jump += 1;
+                                }
+                            } else {
+                                let error = root_error(&argument, force, &mut counted);
+                                assert!(error <= bound / 2.0, "{case}: |r| / |r'| = {error}");
+                                met.rescued += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        met
+    }
+
+    /// |r| / |r'| at `force`, Newton's estimate of its distance to the root (N). A root
+    /// at the edge of the jump (F = F_law(0+) or F_law(0-)) solves the equation from
+    /// that side.
+    fn root_error(argument: &SlipArgument, force: f64, law: &mut CountedLaw<'_, '_>) -> f64 {
+        let point = argument.at(force);
+        let points = if point.direction == 0.0 {
+            vec![
+                argument.beside_reversal(force, false),
+                argument.beside_reversal(force, true),
+            ]
+        } else {
+            vec![point]
+        };
+        points
+            .into_iter()
+            .map(|p| {
+                let r = Residual::new(p, law);
+                r.value.abs() / r.slope.abs()
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    #[test]
+    fn newton_agrees_with_the_fixed_point_where_it_converges_and_keeps_it_where_nothing_does() {
+        let mut exponential = ExponentialLaw {
+            static_coefficient: 0.5,
+            kinetic_coefficient: 0.2,
+            decay: 5.0,
+        };
+        // Laws with a jump at v = 0 meet steps without solution (the sweep crowds its
+        // arguments near 0). The fixed point also cycles across the jump in some steps
+        // that have a solution (at the edge of the jump, F = F_law(0-), or with
+        // sliding_velocity = "tip" at the larger step), which Newton finds.
+        let met = sweep(&mut exponential);
+        assert!(
+            met.agreed > 1000 && met.jump > 50 && met.ambiguous == 0,
+            "{met:?}"
+        );
+        let met = sweep(&mut coulomb());
+        assert!(
+            met.agreed > 1000 && met.jump > 50 && met.ambiguous == 0,
+            "{met:?}"
+        );
+        let mut signed = crate::neural::NeuralLaw::paper_signed().unwrap();
+        let met = sweep(&mut signed);
+        assert!(
+            met.agreed > 1000 && met.jump > 50 && met.ambiguous == 0,
+            "{met:?}"
+        );
+        // The plain network is continuous: every step on the relative velocity has a
+        // solution, and where the network is steep (|F_law' x'| > 1) only Newton finds
+        // it.
+        let mut plain = crate::neural::NeuralLaw::paper_default().unwrap();
+        let met = sweep(&mut plain);
+        assert!(
+            met.agreed > 1000 && met.relative_jump == 0 && met.rescued > 10,
+            "{met:?}"
+        );
+    }
+
+    #[test]
+    fn a_solution_in_the_continuous_part_takes_newton_two_evaluations_at_most_three() {
+        // Slip at the paper's scale away from a reversal, the start the last step's
+        // force: F moves by a few N at most per step.
+        let mut law = ExponentialLaw {
+            static_coefficient: 0.5,
+            kinetic_coefficient: 0.2,
+            decay: 5.0,
+        };
+        // |v_b - v_free| > 50 N x dv/dF = 1e-3 m/s: no reversal within the step.
+        for v_free in [0.015, 0.025, 0.04, 0.1, -0.05] {
+            for shift in [0.0, 0.01, 0.5, 3.0] {
+                let argument = SlipArgument {
+                    belt_speed: BELT,
+                    free_tip_velocity: v_free,
+                    velocity_per_force: 2e-5,
+                    alpha_f: 0.0,
+                    previous_relative_velocity: BELT - v_free,
+                    start_tip_velocity: v_free,
+                    sliding_velocity: SlidingVelocity::Relative,
+                };
+                let (root, _, _) = solve(&argument, &mut law, 0.0);
+                let (force, solved, evaluations) = solve(&argument, &mut law, root + shift);
+                assert!(solved);
+                assert!((force - root).abs() <= 2.0 * SLIP_TOLERANCE * (1.0 + root.abs()));
+                assert!(
+                    (1..=3).contains(&evaluations),
+                    "v_free {v_free}, start root + {shift}: {evaluations} evaluations"
+                );
+            }
+        }
+    }
+
+    /// Newton's slip force from `start` (N) under F_n = 100 N: the force, whether it
+    /// solved, and the law evaluations it took.
+    fn solve(argument: &SlipArgument, law: &mut dyn FrictionLaw, start: f64) -> (f64, bool, usize) {
+        let mut kinetic = Kinetic::Law {
+            law,
+            normal_force: 100.0,
+        };
+        let mut count = CountedLaw {
+            kinetic: &mut kinetic,
+            evaluations: 0,
+        };
+        let (force, solved) = newton(argument, start, &mut count);
+        (force, solved, count.evaluations)
     }
 }

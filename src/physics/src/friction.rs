@@ -32,12 +32,13 @@ pub trait FrictionLaw: Send {
     /// under `normal_force` (N).
     fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64;
 
-    /// Whether the force is continuous in the sliding velocity: false for laws
-    /// sign(v) g(|v|), which jump at v = 0. The slip solve finishes an unconverged
-    /// iteration by bisection only for continuous laws (see `contact`).
-    fn continuous(&self) -> bool {
-        false
-    }
+    /// The force of [`FrictionLaw::sliding_force`] (N, the same number) and its exact
+    /// slope dF/dv (N s/m) at `sliding_velocity`, computed in the same pass: the slip
+    /// solve's Newton iteration (`contact`) needs both at every iterate.
+    ///
+    /// A law that jumps at v = 0 (sign(v) times a magnitude) gives there its force 0 and
+    /// the slope of its magnitude; the contact handles the jump itself.
+    fn sliding_force_and_slope(&mut self, sliding_velocity: f64, normal_force: f64) -> (f64, f64);
 }
 
 /// The paper's exponential law (Eq. 6):
@@ -69,6 +70,15 @@ impl ExponentialLaw {
                 * (-self.decay * speed.abs()).exp()
     }
 
+    /// mu(|v|) (1) and its slope d mu / d|v| = -alpha (mu_s - mu_k) exp(-alpha |v|)
+    /// (s/m), sharing the one `exp`; the coefficient is the same number as
+    /// [`ExponentialLaw::coefficient`]'s.
+    pub fn coefficient_and_slope(&self, speed: f64) -> (f64, f64) {
+        let drop = (self.static_coefficient - self.kinetic_coefficient)
+            * (-self.decay * speed.abs()).exp();
+        (self.kinetic_coefficient + drop, -self.decay * drop)
+    }
+
     /// dF/dv (N s/m) of the law at sliding velocity `sliding_velocity` (m/s) under
     /// `normal_force` (N): F = sign(v) mu(|v|) F_n is odd, so
     /// dF/dv = mu'(|v|) F_n = -alpha (mu_s - mu_k) exp(-alpha |v|) F_n on either side of
@@ -90,6 +100,16 @@ impl FrictionLaw for ExponentialLaw {
     fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {
         signum_or_zero(sliding_velocity) * self.coefficient(sliding_velocity) * normal_force
     }
+
+    /// dF/dv = d mu / d|v| F_n on either side of v = 0: F = sign(v) mu(|v|) F_n is odd,
+    /// so its slope is even.
+    fn sliding_force_and_slope(&mut self, sliding_velocity: f64, normal_force: f64) -> (f64, f64) {
+        let (mu, slope) = self.coefficient_and_slope(sliding_velocity);
+        (
+            signum_or_zero(sliding_velocity) * mu * normal_force,
+            slope * normal_force,
+        )
+    }
 }
 
 /// Plain Coulomb friction: F(v) = sign(v) mu_k F_n.
@@ -106,6 +126,10 @@ impl FrictionLaw for CoulombLaw {
 
     fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {
         signum_or_zero(sliding_velocity) * self.kinetic_coefficient * normal_force
+    }
+
+    fn sliding_force_and_slope(&mut self, sliding_velocity: f64, normal_force: f64) -> (f64, f64) {
+        (self.sliding_force(sliding_velocity, normal_force), 0.0)
     }
 }
 
@@ -155,6 +179,37 @@ mod tests {
         let expected = (0.2 + 0.3 * (-1.0f64).exp()) * 100.0;
         assert!((law.sliding_force(0.2, 100.0) - expected).abs() < 1e-12);
         assert_eq!(law.sliding_force(0.0, 100.0), 0.0);
+    }
+
+    /// The exact slope against a central difference, (F(v + h) - F(v - h)) / 2h, whose
+    /// error is F^(3) h^2 / 6 + eps |F| / h ~ 1e-8 N s/m at h = 1e-6 m/s (F^(3) =
+    /// alpha^3 (mu_s - mu_k) F_n), on either side of v = 0 (not across it: the jump).
+    #[test]
+    fn exponential_slope_is_the_derivative_of_the_force() {
+        let mut law = ExponentialLaw {
+            static_coefficient: 0.5,
+            kinetic_coefficient: 0.2,
+            decay: 5.0,
+        };
+        let h = 1e-6;
+        for v in [-0.3, -0.05, -1e-4, 1e-4, 0.01, 0.2, 3.0] {
+            for f_n in [90.0, 100.0] {
+                let (force, slope) = law.sliding_force_and_slope(v, f_n);
+                assert_eq!(force.to_bits(), law.sliding_force(v, f_n).to_bits());
+                let difference =
+                    (law.sliding_force(v + h, f_n) - law.sliding_force(v - h, f_n)) / (2.0 * h);
+                assert!(
+                    (slope - difference).abs() < 1e-6,
+                    "v {v}: {slope} vs {difference}"
+                );
+            }
+        }
+        // At v = 0: force 0, and the slope of the magnitude, -alpha (mu_s - mu_k) F_n.
+        assert_eq!(law.sliding_force_and_slope(0.0, 100.0), (0.0, -150.0));
+        let mut coulomb = CoulombLaw {
+            kinetic_coefficient: 0.2,
+        };
+        assert_eq!(coulomb.sliding_force_and_slope(-0.1, 100.0), (-20.0, 0.0));
     }
 
     #[test]

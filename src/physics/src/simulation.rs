@@ -5,7 +5,7 @@
 //! resolution of the tip force from it (stick reaction, slip solve and switch for either
 //! scheme, see `contact`), then the integrator's finish with that force.
 
-use crate::contact::{Contact, ContactState, Kinetic, Previous, Transition};
+use crate::contact::{Contact, ContactState, Kinetic, Previous, SlipSolve, SlipSolver, Transition};
 use crate::friction::FrictionLaw;
 use crate::integrator::{Coefficients, Integrator, Kinematics};
 use crate::scene::{CheckedScene, InitialState};
@@ -139,6 +139,8 @@ pub struct Simulator {
     transitions: Vec<Transition>,
     /// Keep every transition instead of the most recent ones.
     keep_all_transitions: bool,
+    /// The slip solve of the last step, if it needed one.
+    last_slip: Option<SlipSolve>,
 }
 
 /// How many transitions a simulator keeps at least, unless asked to keep all of them
@@ -189,6 +191,7 @@ impl Simulator {
             state,
             transitions: Vec::with_capacity(256),
             keep_all_transitions: false,
+            last_slip: None,
         })
     }
 
@@ -273,6 +276,18 @@ impl Simulator {
     /// (the run summary, `metrics::Summary`). Its memory then grows with the run.
     pub fn keep_all_transitions(&mut self) {
         self.keep_all_transitions = true;
+    }
+
+    /// Solves the slip force with `solver` from now on: Newton by default, the
+    /// fixed-point iteration of earlier versions as the reference to compare with.
+    pub fn set_slip_solver(&mut self, solver: SlipSolver) {
+        self.contact.set_slip_solver(solver);
+    }
+
+    /// How the last step's slip solve went (law evaluations, solved or not); None if
+    /// the step needed none.
+    pub fn last_slip_solve(&self) -> Option<SlipSolve> {
+        self.last_slip
     }
 
     /// Belt speed input v_b (m/s).
@@ -411,6 +426,7 @@ impl Simulator {
             .contact
             .resolve(&trial, previous, vb, static_limit, kinetic);
         integrator.finish(&mut state.kinematics, resolution.force);
+        self.last_slip = resolution.slip;
         state.step += 1;
         if landing {
             state.time += dt;

@@ -23,20 +23,10 @@ use std::path::Path;
 use nalgebra::DMatrix;
 
 use super::error::NeuralError;
-use super::network::Activation;
+use super::forward::Forward;
 use super::weights::FeatureRole;
 use super::weights::{network_input_range, NeuralModel, Variant};
 use crate::friction::{signum_or_zero, FrictionLaw};
-
-/// One layer in inference layout: weights row-major (outputs x inputs), so output o is
-/// a contiguous dot product.
-#[derive(Clone, Debug)]
-struct DenseLayer {
-    inputs: usize,
-    outputs: usize,
-    weights: Vec<f64>,
-    biases: Vec<f64>,
-}
 
 /// The shipped plain-variant weights (`weights/paper-plain.json`).
 pub const PAPER_PLAIN_JSON: &str = include_str!("../../../../weights/paper-plain.json");
@@ -47,8 +37,8 @@ pub const PAPER_SIGNED_JSON: &str = include_str!("../../../../weights/paper-sign
 #[derive(Clone, Debug)]
 pub struct NeuralLaw {
     model: NeuralModel,
-    layers: Vec<DenseLayer>,
-    activation: Activation,
+    /// The network in the time-step loop's layout, with its scratch buffers.
+    forward: Forward,
     /// Per feature: clamp range of the network input, mean and 1/std.
     input_lo: Vec<f64>,
     input_hi: Vec<f64>,
@@ -60,88 +50,20 @@ pub struct NeuralLaw {
     normal_force: Option<usize>,
     /// Values for features the beam does not supply.
     fixed: Vec<Option<f64>>,
-    /// AVX2 + FMA available (detected once, at construction).
-    avx2_fma: bool,
-    /// Scratch: the feature vector and two layer buffers (no allocation per call), and
-    /// two more for the tangent of `evaluate_with_slope`.
+    /// Scratch: the feature vector (no allocation per call).
     features: Vec<f64>,
-    buffer_a: Vec<f64>,
-    buffer_b: Vec<f64>,
-    tangent_a: Vec<f64>,
-    tangent_b: Vec<f64>,
-}
-
-/// Dot product with eight independent partial sums: a single running sum forces strictly
-/// sequential additions, eight let the compiler keep several SIMD additions in flight
-/// (measured: 100 x 100 matrix-vector product 2.3 us with four, 1.8 us with eight).
-/// `FUSED` uses fused multiply-adds; only instantiated where the CPU has FMA.
-#[inline(always)]
-fn dot<const FUSED: bool>(a: &[f64], b: &[f64]) -> f64 {
-    let mut partial = [0.0; 8];
-    let (a8, b8) = (a.chunks_exact(8), b.chunks_exact(8));
-    let tail: f64 = a8
-        .remainder()
-        .iter()
-        .zip(b8.remainder())
-        .map(|(x, y)| x * y)
-        .sum();
-    for (x, y) in a8.zip(b8) {
-        for k in 0..8 {
-            partial[k] = if FUSED {
-                x[k].mul_add(y[k], partial[k])
-            } else {
-                partial[k] + x[k] * y[k]
-            };
-        }
-    }
-    let [p0, p1, p2, p3, p4, p5, p6, p7] = partial;
-    ((p0 + p4) + (p1 + p5)) + ((p2 + p6) + (p3 + p7)) + tail
-}
-
-/// y = W x + b for a row-major W (outputs x inputs).
-#[inline(always)]
-fn affine<const FUSED: bool>(layer: &DenseLayer, x: &[f64], y: &mut [f64]) {
-    for (o, y_o) in y.iter_mut().enumerate() {
-        let row = &layer.weights[o * layer.inputs..(o + 1) * layer.inputs];
-        *y_o = dot::<FUSED>(row, x) + layer.biases[o];
-    }
-}
-
-/// `affine` compiled for AVX2 + FMA (256-bit vectors, fused multiply-add): 1.0 us
-/// instead of 1.8 us for a 100 x 100 layer here. Called only after run-time detection.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn affine_avx2_fma(layer: &DenseLayer, x: &[f64], y: &mut [f64]) {
-    affine::<true>(layer, x, y);
-}
-
-/// Whether this CPU can run `affine_avx2_fma`.
-fn cpu_has_avx2_fma() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
 }
 
 impl NeuralLaw {
     /// A law from a checked model (any features).
     pub fn new(model: NeuralModel) -> Result<NeuralLaw, NeuralError> {
         model.validate("(model)")?;
-        let layers: Vec<DenseLayer> = model
+        let layers: Vec<(Vec<Vec<f64>>, Vec<f64>)> = model
             .layers
             .iter()
-            .map(|l| DenseLayer {
-                inputs: l.weights.first().map_or(0, Vec::len),
-                outputs: l.weights.len(),
-                weights: l.weights.iter().flatten().copied().collect(),
-                biases: l.biases.clone(),
-            })
+            .map(|l| (l.weights.clone(), l.biases.clone()))
             .collect();
-        let widest = model.layer_sizes.iter().copied().max().unwrap_or(1);
+        let forward = Forward::new(model.features.len(), &layers, model.activation);
         let (input_lo, input_hi): (Vec<f64>, Vec<f64>) = model
             .features
             .iter()
@@ -150,8 +72,7 @@ impl NeuralLaw {
         let velocity = model.feature_with_role(FeatureRole::SlidingVelocity);
         let d = model.features.len();
         Ok(NeuralLaw {
-            layers,
-            activation: model.activation,
+            forward,
             input_lo,
             input_hi,
             input_mean: model.features.iter().map(|f| f.input_mean).collect(),
@@ -164,12 +85,7 @@ impl NeuralLaw {
             velocity,
             normal_force: model.feature_with_role(FeatureRole::NormalForce),
             fixed: vec![None; d],
-            avx2_fma: cpu_has_avx2_fma(),
             features: vec![0.0; d],
-            buffer_a: vec![0.0; widest],
-            buffer_b: vec![0.0; widest],
-            tangent_a: vec![0.0; widest],
-            tangent_b: vec![0.0; widest],
             model,
         })
     }
@@ -279,6 +195,13 @@ impl NeuralLaw {
     /// Friction force (target units) for one sample of features in model order and raw
     /// units. Refuses a wrong number of inputs and non-finite values. Allocation-free.
     pub fn evaluate(&mut self, features: &[f64]) -> Result<f64, NeuralError> {
+        self.load_features(features)?;
+        Ok(self.evaluate_scratch())
+    }
+
+    /// Checks one sample of features (model order, raw units) and copies it into the
+    /// scratch vector: refuses a wrong number of inputs and non-finite values.
+    fn load_features(&mut self, features: &[f64]) -> Result<(), NeuralError> {
         if features.len() != self.features.len() {
             return Err(NeuralError::FeatureCount {
                 expected: self.features.len(),
@@ -293,100 +216,26 @@ impl NeuralLaw {
             });
         }
         self.features.copy_from_slice(features);
-        Ok(self.evaluate_scratch())
+        Ok(())
     }
 
-    /// The force (target units) and its derivative with respect to feature `feature`
-    /// (target units per unit of that feature) at one sample of `features` (model
-    /// order, raw units), by forward-mode differentiation: the tangent t = dx/dx_k
-    /// enters as 1/std_k in input k (0 when x_k is clamped: the law is flat beyond the
-    /// data), passes each layer as W t and each activation as a'(z) t, with
-    /// tanh' = 1 - a^2, sigmoid' = a (1 - a) and relu' = 1 for z > 0, else 0 (a the
-    /// activation), and leaves scaled by the output's std. The force is `evaluate`'s,
-    /// bit for bit. For the signed variant, F = sign(v) max(y(|v|), 0): dF/dv = dy/d|v|
-    /// where y > 0 (else 0) on either side of v = 0 (the jump at 0 itself has no
-    /// slope), and any other feature takes the sign. Refuses what `evaluate` refuses
-    /// and a feature index out of range. Allocation-free.
-    pub fn evaluate_with_slope(
+    /// The force (target units) of [`NeuralLaw::evaluate`], the same number, and its
+    /// derivative dF/dv with respect to the sliding-velocity feature (target units per
+    /// m/s), by forward-mode differentiation in the same pass (see
+    /// `evaluate_scratch_with`): 0 where the velocity is clamped to the training range,
+    /// and for the signed variant F = sign(v) max(y(|v|), 0) the slope y'(|v|) where
+    /// y > 0 (else 0) on either side of v = 0 (the jump at 0 itself has no slope). A
+    /// network without a sliding-velocity feature gives slope 0. Refuses what `evaluate`
+    /// refuses. Allocation-free.
+    pub fn evaluate_with_velocity_slope(
         &mut self,
         features: &[f64],
-        feature: usize,
     ) -> Result<(f64, f64), NeuralError> {
-        let force = self.evaluate(features)?;
-        if feature >= features.len() {
-            return Err(NeuralError::InvalidInput(format!(
-                "feature index {feature} is out of range: the model has {} features ({})",
-                features.len(),
-                self.feature_names().join(", ")
-            )));
+        self.load_features(features)?;
+        if self.velocity.is_none() {
+            return Ok((self.evaluate_scratch(), 0.0));
         }
-        let d = features.len();
-        let NeuralLaw {
-            layers,
-            activation,
-            input_lo,
-            input_hi,
-            input_mean,
-            input_inverse_std,
-            signed_velocity,
-            buffer_a: value,
-            buffer_b: next_value,
-            tangent_a: tangent,
-            tangent_b: next_tangent,
-            model,
-            ..
-        } = self;
-        let mut output_sign = 1.0;
-        for k in 0..d {
-            let mut x = features[k];
-            if Some(k) == *signed_velocity {
-                // F depends on |v| and sign(v): d|v|/dv = sign(v) cancels against the
-                // sign F takes, so the velocity's tangent enters unsigned.
-                if k != feature {
-                    output_sign = signum_or_zero(x);
-                }
-                x = x.abs();
-            }
-            let inside = x >= input_lo[k] && x <= input_hi[k];
-            value[k] = (x.clamp(input_lo[k], input_hi[k]) - input_mean[k]) * input_inverse_std[k];
-            tangent[k] = if k == feature && inside {
-                input_inverse_std[k]
-            } else {
-                0.0
-            };
-        }
-        let last = layers.len() - 1;
-        for (l, layer) in layers.iter().enumerate() {
-            for o in 0..layer.outputs {
-                let row = &layer.weights[o * layer.inputs..(o + 1) * layer.inputs];
-                let z = dot::<false>(row, &value[..layer.inputs]) + layer.biases[o];
-                let dz = dot::<false>(row, &tangent[..layer.inputs]);
-                if l == last {
-                    next_value[o] = z;
-                    next_tangent[o] = dz;
-                } else {
-                    let a = activation.apply(z);
-                    let derivative = match activation {
-                        Activation::Tanh => 1.0 - a * a,
-                        Activation::Sigmoid => a * (1.0 - a),
-                        Activation::Relu => f64::from(u8::from(z > 0.0)),
-                    };
-                    next_value[o] = a;
-                    next_tangent[o] = derivative * dz;
-                }
-            }
-            std::mem::swap(value, next_value);
-            std::mem::swap(tangent, next_tangent);
-        }
-        let target = &model.target;
-        let y = target.output_mean + target.output_std * value[0];
-        let slope = target.output_std
-            * tangent[0]
-            * match model.variant {
-                Variant::Plain => 1.0,
-                Variant::Signed => output_sign * f64::from(u8::from(y > 0.0)),
-            };
-        Ok((force, slope))
+        Ok(self.evaluate_scratch_with::<true>())
     }
 
     /// Batch evaluation: `features` has one row per feature (model order) and one column
@@ -401,19 +250,28 @@ impl NeuralLaw {
     /// Evaluates the feature vector in `self.features`.
     #[inline]
     fn evaluate_scratch(&mut self) -> f64 {
+        self.evaluate_scratch_with::<false>().0
+    }
+
+    /// Evaluates the feature vector in `self.features` and, with `SLOPE`, the force's
+    /// derivative with respect to the sliding-velocity feature by forward-mode
+    /// differentiation in the same pass: with x' = dx/dv, each layer gives
+    /// z' = W x' and a' = phi'(z) z' next to z = W x + b and a = phi(z). The force is
+    /// the same number either way. The slope is that of the law as evaluated: 0 where
+    /// the velocity is clamped, and for the signed variant g'(|v|) (F = sign(v) g(|v|)
+    /// is odd, its slope even), 0 where max(0, g) cuts.
+    #[inline]
+    fn evaluate_scratch_with<const SLOPE: bool>(&mut self) -> (f64, f64) {
         let NeuralLaw {
-            layers,
-            activation,
+            forward,
             input_lo,
             input_hi,
             input_mean,
             input_inverse_std,
             signed_velocity,
+            velocity,
             features,
-            buffer_a,
-            buffer_b,
             model,
-            avx2_fma,
             ..
         } = self;
         let mut sign = 1.0;
@@ -421,53 +279,45 @@ impl NeuralLaw {
             sign = signum_or_zero(features[k]);
             features[k] = features[k].abs();
         }
-        let d = features.len();
-        for k in 0..d {
-            buffer_a[k] = (features[k].clamp(input_lo[k], input_hi[k]) - input_mean[k])
-                * input_inverse_std[k];
-        }
-        let last = layers.len() - 1;
-        let (mut input, mut output) = (buffer_a, buffer_b);
-        for (l, layer) in layers.iter().enumerate() {
-            let x = &input[..layer.inputs];
-            let y = &mut output[..layer.outputs];
-            #[cfg(target_arch = "x86_64")]
-            if *avx2_fma {
-                // SAFETY: avx2_fma is true only if the running CPU has AVX2 and FMA
-                // (is_x86_feature_detected at construction), the features this function
-                // is compiled for. It has no other safety requirement.
-                unsafe { affine_avx2_fma(layer, x, y) };
-            } else {
-                affine::<false>(layer, x, y);
+        // d|v|/dv, and at v = 0 that of v > 0 (the slope of the magnitude).
+        let seed_sign = if sign == 0.0 { 1.0 } else { sign };
+        let (inputs, tangents) = forward.inputs_mut();
+        for (k, feature) in features.iter().enumerate() {
+            inputs[k] =
+                (feature.clamp(input_lo[k], input_hi[k]) - input_mean[k]) * input_inverse_std[k];
+            if SLOPE {
+                // d input / dv: 1/std on the velocity inside its range (times sign(v) for
+                // the signed variant's |v|), 0 for the other features and when clamped.
+                let inside = *feature >= input_lo[k] && *feature <= input_hi[k];
+                tangents[k] = if Some(k) == *velocity && inside {
+                    input_inverse_std[k] * seed_sign
+                } else {
+                    0.0
+                };
             }
-            #[cfg(not(target_arch = "x86_64"))]
-            affine::<false>(layer, x, y);
-            if l != last {
-                y.iter_mut().for_each(|v| *v = activation.apply(*v));
-            }
-            std::mem::swap(&mut input, &mut output);
         }
-        model.force_from_output(input[0], sign)
+        let (z, dz) = forward.run::<SLOPE>();
+        let force = model.force_from_output(z, sign);
+        if !SLOPE {
+            return (force, 0.0);
+        }
+        // F = mean + std z (plain) or sign(v) max(0, mean + std z) (signed: the tangent
+        // carries d|v|/dv = sign(v) once more, and sign(v)^2 = 1).
+        let cut = model.variant == Variant::Signed
+            && model.target.output_mean + model.target.output_std * z < 0.0;
+        let slope = if cut {
+            0.0
+        } else {
+            seed_sign * model.target.output_std * dz
+        };
+        (force, slope)
     }
-}
 
-impl FrictionLaw for NeuralLaw {
-    fn name(&self) -> &str {
-        crate::choice::Choice::name(crate::scene::FrictionLawKind::Neural)
-    }
-
-    /// The plain variant is a smooth network output; the signed variant jumps by
-    /// 2 g(0) at v = 0.
-    fn continuous(&self) -> bool {
-        self.model.variant == Variant::Plain
-    }
-
-    /// Signed force (N) in the direction of `sliding_velocity` (m/s) under
-    /// `normal_force` (N); NaN if the law was not checked with `into_friction_law`
-    /// and lacks an input. Allocation-free.
-    fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {
+    /// Fills `self.features` for the beam's (v, F_n); false if the law cannot serve
+    /// the beam (a feature is neither supplied nor fixed).
+    fn set_beam_features(&mut self, sliding_velocity: f64, normal_force: f64) -> bool {
         let (Some(v), Some(f)) = (self.velocity, self.normal_force) else {
-            return f64::NAN;
+            return false;
         };
         for k in 0..self.features.len() {
             self.features[k] = if k == v {
@@ -477,10 +327,35 @@ impl FrictionLaw for NeuralLaw {
             } else {
                 match self.fixed[k] {
                     Some(value) => value,
-                    None => return f64::NAN,
+                    None => return false,
                 }
             };
         }
+        true
+    }
+}
+
+impl FrictionLaw for NeuralLaw {
+    fn name(&self) -> &str {
+        crate::choice::Choice::name(crate::scene::FrictionLawKind::Neural)
+    }
+
+    /// Signed force (N) in the direction of `sliding_velocity` (m/s) under
+    /// `normal_force` (N); NaN if the law was not checked with `into_friction_law`
+    /// and lacks an input. Allocation-free.
+    fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {
+        if !self.set_beam_features(sliding_velocity, normal_force) {
+            return f64::NAN;
+        }
         self.evaluate_scratch()
+    }
+
+    /// The force and dF/dv (N s/m) by forward-mode differentiation through the network
+    /// (see `evaluate_scratch_with`); NaN for both where `sliding_force` gives NaN.
+    fn sliding_force_and_slope(&mut self, sliding_velocity: f64, normal_force: f64) -> (f64, f64) {
+        if !self.set_beam_features(sliding_velocity, normal_force) {
+            return (f64::NAN, f64::NAN);
+        }
+        self.evaluate_scratch_with::<true>()
     }
 }

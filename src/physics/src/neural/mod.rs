@@ -2,7 +2,9 @@
 //! neural network-based numerical friction models", PAMM 2023.
 //!
 //! This module holds what the simulation needs to *use* a trained network:
-//! - `network`: fully connected network and its batched forward pass;
+//! - `network`: fully connected network and its batched forward pass (the trainer's);
+//! - `forward`: the single-sample forward pass of the time-step loop (blocked layout,
+//!   vectorisable tanh, the slope by forward mode);
 //! - `weights`: the self-describing JSON weights file; `law`: `NeuralLaw`, the trained
 //!   model as a `crate::friction::FrictionLaw`;
 //! - `error`: `NeuralError`, why a weights file or an evaluation was refused.
@@ -39,6 +41,7 @@
 //!   `network::gemm`.
 
 mod error;
+pub mod forward;
 pub mod law;
 pub mod network;
 pub mod weights;

@@ -48,6 +48,25 @@ impl Activation {
             Activation::Relu => z.max(0.0),
         }
     }
+
+    /// phi(z) and phi'(z), the value the same number as [`Activation::apply`]'s:
+    /// tanh' = 1 - tanh^2, sigmoid' = s (1 - s), relu' = 1 for z > 0 (0 at the kink).
+    #[inline]
+    pub fn apply_with_slope(self, z: f64) -> (f64, f64) {
+        let a = self.apply(z);
+        let slope = match self {
+            Activation::Tanh => 1.0 - a * a,
+            Activation::Sigmoid => a * (1.0 - a),
+            Activation::Relu => {
+                if z > 0.0 {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+        };
+        (a, slope)
+    }
 }
 
 /// Where layer l's parameters sit in the flat parameter vector.
