@@ -236,9 +236,48 @@ pub enum StatusKind {
     Terminated,
 }
 
+/// The FMI version an instance was instantiated through. The state machine is shared:
+/// FMI 3.0 co-simulation without event mode has the same modes as FMI 2.0 (Step Mode is
+/// `StepComplete`; fmi3EnterInitializationMode does fmi2SetupExperiment's work), so only
+/// the function names in the log differ.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FmiVersion {
+    V2,
+    V3,
+}
+
+impl FmiVersion {
+    /// The name of an FMI 2.0 function (or a message naming them) in this version.
+    pub fn rename(self, fmi2: &str) -> String {
+        match self {
+            FmiVersion::V2 => fmi2.to_string(),
+            FmiVersion::V3 => {
+                let mut name = fmi2.to_string();
+                for (old, new) in [
+                    ("fmi2SetupExperiment", "fmi3EnterInitializationMode"),
+                    ("fmi2GetReal", "fmi3GetFloat64"),
+                    ("fmi2SetReal", "fmi3SetFloat64"),
+                    ("fmi2GetInteger", "fmi3GetInt32"),
+                    ("fmi2SetInteger", "fmi3SetInt32"),
+                    ("fmi2DeSerializeFMUstate", "fmi3DeserializeFMUState"),
+                    ("fmi2(De)SerializeFMUstate", "fmi3(De)SerializeFMUState"),
+                    ("fmi2SerializeFMUstate", "fmi3SerializeFMUState"),
+                    ("fmi2SerializedFMUstateSize", "fmi3SerializedFMUStateSize"),
+                    ("FMUstate", "FMUState"),
+                    ("fmi2", "fmi3"),
+                ] {
+                    name = name.replace(old, new);
+                }
+                name
+            }
+        }
+    }
+}
+
 /// An FMU instance of model `M`.
 pub struct Instance<M: Model> {
     name: String,
+    version: FmiVersion,
     guid: String,
     model: M,
     mode: Mode,
@@ -278,6 +317,7 @@ impl<M: Model> Instance<M> {
         categories[ERROR] = true;
         Ok(Self {
             name: name.to_owned(),
+            version: FmiVersion::V2,
             guid: guid::<M>(),
             model,
             mode: Mode::Instantiated,
@@ -291,6 +331,16 @@ impl<M: Model> Instance<M> {
 
     pub fn name(&self) -> &str {
         &self.name
+    }
+
+    /// The same instance, logging FMI 3.0 function names (`ffi3`).
+    pub fn with_version(mut self, version: FmiVersion) -> Self {
+        self.version = version;
+        self
+    }
+
+    pub fn version(&self) -> FmiVersion {
+        self.version
     }
 
     pub fn mode(&self) -> Mode {
@@ -314,21 +364,22 @@ impl<M: Model> Instance<M> {
     /// Logs a call in the logCalls category (the ffi layer formats the arguments).
     pub fn log_call(&mut self, message: impl FnOnce() -> String) {
         if self.categories[CALLS] {
-            let text = message();
+            let text = self.version.rename(&message());
             self.log(CALLS, Status::Ok, &text);
         }
     }
 
     /// Logs `reason`, enters the Error mode and returns the failure.
     pub fn fail(&mut self, call: &str, reason: &str) -> Failed {
-        let message = format!("{call}: {reason}");
+        let message = self.version.rename(&format!("{call}: {reason}"));
         self.log(ERROR, Status::Error, &message);
         self.mode = Mode::Error;
         Failed
     }
 
     fn warn(&mut self, message: &str) {
-        self.log(WARNING, Status::Warning, message);
+        let message = self.version.rename(message);
+        self.log(WARNING, Status::Warning, &message);
     }
 
     /// Checks that `call` is legal now.

@@ -19,6 +19,7 @@
 
 pub mod beam;
 pub mod ffi;
+pub mod ffi3;
 pub mod friction;
 pub mod instance;
 pub mod model;
@@ -54,6 +55,14 @@ impl FmuKind {
         match self {
             FmuKind::StickSlipBeam => model_description::generate::<beam::StickSlipBeam>(),
             FmuKind::NeuralFriction => model_description::generate::<friction::NeuralFriction>(),
+        }
+    }
+
+    /// The generated FMI 3.0 modelDescription.xml.
+    pub fn model_description3(self) -> String {
+        match self {
+            FmuKind::StickSlipBeam => model_description::generate3::<beam::StickSlipBeam>(),
+            FmuKind::NeuralFriction => model_description::generate3::<friction::NeuralFriction>(),
         }
     }
 
