@@ -116,7 +116,7 @@ fn body<M: Model>(guid: &str) -> String {
 
     write_units_categories_experiment(w, variables, FmiVersion::V2);
 
-    write_choices(w, variables, "VendorAnnotations", "Tool", "name");
+    write_choices(w, variables);
 
     let _ = writeln!(w, "  <ModelVariables>");
     for v in variables {
@@ -215,7 +215,36 @@ fn body<M: Model>(guid: &str) -> String {
     x
 }
 
-/// UnitDefinitions, LogCategories and DefaultExperiment: the same in FMI 2.0 and 3.0.
+/// The units of the table's Real variables, in `UNITS` order.
+fn units_used<M>(variables: &[Variable<M>]) -> impl Iterator<Item = &'static str> + '_ {
+    UNITS
+        .iter()
+        .filter(|u| {
+            variables.iter().any(
+                |v| matches!(v.access, Access::Real { unit: Some(name), .. } if name == u.name),
+            )
+        })
+        .map(|u| u.name)
+}
+
+/// FMI 3.0 TypeDefinitions: one `<Float64Type>` per unit, named after the unit, which
+/// the variables with that unit declare as their type. A unit could also sit on each
+/// `<Float64>` itself (the standard allows both), but the `fmi` crate's FMI 3.0 reader
+/// refuses a `unit` attribute there and accepts it on a type, as Reference-FMUs write it.
+fn write_float64_types<M>(w: &mut String, variables: &[Variable<M>]) {
+    let _ = writeln!(w, "  <TypeDefinitions>");
+    for unit in units_used(variables) {
+        let _ = writeln!(
+            w,
+            r#"    <Float64Type name="{}" unit="{}"/>"#,
+            escape(unit),
+            escape(unit)
+        );
+    }
+    let _ = writeln!(w, "  </TypeDefinitions>");
+}
+
+/// UnitDefinitions, (FMI 3.0: TypeDefinitions,) LogCategories and DefaultExperiment.
 fn write_units_categories_experiment<M: Model>(
     w: &mut String,
     variables: &[Variable<M>],
@@ -241,6 +270,9 @@ fn write_units_categories_experiment<M: Model>(
         );
     }
     let _ = writeln!(w, "  </UnitDefinitions>");
+    if version == FmiVersion::V3 {
+        write_float64_types(w, variables);
+    }
 
     let _ = writeln!(w, "  <LogCategories>");
     for (name, description) in LOG_CATEGORIES {
@@ -260,16 +292,10 @@ fn write_units_categories_experiment<M: Model>(
     );
 }
 
-/// The choices' codes and words for programs ([`CHOICES_TOOL`]): in FMI 2.0 inside
-/// `<VendorAnnotations><Tool name=...>`, in FMI 3.0 inside `<Annotations><Annotation
-/// type=...>` (both allow any element there).
-fn write_choices<M>(
-    w: &mut String,
-    variables: &[Variable<M>],
-    outer: &str,
-    element: &str,
-    attribute: &str,
-) {
+/// The choices' codes and words for programs ([`CHOICES_TOOL`]), in FMI 2.0's
+/// `<VendorAnnotations><Tool name=...>` (not in FMI 3.0's description; see [`body3`]).
+fn write_choices<M>(w: &mut String, variables: &[Variable<M>]) {
+    let (outer, element, attribute) = ("VendorAnnotations", "Tool", "name");
     let choices = choice_variables(variables);
     if !choices.is_empty() {
         let _ = writeln!(w, "  <{outer}>");
@@ -305,7 +331,7 @@ fn write_choices<M>(
 /// event mode and no early return, and ModelStructure by value reference. A choice is an
 /// `<Int32 min="1" max="N">`, as in FMI 2.0, so the codes, the scripts that read them
 /// from the `stickslip` annotation, and the SSP parameter sets are the same for both
-/// versions. The instantiation token is the FMI 2.0 GUID: both descriptions come from
+/// versions; their words are in each choice's description. The instantiation token is the FMI 2.0 GUID: both descriptions come from
 /// one table, so one hash names the interface, and an FMU state saved through one
 /// version restores through the other.
 /// The value reference of FMI 3.0's independent variable `time`; no table uses it.
@@ -360,7 +386,7 @@ fn body3<M: Model>(token: &str) -> String {
                 "Float64",
                 format!(
                     "{}{}",
-                    unit.map(|u| format!(r#" unit="{}""#, escape(u)))
+                    unit.map(|u| format!(r#" declaredType="{}""#, escape(u)))
                         .unwrap_or_default(),
                     start(real(get(&defaults)))
                 ),
@@ -430,7 +456,11 @@ fn body3<M: Model>(token: &str) -> String {
         );
     }
     let _ = writeln!(w, "  </ModelStructure>");
-    write_choices(w, variables, "Annotations", "Annotation", "type");
+    // No `stickslip` choices annotation here: FMI 3.0 allows any element inside an
+    // <Annotation>, but the `fmi` crate's reader refuses child elements there (it takes
+    // text only), and an importer that cannot read the file at all is worse than one
+    // that has the codes only in each choice's description. Programs read the codes and
+    // words from the FMI 2.0 description, generated from the same table.
     let _ = writeln!(w, "</fmiModelDescription>");
     x
 }
