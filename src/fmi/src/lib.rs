@@ -14,8 +14,10 @@
 //! - `beam`, `friction`: one small file per model;
 //! - `networks`: the neural weights files a model reads from the FMU's `resources/`;
 //! - `instance`: the FMI state machine, logging and FMU state, in plain Rust;
-//! - `ffi`: the 34 `extern "C"` functions, which only convert C arguments and catch
-//!   panics.
+//! - `ffi`: the 34 FMI 2.0 `extern "C"` functions, which only convert C arguments and
+//!   catch panics;
+//! - `ffi3`: the 75 FMI 3.0 functions over the same instances (the FMUs under
+//!   `target/fmu/3.0/`); most call their FMI 2.0 twins.
 
 pub mod beam;
 pub mod ffi;
