@@ -13,6 +13,7 @@
 //! - `model_description`: generates modelDescription.xml from that table;
 //! - `beam`, `friction`: one small file per model;
 //! - `networks`: the neural weights files a model reads from the FMU's `resources/`;
+//! - `version`: FMI 2.0 or 3.0, and the function names of each in the log;
 //! - `instance`: the FMI state machine, logging and FMU state, in plain Rust;
 //! - `ffi`: the 34 FMI 2.0 `extern "C"` functions, which only convert C arguments and
 //!   catch panics;
@@ -28,6 +29,7 @@ pub mod model;
 pub mod model_description;
 pub mod networks;
 pub mod variables;
+pub mod version;
 
 use model::{Model, ModelInfo};
 

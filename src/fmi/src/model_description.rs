@@ -16,12 +16,12 @@
 //!   ([`CHOICES_TOOL`]). FMI Enumerations are not used: libcosim and Ecos ignore them.
 //! - No generation date, so that the file is reproducible byte for byte.
 
-use crate::instance::FmiVersion;
 use crate::model::Model;
 use crate::variables::{
     Access, Causality, ChoiceType, DependencyKind, InitialDependencies, Variability, Variable,
     UNITS,
 };
+use crate::version::FmiVersion;
 use std::fmt::Write;
 
 /// The log categories every FMU declares, in modelDescription order.
