@@ -248,6 +248,24 @@ fn fmi3_state_round_trips_are_bit_identical_through_the_c_interface() {
     }
 }
 
+/// Instances in two threads at once give the same bits as one instance alone: no state
+/// is shared between FMI 3.0 instances (canBeInstantiatedOnlyOncePerProcess = false).
+#[test]
+fn fmi3_instances_in_two_threads_equal_one_alone() {
+    for kind in FmuKind::ALL {
+        let alone = unsafe { life(kind, 200, "alone") };
+        let together: Vec<_> = std::thread::scope(|scope| {
+            let handles: Vec<_> = (0..2)
+                .map(|k| scope.spawn(move || unsafe { life(kind, 200, &format!("thread-{k}")) }))
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        for run in together {
+            assert_eq!(run, alone, "{kind:?}");
+        }
+    }
+}
+
 #[test]
 fn fmi3_instantiation_refuses_what_the_fmu_does_not_offer() {
     let messages = Messages::default();
