@@ -9,7 +9,7 @@ cd "$root"
 out="$root/out"
 mkdir -p "$out"
 bash scripts/system-deps.sh
-echo "== fmu-build: target/fmu/StickSlipBeam.fmu and target/fmu/NeuralFriction.fmu"
+echo "== fmu-build: target/fmu/StickSlipBeam.fmu and target/fmu/NeuralFriction.fmu (FMI 2.0), target/fmu/3.0/*.fmu (FMI 3.0)"
 # zig and cargo-zigbuild (.venv-zig): fmu-build links the FMU binary for glibc 2.17.
 bash scripts/zig-env.sh >/dev/null
 cargo run --release -p fmu-build
@@ -46,6 +46,9 @@ echo "== The network: retraining (paper Sec. 3), NeuralFriction.fmu on the test 
 echo
 echo "== The paper scene through the FMUs with fmpy (validation, both friction laws, coupling)"
 "$python" -m stickslip_checks.fmu_scene "$out"
+echo
+echo "== The FMI 3.0 FMUs: fmpy validation, the paper scene bit for bit against the FMI 2.0 FMUs, state machine, FMU state"
+"$python" -m pytest -q -p no:cacheprovider python-checks/tests/test_fmi3.py
 echo
 echo "== System-level co-simulation: coupling error against the monolithic FMU, Jacobi and Gauss-Seidel"
 "$python" -m stickslip_checks.cosim_convergence "$out"

@@ -149,11 +149,44 @@ pub fn fmu_path(kind: FmuKind) -> PathBuf {
     fmu_dir().join(format!("{}.fmu", kind.model_identifier()))
 }
 
+/// Where the FMI 3.0 FMUs are written: `target/fmu/3.0/`, as Reference-FMUs sorts
+/// its builds by FMI version. The FMI 2.0 FMUs stay in `target/fmu/`, where the SSP
+/// files, the scripts and the masters' tests find them.
+pub fn fmu3_dir() -> PathBuf {
+    fmu_dir().join("3.0")
+}
+
+/// Path of the packaged FMI 3.0 FMU of `kind`.
+pub fn fmu3_path(kind: FmuKind) -> PathBuf {
+    fmu3_dir().join(format!("{}.fmu", kind.model_identifier()))
+}
+
 /// The checked-in copy of a model description.
 pub fn checked_in_description(kind: FmuKind) -> PathBuf {
     workspace_root()
         .join("modelDescription")
         .join(format!("{}.xml", kind.model_identifier()))
+}
+
+/// The checked-in copy of an FMI 3.0 model description (`modelDescription/3.0/`).
+pub fn checked_in_description3(kind: FmuKind) -> PathBuf {
+    workspace_root()
+        .join("modelDescription")
+        .join("3.0")
+        .join(format!("{}.xml", kind.model_identifier()))
+}
+
+/// Every checked-in description with what the tables generate for it.
+fn descriptions() -> Vec<(PathBuf, String)> {
+    FmuKind::ALL
+        .into_iter()
+        .flat_map(|kind| {
+            [
+                (checked_in_description(kind), kind.model_description()),
+                (checked_in_description3(kind), kind.model_description3()),
+            ]
+        })
+        .collect()
 }
 
 /// Builds the release cdylib with cargo and the host's linker and glibc, and returns its
@@ -289,9 +322,11 @@ pub fn requirements(path: &Path) -> Result<glibc::Requirements, BuildError> {
 
 /// Writes the generated descriptions into `modelDescription/`.
 pub fn update_descriptions() -> Result<(), BuildError> {
-    for kind in FmuKind::ALL {
-        let path = checked_in_description(kind);
-        fs::write(&path, kind.model_description()).map_err(io(&path))?;
+    for (path, text) in descriptions() {
+        if let Some(dir) = path.parent() {
+            fs::create_dir_all(dir).map_err(io(dir))?;
+        }
+        fs::write(&path, text).map_err(io(&path))?;
         println!("wrote {}", path.display());
     }
     Ok(())
@@ -299,18 +334,44 @@ pub fn update_descriptions() -> Result<(), BuildError> {
 
 /// The checked-in descriptions that differ from the generated ones.
 pub fn drifted_descriptions() -> Vec<PathBuf> {
-    FmuKind::ALL
+    descriptions()
         .into_iter()
-        .filter(|&kind| {
-            let path = checked_in_description(kind);
-            fs::read_to_string(&path).ok().as_deref() != Some(kind.model_description().as_str())
-        })
-        .map(checked_in_description)
+        .filter(|(path, text)| fs::read_to_string(path).ok().as_deref() != Some(text.as_str()))
+        .map(|(path, _)| path)
         .collect()
 }
 
-/// Writes the FMU of `kind` around `library` into `out_dir`; returns its path.
+/// Writes the FMI 2.0 FMU of `kind` around `library` into `out_dir`; returns its path.
 pub fn package(kind: FmuKind, library: &Path, out_dir: &Path) -> Result<PathBuf, BuildError> {
+    package_with(
+        kind,
+        library,
+        out_dir,
+        kind.model_description(),
+        "binaries/linux64",
+    )
+}
+
+/// Writes the FMI 3.0 FMU of `kind` around the same `library` (it exports the fmi3*
+/// functions too) into `out_dir`; returns its path. FMI 3.0 names the platform folder
+/// `<arch>-<sys>` (standard, section 2.5.1.2).
+pub fn package3(kind: FmuKind, library: &Path, out_dir: &Path) -> Result<PathBuf, BuildError> {
+    package_with(
+        kind,
+        library,
+        out_dir,
+        kind.model_description3(),
+        "binaries/x86_64-linux",
+    )
+}
+
+fn package_with(
+    kind: FmuKind,
+    library: &Path,
+    out_dir: &Path,
+    description: String,
+    binaries: &str,
+) -> Result<PathBuf, BuildError> {
     let binary = fs::read(library).map_err(io(library))?;
     fs::create_dir_all(out_dir).map_err(io(out_dir))?;
     let path = out_dir.join(format!("{}.fmu", kind.model_identifier()));
@@ -321,14 +382,8 @@ pub fn package(kind: FmuKind, library: &Path, out_dir: &Path) -> Result<PathBuf,
         .last_modified_time(DateTime::default())
         .unix_permissions(0o644);
     let mut entries: Vec<(String, Vec<u8>)> = vec![
-        (
-            "modelDescription.xml".into(),
-            kind.model_description().into_bytes(),
-        ),
-        (
-            format!("binaries/linux64/{}.so", kind.model_identifier()),
-            binary,
-        ),
+        ("modelDescription.xml".into(), description.into_bytes()),
+        (format!("{binaries}/{}.so", kind.model_identifier()), binary),
     ];
     for name in kind.info().resources {
         let source = workspace_root().join("weights").join(name);

@@ -1,10 +1,12 @@
 //! `cargo run --release -p fmu-build`: builds the stickslip library and writes
-//! `target/fmu/StickSlipBeam.fmu` and `target/fmu/NeuralFriction.fmu`, then the SSP
+//! `target/fmu/StickSlipBeam.fmu` and `target/fmu/NeuralFriction.fmu` (FMI 2.0), their
+//! FMI 3.0 versions `target/fmu/3.0/*.fmu` (the same library), then the SSP
 //! systems around them (`target/fmu/StickSlipCoupled.ssp`,
 //! `target/fmu/StickSlipMonolithic.ssp`) and fmucontainer's link list of each
 //! (`target/fmu/<system>.csv`).
 //!
-//! `--update-model-descriptions` rewrites the checked-in `modelDescription/*.xml` from
+//! `--update-model-descriptions` rewrites the checked-in `modelDescription/*.xml` and
+//! `modelDescription/3.0/*.xml` from
 //! the Rust tables (after an interface change); without it, a drifted copy is an error.
 //!
 //! The FMUs carry the portable build of the library (cargo-zigbuild, glibc 2.17 symbol
@@ -89,6 +91,8 @@ fn run() -> Result<(), BuildError> {
     for kind in FmuKind::ALL {
         let path = fmu_build::package(kind, &library, &fmu_build::fmu_dir())?;
         println!("wrote {} (GUID {})", path.display(), kind.guid());
+        let path = fmu_build::package3(kind, &library, &fmu_build::fmu3_dir())?;
+        println!("wrote {} (FMI 3.0)", path.display());
     }
     let dir = fmu_build::fmu_dir();
     for system in fmu_build::ssp::systems() {

@@ -82,6 +82,17 @@ def fmu_paths() -> dict[str, Path]:
     return paths
 
 
+def fmu3_paths() -> dict[str, Path]:
+    """Paths of both FMI 3.0 FMUs (<fmu dir>/3.0/, the same library as the FMI 2.0 ones);
+    FileNotFoundError (with the build command) if one is missing."""
+    directory = fmu_dir() / "3.0"
+    paths = {name: directory / f"{name}.fmu" for name in (BEAM, FRICTION)}
+    missing = [str(p) for p in paths.values() if not p.is_file()]
+    if missing:
+        raise FileNotFoundError(f"missing FMU(s) {', '.join(missing)}: {BUILD_HINT}")
+    return paths
+
+
 def find_binary() -> Path:
     """$STICKSLIP_BIN, or the release binary built (if needed) by cargo."""
     if os.environ.get("STICKSLIP_BIN"):

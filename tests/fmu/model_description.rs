@@ -32,6 +32,50 @@ fn checked_in_descriptions_match_the_generated_ones() {
     }
 }
 
+/// The FMI 3.0 copies (`modelDescription/3.0/`) too: generated from the same tables.
+#[test]
+fn checked_in_fmi3_descriptions_match_the_generated_ones() {
+    for kind in FmuKind::ALL {
+        let path = stickslip_tests::workspace_root()
+            .join("modelDescription")
+            .join("3.0")
+            .join(format!("{}.xml", kind.model_identifier()));
+        let checked_in =
+            std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert!(
+            checked_in == kind.model_description3(),
+            "{} drifted from the Rust tables; run `cargo run --release -p fmu-build -- --update-model-descriptions`",
+            path.display()
+        );
+    }
+}
+
+/// Both versions describe the same variables: every FMI 2.0 ScalarVariable's name and
+/// value reference appear in the FMI 3.0 description, which adds only `time`, and the
+/// instantiation token is the GUID.
+#[test]
+fn fmi3_descriptions_have_the_fmi2_variables() {
+    for kind in FmuKind::ALL {
+        let (v2, v3) = (kind.model_description(), kind.model_description3());
+        let pairs = |xml: &str| -> Vec<String> {
+            xml.lines()
+                .filter(|l| l.contains(" valueReference=") && l.contains(" name="))
+                .map(|l| {
+                    let attr = |a: &str| {
+                        let start = l.find(&format!(" {a}=\"")).unwrap() + a.len() + 3;
+                        l[start..start + l[start..].find('"').unwrap()].to_string()
+                    };
+                    format!("{} {}", attr("name"), attr("valueReference"))
+                })
+                .collect()
+        };
+        let mut expected = pairs(&v2);
+        expected.insert(0, "time 0".into());
+        assert_eq!(pairs(&v3), expected, "{kind:?}");
+        assert!(v3.contains(&format!("instantiationToken=\"{}\"", kind.guid())));
+    }
+}
+
 fn check_table<M: Model>(variables: &[Variable<M>]) {
     let names: HashSet<&str> = variables.iter().map(|v| v.name).collect();
     assert_eq!(names.len(), variables.len(), "duplicate names");

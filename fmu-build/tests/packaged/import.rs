@@ -1170,3 +1170,7 @@ fn h_an_out_of_range_choice_code_is_refused_with_the_allowed_codes() {
         "logged: {messages:?}"
     );
 }
+
+/// The FMI 3.0 FMUs, against the FMI 2.0 ones above.
+#[path = "import3.rs"]
+mod fmi3;
