@@ -54,10 +54,9 @@ struct Settings {
     inputs: BeamInputs,
 }
 
-/// Start value of fidelity.tolerance (m): 0.1 mm RMS, about 1 % of the paper scene's
-/// deflection corridor. (A scene file has no default: there the tolerance is required
-/// with `auto`; an FMU parameter needs a start value.)
-pub const DEFAULT_FIDELITY_TOLERANCE: f64 = 1e-4;
+/// Start value of fidelity.tolerance (m): the physics crate's default, which a scene
+/// file or the command line without a tolerance gets as well.
+pub const DEFAULT_FIDELITY_TOLERANCE: f64 = stickslip::auto::DEFAULT_TOLERANCE;
 
 impl Default for Settings {
     fn default() -> Self {
@@ -303,8 +302,14 @@ impl StickSlipBeam {
             calibrated.friction.law = FrictionLawKind::Exponential;
         }
         let front = stickslip::auto::paper_front()?;
-        let choice = stickslip::auto::choose_for(&calibrated, &front)?;
-        let tolerance = calibrated.fidelity.tolerance.unwrap_or(f64::NAN);
+        let mut progress = Vec::new();
+        let choice = stickslip::auto::choose_cached(&calibrated, &front, &mut |line| {
+            progress.push(line.to_string())
+        });
+        // The progress lines are logged whether or not a choice came of them.
+        self.auto_log.append(&mut progress);
+        let choice = choice?;
+        let tolerance = stickslip::auto::tolerance_of(&calibrated);
         self.auto_log
             .push(stickslip::auto::describe(&choice, tolerance));
         self.auto_cache = Some((scene.clone(), choice.configuration));
@@ -669,7 +674,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         value_reference: 57,
         causality: Causality::Parameter,
         variability: Variability::Fixed,
-        description: "fidelity.level = auto: RMS tip-deflection error allowed over the run",
+        description: "fidelity.level = auto: largest tip-deflection deviation allowed over the first stick-slip cycle",
         access: Access::Real {
             unit: Some("m"),
             // Some from the start value on; NaN stands for a tolerance never given.
