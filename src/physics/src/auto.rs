@@ -435,17 +435,19 @@ mod tests {
     }
 
     #[test]
-    fn the_partner_is_the_first_point_ten_times_more_accurate() {
+    fn the_partner_is_the_first_point_five_times_more_accurate() {
+        assert_eq!(PARTNER_ACCURACY_RATIO, 5.0);
         let front = [
             point(1, 1.0, 1.0),
             point(2, 2.0, 0.5),
-            point(3, 3.0, 0.1),
-            point(4, 4.0, 0.04),
-            point(5, 5.0, 0.02),
+            point(3, 3.0, 0.3),
+            point(4, 4.0, 0.1),
+            point(5, 5.0, 0.08),
         ];
-        assert_eq!(partner(&front, 0), Some(2));
+        // 1.0 / 5 = 0.2: the first point at or below is the fourth.
+        assert_eq!(partner(&front, 0), Some(3));
         assert_eq!(partner(&front, 1), Some(3));
-        // None is ten times better: the last point.
+        // None is five times better than 0.3: the last point.
         assert_eq!(partner(&front, 2), Some(4));
         assert_eq!(partner(&front, 4), None);
     }
@@ -477,5 +479,58 @@ mod tests {
                 .check()
                 .is_ok());
         }
+    }
+
+    fn measured(tip: Vec<f64>, onsets: &[f64]) -> Measured {
+        let mut summary = crate::metrics::Summary::new(&[], &[]);
+        summary.major_slips = onsets
+            .iter()
+            .map(|&onset| crate::metrics::MajorSlip {
+                onset,
+                duration: None,
+            })
+            .collect();
+        Measured {
+            configuration: point(1, 1.0, 1.0).configuration,
+            dofs: 2,
+            seconds: 0.0,
+            summary,
+            tip,
+        }
+    }
+
+    #[test]
+    fn the_deviation_stops_at_the_second_major_slip_of_the_reference() {
+        // Samples every 1 ms; the second slip starts at 2.5 ms, so samples 0, 1, 2
+        // count and the large difference at 3 ms does not.
+        let reference = measured(vec![0.0; 5], &[0.0005, 0.0025]);
+        let tip = [0.0, 2e-6, -3e-6, 1.0, 1.0];
+        assert_eq!(first_cycle_deviation(&tip, &reference), 3e-6);
+        // With fewer than two major slips the whole run counts.
+        let single = measured(vec![0.0; 5], &[0.0005]);
+        assert_eq!(first_cycle_deviation(&tip, &single), 1.0);
+    }
+
+    #[test]
+    fn a_second_choice_for_the_same_scene_and_tolerance_comes_from_the_cache() {
+        let mut scene = Scene::default();
+        scene.time.end = 0.02;
+        scene.fidelity.level = FidelityLevel::Auto;
+        // A tolerance so loose that the cheapest point meets it.
+        scene.fidelity.tolerance = Some(0.5);
+        let front = paper_front().unwrap();
+        let mut lines = Vec::new();
+        let first = choose_cached(&scene, &front, &mut |l| lines.push(l.to_string())).unwrap();
+        let announced = lines.len();
+        let second = choose_cached(&scene, &front, &mut |l| lines.push(l.to_string())).unwrap();
+        // The first call may find the choice of a parallel test with this scene, but
+        // then it too made no run; the second call never runs.
+        assert_eq!(announced, first.runs.max(1));
+        assert_eq!(second.runs, 0);
+        assert_eq!(second.configuration, first.configuration);
+        assert!(lines.last().unwrap().contains("already made"), "{lines:?}");
+        // Another tolerance is another choice.
+        scene.fidelity.tolerance = Some(0.4);
+        assert!(choose_cached(&scene, &front, &mut |_| {}).unwrap().runs > 0);
     }
 }
