@@ -254,7 +254,7 @@ enum BuildError {
 pub struct StickSlipBeam {
     settings: Settings,
     networks: Networks,
-    /// The last `auto` choice: (scene asking for it, configuration).
+    /// The last `auto` choice: (scene it was calibrated on, configuration).
     auto_cache: Option<(Scene, Configuration)>,
     /// `auto` choices not yet logged.
     auto_log: Vec<String>,
@@ -290,16 +290,23 @@ impl StickSlipBeam {
     /// The `auto` choice for `scene` at its tolerance, computed once per scene: the
     /// calibration runs the scene several times.
     fn auto_choice(&mut self, scene: &Scene) -> Result<Configuration, BuildError> {
+        // The calibration runs stand alone, without this FMU's inputs: with the external
+        // model they run the exponential law of the scene's coefficients instead. With
+        // the neural law they run the network of friction.weights, the one this FMU
+        // will run (not the scene's default, the shipped plain network).
+        let mut calibrated = scene.clone();
+        match calibrated.friction.law {
+            FrictionLawKind::External => calibrated.friction.law = FrictionLawKind::Exponential,
+            FrictionLawKind::Neural => {
+                let path = self.networks.path_of(&self.settings.weights)?;
+                calibrated.friction.weights = Some(path.to_string_lossy().into_owned());
+            }
+            FrictionLawKind::Exponential | FrictionLawKind::Coulomb => {}
+        }
         if let Some((cached_scene, choice)) = &self.auto_cache {
-            if cached_scene == scene {
+            if *cached_scene == calibrated {
                 return Ok(*choice);
             }
-        }
-        // The calibration runs stand alone, without this FMU's inputs: with the external
-        // model they run the exponential law of the scene's coefficients instead.
-        let mut calibrated = scene.clone();
-        if calibrated.friction.law == FrictionLawKind::External {
-            calibrated.friction.law = FrictionLawKind::Exponential;
         }
         let front = stickslip::auto::paper_front()?;
         let mut progress = Vec::new();
@@ -312,7 +319,7 @@ impl StickSlipBeam {
         let tolerance = stickslip::auto::tolerance_of(&calibrated);
         self.auto_log
             .push(stickslip::auto::describe(&choice, tolerance));
-        self.auto_cache = Some((scene.clone(), choice.configuration));
+        self.auto_cache = Some((calibrated, choice.configuration));
         Ok(choice.configuration)
     }
 

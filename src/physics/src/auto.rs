@@ -364,7 +364,7 @@ pub fn verification_scenes() -> Vec<(&'static str, Scene)> {
             with(&|s| s.friction.law = crate::scene::FrictionLawKind::Neural),
         ),
         (
-            "stubby 0.2 m x 0.02 m, E 40 MPa",
+            "stubby 0.2 m x 0.02 m E 40 MPa",
             with(&|s| {
                 s.geometry.length = 0.2;
                 s.geometry.height = 0.02;
