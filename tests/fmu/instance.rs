@@ -871,6 +871,39 @@ fn fidelity_auto_chooses_at_initialisation_and_logs_the_choice() {
     assert!(tip(&mut b) > 0.0 && tip(&mut b) < 8.1e-3);
 }
 
+/// With the neural law, auto calibrates with the network of friction.weights, the one
+/// the instance will run: weights that are not a network fail the calibration itself,
+/// named in the message, where the shipped plain network would have calibrated.
+#[test]
+fn fidelity_auto_calibrates_with_the_instances_own_weights() {
+    let dir = std::env::temp_dir().join(format!("stickslip-auto-weights-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let broken = dir.join("broken.json");
+    std::fs::write(&broken, "{ not a network").unwrap();
+    let (mut b, log) = beam(true);
+    let level = vr::<StickSlipBeam>("fidelity.level");
+    let law = vr::<StickSlipBeam>("friction.law");
+    b.set_integer(&[level, law], &[FidelityLevel::Auto.code(), 3])
+        .unwrap();
+    b.set_string(
+        &[vr::<StickSlipBeam>("friction.weights")],
+        &[broken.to_str().unwrap()],
+    )
+    .unwrap();
+    b.setup_experiment(0.0, Some(0.05)).unwrap();
+    b.enter_initialization_mode().unwrap();
+    assert!(b.exit_initialization_mode().is_err());
+    let entries = log.lock().unwrap().clone();
+    assert!(
+        entries
+            .iter()
+            .any(|(_, _, m)| m.contains("fidelity = auto, running")
+                && m.contains(broken.to_str().unwrap())),
+        "{entries:?}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// A version-1 state, which kept the friction model, the auto flag and the tolerance
 /// beside the scene, restores into the scene's fields and is saved again as the
 /// current version; a current-version state with the old fields is refused.

@@ -76,10 +76,9 @@ struct Settings {
     inputs: BeamInputs,
 }
 
-/// Start value of fidelity.tolerance (m): 0.1 mm RMS, about 1 % of the paper scene's
-/// deflection corridor. (A scene file has no default: there the tolerance is required
-/// with `auto`; an FMU parameter needs a start value.)
-pub const DEFAULT_FIDELITY_TOLERANCE: f64 = 1e-4;
+/// Start value of fidelity.tolerance (m): the physics crate's default, which a scene
+/// file or the command line without a tolerance gets as well.
+pub const DEFAULT_FIDELITY_TOLERANCE: f64 = stickslip::auto::DEFAULT_TOLERANCE;
 
 impl Default for Settings {
     fn default() -> Self {
@@ -282,7 +281,7 @@ enum BuildError {
 pub struct StickSlipBeam {
     settings: Settings,
     networks: Networks,
-    /// The last `auto` choice: (scene asking for it, configuration).
+    /// The last `auto` choice: (scene it was calibrated on, configuration).
     auto_cache: Option<(Scene, Configuration)>,
     /// `auto` choices not yet logged.
     auto_log: Vec<String>,
@@ -318,23 +317,36 @@ impl StickSlipBeam {
     /// The `auto` choice for `scene` at its tolerance, computed once per scene: the
     /// calibration runs the scene several times.
     fn auto_choice(&mut self, scene: &Scene) -> Result<Configuration, BuildError> {
+        // The calibration runs stand alone, without this FMU's inputs: with the external
+        // model they run the exponential law of the scene's coefficients instead. With
+        // the neural law they run the network of friction.weights, the one this FMU
+        // will run (not the scene's default, the shipped plain network).
+        let mut calibrated = scene.clone();
+        match calibrated.friction.law {
+            FrictionLawKind::External => calibrated.friction.law = FrictionLawKind::Exponential,
+            FrictionLawKind::Neural => {
+                let path = self.networks.path_of(&self.settings.weights)?;
+                calibrated.friction.weights = Some(path.to_string_lossy().into_owned());
+            }
+            FrictionLawKind::Exponential | FrictionLawKind::Coulomb => {}
+        }
         if let Some((cached_scene, choice)) = &self.auto_cache {
-            if cached_scene == scene {
+            if *cached_scene == calibrated {
                 return Ok(*choice);
             }
         }
-        // The calibration runs stand alone, without this FMU's inputs: with the external
-        // model they run the exponential law of the scene's coefficients instead.
-        let mut calibrated = scene.clone();
-        if calibrated.friction.law == FrictionLawKind::External {
-            calibrated.friction.law = FrictionLawKind::Exponential;
-        }
         let front = stickslip::auto::paper_front()?;
-        let choice = stickslip::auto::choose_for(&calibrated, &front)?;
-        let tolerance = calibrated.fidelity.tolerance.unwrap_or(f64::NAN);
+        let mut progress = Vec::new();
+        let choice = stickslip::auto::choose_cached(&calibrated, &front, &mut |line| {
+            progress.push(line.to_string())
+        });
+        // The progress lines are logged whether or not a choice came of them.
+        self.auto_log.append(&mut progress);
+        let choice = choice?;
+        let tolerance = stickslip::auto::tolerance_of(&calibrated);
         self.auto_log
             .push(stickslip::auto::describe(&choice, tolerance));
-        self.auto_cache = Some((scene.clone(), choice.configuration));
+        self.auto_cache = Some((calibrated, choice.configuration));
         Ok(choice.configuration)
     }
 
@@ -720,7 +732,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         value_reference: 57,
         causality: Causality::Parameter,
         variability: Variability::Fixed,
-        description: "fidelity.level = auto: RMS tip-deflection error allowed over the run",
+        description: "fidelity.level = auto: largest tip-deflection deviation allowed over the first stick-slip cycle",
         access: Access::Real {
             unit: Some("m"),
             // Some from the start value on; NaN stands for a tolerance never given.
