@@ -133,7 +133,7 @@ fn fmu_states() {
     let mut modal = beam(1, |b| {
         let enums = [
             ("integrator.scheme", 2),
-            ("friction.model", 4),
+            ("friction.law", 4),
             ("contact.initial_state", 2),
             ("contact.holding_force", 2),
             ("contact.sliding_velocity", 2),
@@ -153,7 +153,7 @@ fn fmu_states() {
     save_state(&mut plane, "beam-plane-stress");
 
     let mut neural = beam(2, |b| {
-        b.set_integer(&[vr::<StickSlipBeam>("friction.model")], &[3])
+        b.set_integer(&[vr::<StickSlipBeam>("friction.law")], &[3])
             .unwrap();
         b.set_string(
             &[vr::<StickSlipBeam>("friction.weights")],

@@ -9,7 +9,9 @@ cd "$root"
 out="$root/out"
 mkdir -p "$out"
 bash scripts/system-deps.sh
-echo "== fmu-build: target/fmu/StickSlipBeam.fmu and target/fmu/NeuralFriction.fmu"
+echo "== fmu-build: target/fmu/StickSlipBeam.fmu and target/fmu/NeuralFriction.fmu (FMI 2.0), target/fmu/3.0/*.fmu (FMI 3.0)"
+# zig and cargo-zigbuild (.venv-zig): fmu-build links the FMU binary for glibc 2.17.
+bash scripts/zig-env.sh >/dev/null
 cargo run --release -p fmu-build
 # --workspace: the same feature set as fmu-build's builds, so nothing is rebuilt.
 cargo build --release --workspace --bins
@@ -45,8 +47,14 @@ echo
 echo "== The paper scene through the FMUs with fmpy (validation, both friction laws, coupling)"
 "$python" -m stickslip_checks.fmu_scene "$out"
 echo
+echo "== The FMI 3.0 FMUs: fmpy validation, the paper scene bit for bit against the FMI 2.0 FMUs, state machine, FMU state"
+"$python" -m pytest -q -p no:cacheprovider python-checks/tests/test_fmi3.py
+echo
 echo "== System-level co-simulation: coupling error against the monolithic FMU, Jacobi and Gauss-Seidel"
 "$python" -m stickslip_checks.cosim_convergence "$out"
+echo
+echo "== The coupled system's SSP file in other masters: libcosim, Ecos, fmucontainer, fmpy.ssp"
+"$python" -m stickslip_checks.masters "$out"
 echo
 echo "== Stick-slip map: Dask sweep of StickSlipBeam.fmu over belt speed (LocalCluster, 2 workers)"
 "$python" -m stickslip_checks.sweep --out "$out"

@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Debian packages the build needs beyond Rust, Python and gcc: libclang-dev, for the
-# bindgen step of the `fmi` importer crate used by fmu-build's tests. Installs only
-# what is missing.
+# bindgen step of the `fmi` importer crate used by fmu-build's tests, and libtbb12
+# (libtbb.so.12), which ecospy's Ecos library links (python-checks/tests/test_masters.py).
+# Installs only what is missing.
 set -euo pipefail
 missing=()
-for package in libclang-dev; do
+for package in libclang-dev libtbb12; do
   dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")
 done
 if [ "${#missing[@]}" -eq 0 ]; then

@@ -11,12 +11,17 @@ cargo fmt --all -- --check
 echo "== cargo clippy -D warnings"
 cargo clippy --release --workspace --all-targets -- -D warnings
 echo "== fmu-build (the FMU tests import the packaged .fmu files)"
+# zig and cargo-zigbuild (.venv-zig): fmu-build links the FMU binary for glibc 2.17.
+bash scripts/zig-env.sh >/dev/null
 cargo run --release -p fmu-build
 echo "== cargo test"
 mkdir -p target
 cargo test --release --workspace --all-targets 2>&1 | tee target/cargo-test.log
 # A summary line that the CI log readers understand, over every test binary.
 awk '/^test result:/ {p += $4; f += $6; i += $8} END {printf "rust: %d passed, %d failed, %d skipped\n", p, f, i}' target/cargo-test.log
+
+echo "== the packaged FMU binary under Debian 11's glibc 2.31 (scripts/old-glibc.sh)"
+bash scripts/old-glibc.sh
 
 echo "== valgrind (memcheck) over an FMI importer loop"
 bash scripts/valgrind.sh

@@ -1,8 +1,19 @@
 //! Packages the FMUs: `modelDescription.xml` (generated from the Rust variable tables),
 //! `binaries/linux64/<modelIdentifier>.so` (the one stickslip-fmi cdylib under each
-//! model's name) and `resources/` (the network weights).
+//! model's name) and `resources/` (the network weights). Then the SSP system files
+//! around them and fmucontainer's link lists (`ssp`).
+//!
+//! The packaged cdylib is the portable one ([`build_portable_library`]): linked by zig
+//! through cargo-zigbuild against glibc 2.17 symbol versions, so it loads on glibc 2.17
+//! and later (RHEL/CentOS 7, Debian 8, Ubuntu 14.04 and newer), not only on the build
+//! machine's glibc. Same rustc, same code generation: only the linker and the glibc
+//! symbol versions it binds to differ from the host build ([`build_library`]), which
+//! stays the reference the tests compare the packaged FMUs with.
 //!
 //! Archives are reproducible: entries in a fixed order with a fixed timestamp.
+
+pub mod glibc;
+pub mod ssp;
 
 use std::fs;
 use std::io::Write;
@@ -16,7 +27,9 @@ use zip::{CompressionMethod, DateTime, ZipWriter};
 /// Why the FMUs could not be built; `main` prints it as `fmu-build: {e}`.
 #[derive(Debug, thiserror::Error)]
 pub enum BuildError {
-    #[error("unknown arguments {0:?}; usage: fmu-build [--update-model-descriptions]")]
+    #[error(
+        "unknown arguments {0:?}; usage: fmu-build [--update-model-descriptions] [--host-toolchain]"
+    )]
     Usage(Vec<String>),
     /// Checked-in model descriptions that differ from the generated ones.
     #[error(
@@ -24,6 +37,9 @@ pub enum BuildError {
         .0.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
     )]
     Drift(Vec<PathBuf>),
+    /// A system file's names or values do not fit the FMUs' tables.
+    #[error(transparent)]
+    Ssp(#[from] ssp::SspError),
     /// `cargo build` of the library could not be started.
     #[error("cannot run cargo: {0}")]
     CargoNotRun(#[source] std::io::Error),
@@ -32,6 +48,35 @@ pub enum BuildError {
     /// The build succeeded but left no library where it was expected.
     #[error("{} was not built", .0.display())]
     NotBuilt(PathBuf),
+    /// Neither `.venv-zig/bin` nor PATH has cargo-zigbuild.
+    #[error(
+        "cargo-zigbuild was not found in {} nor on PATH; it links the portable (glibc 2.17) FMU binary. Install it and zig once with `bash scripts/zig-env.sh` (pinned PyPI wheels, about 15 s), or pass --host-toolchain to package a binary that needs this machine's glibc (not for distribution)",
+        .0.display()
+    )]
+    ZigbuildMissing(PathBuf),
+    /// cargo-zigbuild could not be started.
+    #[error("cannot run {}: {source}", .path.display())]
+    ZigbuildNotRun {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("cargo zigbuild of the portable stickslip-fmi library failed ({0})")]
+    ZigbuildFailed(ExitStatus),
+    /// The library is not an ELF file this module can read.
+    #[error("{}: {source}", .path.display())]
+    Elf {
+        path: PathBuf,
+        source: glibc::ElfError,
+    },
+    /// The portable build needs more than glibc 2.17 provides.
+    #[error(
+        "{} would not load on glibc {}: it needs {}",
+        .path.display(), glibc::FLOOR, .problems.join(", ")
+    )]
+    NotPortable {
+        path: PathBuf,
+        problems: Vec<String>,
+    },
     /// Reading or writing a file or folder.
     #[error("{}: {source}", .path.display())]
     Io {
@@ -104,6 +149,18 @@ pub fn fmu_path(kind: FmuKind) -> PathBuf {
     fmu_dir().join(format!("{}.fmu", kind.model_identifier()))
 }
 
+/// Where the FMI 3.0 FMUs are written: `target/fmu/3.0/`, as Reference-FMUs sorts
+/// its builds by FMI version. The FMI 2.0 FMUs stay in `target/fmu/`, where the SSP
+/// files, the scripts and the masters' tests find them.
+pub fn fmu3_dir() -> PathBuf {
+    fmu_dir().join("3.0")
+}
+
+/// Path of the packaged FMI 3.0 FMU of `kind`.
+pub fn fmu3_path(kind: FmuKind) -> PathBuf {
+    fmu3_dir().join(format!("{}.fmu", kind.model_identifier()))
+}
+
 /// The checked-in copy of a model description.
 pub fn checked_in_description(kind: FmuKind) -> PathBuf {
     workspace_root()
@@ -111,7 +168,30 @@ pub fn checked_in_description(kind: FmuKind) -> PathBuf {
         .join(format!("{}.xml", kind.model_identifier()))
 }
 
-/// Builds the release cdylib with cargo and returns its path.
+/// The checked-in copy of an FMI 3.0 model description (`modelDescription/3.0/`).
+pub fn checked_in_description3(kind: FmuKind) -> PathBuf {
+    workspace_root()
+        .join("modelDescription")
+        .join("3.0")
+        .join(format!("{}.xml", kind.model_identifier()))
+}
+
+/// Every checked-in description with what the tables generate for it.
+fn descriptions() -> Vec<(PathBuf, String)> {
+    FmuKind::ALL
+        .into_iter()
+        .flat_map(|kind| {
+            [
+                (checked_in_description(kind), kind.model_description()),
+                (checked_in_description3(kind), kind.model_description3()),
+            ]
+        })
+        .collect()
+}
+
+/// Builds the release cdylib with cargo and the host's linker and glibc, and returns its
+/// path ([`host_library_path`]). Not what the FMUs carry (unless `--host-toolchain`): the
+/// reference the packaged portable library is compared with, bit for bit.
 pub fn build_library() -> Result<PathBuf, BuildError> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let status = Command::new(cargo)
@@ -122,18 +202,131 @@ pub fn build_library() -> Result<PathBuf, BuildError> {
     if !status.success() {
         return Err(BuildError::CargoFailed(status));
     }
-    let library = target_dir().join("release").join("libstickslip_fmi.so");
+    let library = host_library_path();
     if !library.is_file() {
         return Err(BuildError::NotBuilt(library));
     }
     Ok(library)
 }
 
+/// The host build of the cdylib ([`build_library`]).
+pub fn host_library_path() -> PathBuf {
+    target_dir().join("release").join("libstickslip_fmi.so")
+}
+
+/// The Rust target of the packaged binary: `binaries/linux64` is x86_64 Linux, and only
+/// that standard library is installed with the toolchain on these machines.
+pub const PORTABLE_TARGET: &str = "x86_64-unknown-linux-gnu";
+
+/// The target directory of the portable build: a separate one, because cargo-zigbuild
+/// also links the build scripts and proc macros with zig when the target is the host's
+/// own triple; sharing `target/release` would make the host build and the portable
+/// build invalidate each other's build-script artifacts.
+pub fn portable_target_dir() -> PathBuf {
+    target_dir().join("portable")
+}
+
+/// The portable build of the cdylib ([`build_portable_library`]).
+pub fn portable_library_path() -> PathBuf {
+    portable_target_dir()
+        .join(PORTABLE_TARGET)
+        .join("release")
+        .join("libstickslip_fmi.so")
+}
+
+/// The zig toolchain of the portable build.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Zigbuild {
+    /// The cargo-zigbuild executable.
+    pub cargo_zigbuild: PathBuf,
+    /// The zig executable to use; None: cargo-zigbuild finds one itself (`zig` on PATH,
+    /// else `python3 -m ziglang`).
+    pub zig: Option<PathBuf>,
+}
+
+/// The build venv `scripts/zig-env.sh` creates.
+pub fn zig_venv_bin() -> PathBuf {
+    workspace_root().join(".venv-zig").join("bin")
+}
+
+/// Finds cargo-zigbuild: first in the build venv (with the venv's pinned zig), then on
+/// PATH.
+pub fn find_zigbuild() -> Result<Zigbuild, BuildError> {
+    let venv = zig_venv_bin();
+    let in_venv = venv.join("cargo-zigbuild");
+    if in_venv.is_file() {
+        let zig = venv.join("zig");
+        return Ok(Zigbuild {
+            cargo_zigbuild: in_venv,
+            zig: zig.is_file().then_some(zig),
+        });
+    }
+    std::env::var_os("PATH")
+        .iter()
+        .flat_map(std::env::split_paths)
+        .map(|dir| dir.join("cargo-zigbuild"))
+        .find(|path| path.is_file())
+        .map(|cargo_zigbuild| Zigbuild {
+            cargo_zigbuild,
+            zig: None,
+        })
+        .ok_or(BuildError::ZigbuildMissing(venv))
+}
+
+/// Builds the release cdylib with `cargo zigbuild --target
+/// x86_64-unknown-linux-gnu.2.17` (zig as the linker, glibc 2.17 symbol versions) into
+/// [`portable_target_dir`] and returns its path.
+pub fn build_portable_library(zigbuild: &Zigbuild) -> Result<PathBuf, BuildError> {
+    let mut command = Command::new(&zigbuild.cargo_zigbuild);
+    command
+        .arg("zigbuild")
+        .args(["--release", "--lib", "-p", "stickslip-fmi", "--target"])
+        .arg(format!(
+            "{PORTABLE_TARGET}.{}.{}",
+            glibc::FLOOR.0,
+            glibc::FLOOR.1
+        ))
+        .arg("--target-dir")
+        .arg(portable_target_dir())
+        .current_dir(workspace_root());
+    // The venv's pinned zig, unless the caller chose one.
+    if let Some(zig) = &zigbuild.zig {
+        if std::env::var_os("CARGO_ZIGBUILD_ZIG_PATH").is_none() {
+            command.env("CARGO_ZIGBUILD_ZIG_PATH", zig);
+        }
+    }
+    let status = command
+        .status()
+        .map_err(|source| BuildError::ZigbuildNotRun {
+            path: zigbuild.cargo_zigbuild.clone(),
+            source,
+        })?;
+    if !status.success() {
+        return Err(BuildError::ZigbuildFailed(status));
+    }
+    let library = portable_library_path();
+    if !library.is_file() {
+        return Err(BuildError::NotBuilt(library));
+    }
+    Ok(library)
+}
+
+/// What the library at `path` needs from the system's C library.
+pub fn requirements(path: &Path) -> Result<glibc::Requirements, BuildError> {
+    let data = fs::read(path).map_err(io(path))?;
+    glibc::Requirements::of_elf(&data).map_err(|source| BuildError::Elf {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
 /// Writes the generated descriptions into `modelDescription/`.
 pub fn update_descriptions() -> Result<(), BuildError> {
-    for kind in FmuKind::ALL {
-        let path = checked_in_description(kind);
-        fs::write(&path, kind.model_description()).map_err(io(&path))?;
+    for (path, text) in descriptions() {
+        if let Some(dir) = path.parent() {
+            fs::create_dir_all(dir).map_err(io(dir))?;
+        }
+        fs::write(&path, text).map_err(io(&path))?;
         println!("wrote {}", path.display());
     }
     Ok(())
@@ -141,18 +334,44 @@ pub fn update_descriptions() -> Result<(), BuildError> {
 
 /// The checked-in descriptions that differ from the generated ones.
 pub fn drifted_descriptions() -> Vec<PathBuf> {
-    FmuKind::ALL
+    descriptions()
         .into_iter()
-        .filter(|&kind| {
-            let path = checked_in_description(kind);
-            fs::read_to_string(&path).ok().as_deref() != Some(kind.model_description().as_str())
-        })
-        .map(checked_in_description)
+        .filter(|(path, text)| fs::read_to_string(path).ok().as_deref() != Some(text.as_str()))
+        .map(|(path, _)| path)
         .collect()
 }
 
-/// Writes the FMU of `kind` around `library` into `out_dir`; returns its path.
+/// Writes the FMI 2.0 FMU of `kind` around `library` into `out_dir`; returns its path.
 pub fn package(kind: FmuKind, library: &Path, out_dir: &Path) -> Result<PathBuf, BuildError> {
+    package_with(
+        kind,
+        library,
+        out_dir,
+        kind.model_description(),
+        "binaries/linux64",
+    )
+}
+
+/// Writes the FMI 3.0 FMU of `kind` around the same `library` (it exports the fmi3*
+/// functions too) into `out_dir`; returns its path. FMI 3.0 names the platform folder
+/// `<arch>-<sys>` (standard, section 2.5.1.2).
+pub fn package3(kind: FmuKind, library: &Path, out_dir: &Path) -> Result<PathBuf, BuildError> {
+    package_with(
+        kind,
+        library,
+        out_dir,
+        kind.model_description3(),
+        "binaries/x86_64-linux",
+    )
+}
+
+fn package_with(
+    kind: FmuKind,
+    library: &Path,
+    out_dir: &Path,
+    description: String,
+    binaries: &str,
+) -> Result<PathBuf, BuildError> {
     let binary = fs::read(library).map_err(io(library))?;
     fs::create_dir_all(out_dir).map_err(io(out_dir))?;
     let path = out_dir.join(format!("{}.fmu", kind.model_identifier()));
@@ -163,14 +382,8 @@ pub fn package(kind: FmuKind, library: &Path, out_dir: &Path) -> Result<PathBuf,
         .last_modified_time(DateTime::default())
         .unix_permissions(0o644);
     let mut entries: Vec<(String, Vec<u8>)> = vec![
-        (
-            "modelDescription.xml".into(),
-            kind.model_description().into_bytes(),
-        ),
-        (
-            format!("binaries/linux64/{}.so", kind.model_identifier()),
-            binary,
-        ),
+        ("modelDescription.xml".into(), description.into_bytes()),
+        (format!("{binaries}/{}.so", kind.model_identifier()), binary),
     ];
     for name in kind.info().resources {
         let source = workspace_root().join("weights").join(name);

@@ -1,28 +1,110 @@
 //! `cargo run --release -p fmu-build`: builds the stickslip library and writes
-//! `target/fmu/StickSlipBeam.fmu` and `target/fmu/NeuralFriction.fmu`.
+//! `target/fmu/StickSlipBeam.fmu` and `target/fmu/NeuralFriction.fmu` (FMI 2.0), their
+//! FMI 3.0 versions `target/fmu/3.0/*.fmu` (the same library), then the SSP
+//! systems around them (`target/fmu/StickSlipCoupled.ssp`,
+//! `target/fmu/StickSlipMonolithic.ssp`) and fmucontainer's link list of each
+//! (`target/fmu/<system>.csv`).
 //!
-//! `--update-model-descriptions` rewrites the checked-in `modelDescription/*.xml` from
+//! `--update-model-descriptions` rewrites the checked-in `modelDescription/*.xml` and
+//! `modelDescription/3.0/*.xml` from
 //! the Rust tables (after an interface change); without it, a drifted copy is an error.
+//!
+//! The FMUs carry the portable build of the library (cargo-zigbuild, glibc 2.17 symbol
+//! versions; `bash scripts/zig-env.sh` installs the tools). Without cargo-zigbuild this
+//! is an error, not a quiet fallback: an FMU that needs this machine's glibc looks fine
+//! here and fails to load on the older systems it is meant for. `--host-toolchain` is
+//! the explicit way out for a developer without zig: it packages the host build, says so
+//! loudly and names the glibc it needs; the packaged-binary tests then fail on it.
 
-use fmu_build::BuildError;
+use fmu_build::{glibc, BuildError};
 use std::process::ExitCode;
 use stickslip_fmi::FmuKind;
 
 fn run() -> Result<(), BuildError> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    match args.as_slice() {
-        [] => {}
-        [flag] if flag == "--update-model-descriptions" => fmu_build::update_descriptions()?,
-        _ => return Err(BuildError::Usage(args)),
+    let mut host_toolchain = false;
+    for arg in &args {
+        match arg.as_str() {
+            "--update-model-descriptions" => fmu_build::update_descriptions()?,
+            "--host-toolchain" => host_toolchain = true,
+            _ => return Err(BuildError::Usage(args)),
+        }
     }
     let drifted = fmu_build::drifted_descriptions();
     if !drifted.is_empty() {
         return Err(BuildError::Drift(drifted));
     }
-    let library = fmu_build::build_library()?;
+    // Look for zig before the long host build, so a missing tool is reported at once.
+    let zigbuild = if host_toolchain {
+        None
+    } else {
+        Some(fmu_build::find_zigbuild()?)
+    };
+    // The host build: the reference the tests compare the packaged library with.
+    let host_library = fmu_build::build_library()?;
+    let library = match &zigbuild {
+        Some(zigbuild) => {
+            println!(
+                "portable build: {} (zig: {})",
+                zigbuild.cargo_zigbuild.display(),
+                zigbuild
+                    .zig
+                    .as_ref()
+                    .map_or("found by cargo-zigbuild".into(), |z| z
+                        .display()
+                        .to_string())
+            );
+            fmu_build::build_portable_library(zigbuild)?
+        }
+        None => host_library,
+    };
+    let requirements = fmu_build::requirements(&library)?;
+    let problems = requirements.problems_on(glibc::FLOOR);
+    let oldest = requirements
+        .oldest_glibc()
+        .map_or("any".into(), |v| v.to_string());
+    if zigbuild.is_some() {
+        if !problems.is_empty() {
+            return Err(BuildError::NotPortable {
+                path: library,
+                problems,
+            });
+        }
+        println!(
+            "{} needs glibc {oldest} or later (libraries: {})",
+            library.display(),
+            requirements.needed.join(", ")
+        );
+    } else if problems.is_empty() {
+        eprintln!(
+            "fmu-build: WARNING: --host-toolchain: the FMUs carry {}, linked against this machine's glibc (they need glibc {oldest} or later); the portable build is cargo-zigbuild's.",
+            library.display()
+        );
+    } else {
+        eprintln!(
+            "fmu-build: WARNING: --host-toolchain: the FMUs carry {}, linked against this machine's glibc; they need glibc {oldest} or later and do not load on glibc {} ({}). Do not distribute them; the packaged-binary tests fail on them.",
+            library.display(),
+            glibc::FLOOR,
+            problems.join(", ")
+        );
+    }
     for kind in FmuKind::ALL {
         let path = fmu_build::package(kind, &library, &fmu_build::fmu_dir())?;
         println!("wrote {} (GUID {})", path.display(), kind.guid());
+        let path = fmu_build::package3(kind, &library, &fmu_build::fmu3_dir())?;
+        println!("wrote {} (FMI 3.0)", path.display());
+    }
+    let dir = fmu_build::fmu_dir();
+    for system in fmu_build::ssp::systems() {
+        let system = system.check()?;
+        println!(
+            "wrote {}",
+            fmu_build::ssp::write_ssp(&system, &dir, &dir)?.display()
+        );
+        println!(
+            "wrote {}",
+            fmu_build::ssp::write_container_csv(&system, &dir)?.display()
+        );
     }
     Ok(())
 }

@@ -7,10 +7,10 @@ choices map to FMI value references and integer codes.
   `cargo run --release -p fmu-build` writes them.
 - Binary: $STICKSLIP_BIN, else the release binary, built (if needed) by cargo.
 - Value references, types, start values and the choices of every variable are read from
-  each FMU's modelDescription.xml; nothing here is hard-coded. A choice variable (today
-  an FMI Enumeration) is set as an integer code; `choices` is the only function that
-  knows how the codes are declared. The structural models are fidelity.level's items
-  without `auto` (`fidelities`).
+  each FMU's modelDescription.xml; nothing here is hard-coded. A choice variable is an
+  FMI Integer set to the code of one of its words; the codes and words are listed in the
+  `stickslip` tool's vendor annotation, and `choices` is the only function that reads
+  them. The structural models are fidelity.level's items without `auto` (`fidelities`).
 - The shipped network: <repo>/weights/paper-plain.json; its `training` section records
   the settings it was trained with (`shipped_training`).
 """
@@ -22,7 +22,9 @@ import os
 import shutil
 import subprocess
 import tempfile
+import zipfile
 from pathlib import Path
+from xml.etree import ElementTree
 
 from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
@@ -80,6 +82,17 @@ def fmu_paths() -> dict[str, Path]:
     return paths
 
 
+def fmu3_paths() -> dict[str, Path]:
+    """Paths of both FMI 3.0 FMUs (<fmu dir>/3.0/, the same library as the FMI 2.0 ones);
+    FileNotFoundError (with the build command) if one is missing."""
+    directory = fmu_dir() / "3.0"
+    paths = {name: directory / f"{name}.fmu" for name in (BEAM, FRICTION)}
+    missing = [str(p) for p in paths.values() if not p.is_file()]
+    if missing:
+        raise FileNotFoundError(f"missing FMU(s) {', '.join(missing)}: {BUILD_HINT}")
+    return paths
+
+
 def find_binary() -> Path:
     """$STICKSLIP_BIN, or the release binary built (if needed) by cargo."""
     if os.environ.get("STICKSLIP_BIN"):
@@ -102,36 +115,51 @@ def find_binary() -> Path:
 # ----------------------------------------------------------------------------- model description
 
 
-def choices(variable) -> dict[str, int] | None:
-    """Item name -> integer code of a choice variable of the model description, or None.
+# The <Tool name="..."> under <VendorAnnotations> that lists the choices
+# (stickslip_fmi::model_description::CHOICES_TOOL).
+CHOICES_TOOL = "stickslip"
 
-    Today the choices are FMI Enumerations (their declared type lists the items). When
-    they become Integer variables whose codes are listed in the variable itself, this is
-    the one function to change.
-    """
-    if variable.type == "Enumeration":
-        return {item.name: int(item.value) for item in variable.declaredType.items}
-    return None
+
+def choices(xml: str | bytes) -> dict[str, dict[str, int]]:
+    """Variable name -> {word: integer code} of every choice variable of the model
+    description `xml`, as its `stickslip` tool annotation lists them:
+
+        <VendorAnnotations><Tool name="stickslip"><Choices>
+          <Choice variable="friction.law" type="FrictionModel" description="...">
+            <Item code="1" name="exponential" description="..."/> ...
+
+    The variables themselves are FMI Integers with min 1 and max the number of codes."""
+    root = ElementTree.fromstring(xml)
+    path = f"VendorAnnotations/Tool[@name='{CHOICES_TOOL}']/Choices/Choice"
+    return {
+        choice.get("variable"): {item.get("name"): int(item.get("code")) for item in choice}
+        for choice in root.findall(path)
+    }
+
+
+def model_description_xml(fmu: Path) -> bytes:
+    """The modelDescription.xml of the FMU archive `fmu`."""
+    with zipfile.ZipFile(fmu) as archive:
+        return archive.read("modelDescription.xml")
 
 
 class Model:
     """One model description: variables by name, their value references, types and choices."""
 
-    def __init__(self, description):
+    def __init__(self, description, choices: dict[str, dict[str, int]]):
         self.description = description
         self.guid = description.guid
         self.identifier = description.coSimulation.modelIdentifier
         self.variables = {v.name: v for v in description.modelVariables}
         self.vr = {name: v.valueReference for name, v in self.variables.items()}
-        self.choices = {
-            name: items
-            for name, items in ((n, choices(v)) for n, v in self.variables.items())
-            if items is not None
-        }
+        unknown = set(choices) - set(self.variables)
+        if unknown:
+            raise ValueError(f"choices annotated for unknown variables {sorted(unknown)}")
+        self.choices = choices
 
     @classmethod
     def read(cls, fmu: Path) -> Model:
-        return cls(read_model_description(str(fmu)))
+        return cls(read_model_description(str(fmu)), choices(model_description_xml(fmu)))
 
     def code(self, name: str, value) -> int:
         """The integer a choice variable is set to for `value` (an item name or its code)."""

@@ -6,12 +6,16 @@
    simulate_fmu, at every structural fidelity (fidelity.level's items but auto, read from
    the model description by artifacts.fidelities) and with the analytical exponential
    law and the neural law (friction.weights = paper-plain.json and paper-signed.json).
-3. Couples StickSlipBeam (friction.model = external) with NeuralFriction.fmu (law neural
+3. Couples StickSlipBeam (friction.law = external) with NeuralFriction.fmu (law neural
    with paper-plain.json, and law exponential) with the Gauss-Seidel master (master.run,
    beam first; cosim_convergence compares with Jacobi) over FMU2Slave at 1 ms: beam
    relative_velocity -> friction sliding_velocity; friction friction_force_magnitude ->
-   beam external.kinetic_force and static_limit -> beam external.static_limit. Inputs are
-   held over each step (zero-order hold). The beam steps from t to t + 1 ms with the
+   beam external.kinetic_force and static_limit -> beam external.static_limit. The plain
+   network, a smooth signed law, goes through the signed coupling (external.coupling =
+   signed, master.COUPLINGS): friction friction_force, friction_force_slope and
+   evaluated_velocity -> beam external.friction_force, external.friction_slope and
+   external.sliding_velocity, the law's tangent. Inputs are held over each step
+   (zero-order hold). The beam steps from t to t + 1 ms with the
    force exchanged at t; the friction FMU then gets the beam's v_rel(t + 1 ms), and its
    force goes back to the beam. NeuralFriction has direct feedthrough (no state), so the
    force handed to the beam at t is the law at v_rel(t).
@@ -134,7 +138,7 @@ def run_embedded(fmus: Fmus, fidelity: str, law: str, weights: str | None = None
     beam = fmus.models[BEAM]
     start = {
         "fidelity.level": beam.code("fidelity.level", fidelity),
-        "friction.model": beam.code("friction.model", law),
+        "friction.law": beam.code("friction.law", law),
     }
     if weights is not None:
         start["friction.weights"] = weights
@@ -164,9 +168,12 @@ def run_embedded(fmus: Fmus, fidelity: str, law: str, weights: str | None = None
     )
 
 
-def run_coupled(fmus: Fmus, fidelity: str, law: str, weights: str = WEIGHTS[0]) -> Run:
-    """StickSlipBeam (friction.model = external) + NeuralFriction, Gauss-Seidel at DT.
-    The normal force of both is the paper's 100 N (start values)."""
+def run_coupled(
+    fmus: Fmus, fidelity: str, law: str, weights: str = WEIGHTS[0], coupling: str = "magnitude"
+) -> Run:
+    """StickSlipBeam (friction.law = external, external.coupling = `coupling`) +
+    NeuralFriction, Gauss-Seidel at DT. The normal force of both is the paper's 100 N
+    (start values)."""
     friction = {"law": law}
     if law == "neural":
         friction["weights"] = weights
@@ -178,11 +185,12 @@ def run_coupled(fmus: Fmus, fidelity: str, law: str, weights: str = WEIGHTS[0]) 
         beam={"fidelity.level": fidelity},
         friction=friction,
         record={BEAM: ["tip_deflection", "friction_force", "stick", "transitions"]},
+        coupling=coupling,
     )
     wall = time.perf_counter() - began
     label = _label(law, weights)
     return Run(
-        name=f"{fidelity} / coupled {label}",
+        name=f"{fidelity} / coupled {label} ({coupling})",
         fidelity=fidelity,
         friction=f"NeuralFriction.fmu {label}",
         coupling="Gauss-Seidel",
@@ -401,7 +409,8 @@ def run_all(fmus: Fmus) -> list[Run]:
         batch = [reference]
         for weights in WEIGHTS:
             batch.append(run_embedded(fmus, fidelity, "neural", weights))
-        batch.append(run_coupled(fmus, fidelity, "neural", WEIGHTS[0]))
+        # paper-plain.json: a smooth signed law, coupled by its tangent.
+        batch.append(run_coupled(fmus, fidelity, "neural", WEIGHTS[0], coupling="signed"))
         batch.append(run_coupled(fmus, fidelity, "exponential"))
         for r in batch:
             r.metrics = summarise(r, reference)

@@ -14,7 +14,9 @@ feedthrough (no state), its outputs follow its inputs.
 
 Schemes (the pair: beam relative_velocity -> friction sliding_velocity; friction
 friction_force_magnitude and static_limit -> beam external.kinetic_force and
-external.static_limit):
+external.static_limit; with the signed coupling also friction_force,
+friction_force_slope and evaluated_velocity -> beam external.friction_force,
+external.friction_slope and external.sliding_velocity, see COUPLINGS):
 
 - Jacobi: at t_k every FMU reads the others' outputs at t_k, then all step. The
   friction FMU's output at t_k is the law at the input it held over the previous step,
@@ -50,12 +52,23 @@ class Link:
     input: str
 
 
-# StickSlipBeam with friction.model = external, coupled to NeuralFriction.
+# StickSlipBeam with friction.law = external, coupled to NeuralFriction.
 BEAM_FRICTION_LINKS = (
     Link(BEAM, "relative_velocity", FRICTION, "sliding_velocity"),
     Link(FRICTION, "friction_force_magnitude", BEAM, "external.kinetic_force"),
     Link(FRICTION, "static_limit", BEAM, "external.static_limit"),
 )
+# The same with the signed law's tangent: value, slope and the velocity they hold at.
+BEAM_FRICTION_SIGNED_LINKS = (
+    *BEAM_FRICTION_LINKS,
+    Link(FRICTION, "friction_force", BEAM, "external.friction_force"),
+    Link(FRICTION, "friction_force_slope", BEAM, "external.friction_slope"),
+    Link(FRICTION, "evaluated_velocity", BEAM, "external.sliding_velocity"),
+)
+# StickSlipBeam's external.coupling -> the links it reads. `magnitude` suits laws
+# sign(v) g(|v|) (the exponential law, the signed network); `signed` smooth signed laws
+# (the paper's plain network).
+COUPLINGS = {"magnitude": BEAM_FRICTION_LINKS, "signed": BEAM_FRICTION_SIGNED_LINKS}
 # Dependency order of the pair: the friction FMU's outputs follow the beam's.
 BEAM_FRICTION_ORDER = (BEAM, FRICTION)
 
@@ -229,18 +242,25 @@ def run_coupled(
     record: dict[str, list[str]],
     scheme: str = GAUSS_SEIDEL,
     order=BEAM_FRICTION_ORDER,
+    coupling: str = "magnitude",
 ) -> Trace:
-    """StickSlipBeam (friction.model = external, parameters `beam`) coupled to
-    NeuralFriction (parameters `friction`) through BEAM_FRICTION_LINKS, both instantiated
-    for this run; the normal force of both stays at its start value."""
+    """StickSlipBeam (friction.law = external, external.coupling = `coupling`,
+    parameters `beam`) coupled to NeuralFriction (parameters `friction`) through
+    COUPLINGS[coupling], both instantiated for this run; the normal force of both stays
+    at its start value."""
+    if coupling not in COUPLINGS:
+        raise ValueError(f"unknown coupling {coupling!r}; one of {', '.join(COUPLINGS)}")
     with instantiated(fmus, {BEAM: "beam", FRICTION: "friction"}) as slaves:
-        system = System(fmus.models, slaves, BEAM_FRICTION_LINKS, BEAM_FRICTION_ORDER)
+        system = System(fmus.models, slaves, COUPLINGS[coupling], BEAM_FRICTION_ORDER)
         return run(
             system,
             h,
             t_end,
             scheme=scheme,
             order=order,
-            parameters={BEAM: {**beam, "friction.model": "external"}, FRICTION: friction},
+            parameters={
+                BEAM: {**beam, "friction.law": "external", "external.coupling": coupling},
+                FRICTION: friction,
+            },
             record=record,
         )

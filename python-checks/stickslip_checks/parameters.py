@@ -13,10 +13,13 @@ from pathlib import Path
 
 import numpy as np
 
-from .artifacts import Model, choices, fidelities
+from .artifacts import Model, fidelities
 
 # The scene file calls the FMU's two inputs loading.*; accept both spellings.
 ALIASES = {"loading.belt_speed": "belt_speed", "loading.normal_force": "normal_force"}
+# The kind of a choice variable: an FMI Integer whose codes name its values (set by word
+# or code).
+CHOICE = "Choice"
 # Causalities whose values a sweep may set before initialisation.
 SETTABLE = ("parameter", "input")
 
@@ -30,11 +33,11 @@ class Variable:
     """One settable variable of the model description."""
 
     name: str
-    kind: str  # the model description's type: Real, Integer, Boolean, Enumeration or String
+    kind: str  # Real, Integer, Boolean or String (the model description's type), or CHOICE
     causality: str
     unit: str | None
     start: object  # typed start value (choices as their item name)
-    items: dict[str, int] | None  # choice item name -> integer code (artifacts.choices)
+    items: dict[str, int] | None  # a choice's word -> integer code (artifacts.choices)
     description: str
 
 
@@ -50,13 +53,14 @@ class Catalogue:
         for v in model.variables.values():
             if v.causality not in SETTABLE:
                 continue
+            items = model.choices.get(v.name)
             var = Variable(
                 v.name,
-                v.type,
+                CHOICE if items is not None else v.type,
                 v.causality,
                 v.unit,
                 None,
-                choices(v),
+                items,
                 v.description or "",
             )
             if v.start is not None:

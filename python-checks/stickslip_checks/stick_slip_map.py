@@ -158,8 +158,6 @@ def _scene_of(params: dict) -> dict:
         section, _, field = name.partition(".")
         if section not in _ESTIMATE_SECTIONS or name == "friction.weights":
             continue
-        if name == "friction.model":
-            field = "law"
         scene.setdefault(section, {})[field] = value
     return scene
 

@@ -131,7 +131,7 @@ fn the_external_law_is_refused_with_a_clear_message() {
 }
 
 /// `fidelity.level = "auto"` with its tolerance in a scene file runs as
-/// `--fidelity auto --tolerance` does; without a tolerance it is refused.
+/// `--fidelity auto --tolerance` does; without a tolerance both take the default.
 #[test]
 fn a_scene_file_with_fidelity_auto_runs_like_the_flag() {
     let dir = scratch("auto");
@@ -169,13 +169,41 @@ fn a_scene_file_with_fidelity_auto_runs_like_the_flag() {
     assert!(ok, "{stderr}");
     assert!(std::fs::read(&from_file).unwrap() == std::fs::read(&from_flags).unwrap());
 
-    std::fs::write(&scene, "[fidelity]\nlevel = \"auto\"\n").unwrap();
-    let (ok, _, stderr) = stickslip(&["simulate", "--scene", scene.to_str().unwrap()]);
-    assert!(!ok);
-    assert!(stderr.contains("fidelity.tolerance"), "{stderr}");
-    let (ok, _, stderr) = stickslip(&["simulate", "--fidelity", "auto"]);
-    assert!(!ok);
-    assert!(stderr.contains("--tolerance"), "{stderr}");
+    // Without a tolerance, file and flag both take the default, the FMU's start value
+    // (issue 17, item 6), and run as the explicit default does.
+    std::fs::write(
+        &scene,
+        "[fidelity]\nlevel = \"auto\"\n\n[time]\nend = 0.6\n",
+    )
+    .unwrap();
+    let mut outputs = Vec::new();
+    for (name, args) in [
+        ("file", vec!["--scene", scene.to_str().unwrap()]),
+        ("flag", vec!["--fidelity", "auto", "--t-end", "0.6"]),
+        (
+            "explicit",
+            vec![
+                "--fidelity",
+                "auto",
+                "--tolerance",
+                "1e-5",
+                "--t-end",
+                "0.6",
+            ],
+        ),
+    ] {
+        let out = dir.join(format!("default-{name}.csv"));
+        let mut all = vec!["simulate", "--out", out.to_str().unwrap()];
+        all.extend(args);
+        let (ok, _, stderr) = stickslip(&all);
+        assert!(ok, "{name}: {stderr}");
+        assert!(
+            stderr.contains("fidelity = auto (tolerance 1e-5 m"),
+            "{name}: {stderr}"
+        );
+        outputs.push(std::fs::read(&out).unwrap());
+    }
+    assert!(outputs[0] == outputs[1] && outputs[1] == outputs[2]);
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -246,10 +274,6 @@ fn error_lines_are_the_documented_ones() {
         (
             &["simulate", "--scene", negative_modulus.to_str().unwrap()],
             "invalid scene: material.youngs_modulus = -1e0; it must be finite and > 0 (Pa)".into(),
-        ),
-        (
-            &["simulate", "--fidelity", "auto"],
-            "--fidelity auto needs --tolerance M: the RMS tip-deflection error allowed (m)".into(),
         ),
         (
             &["simulate", "--tolerance", "1e-4"],

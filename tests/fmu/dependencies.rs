@@ -16,6 +16,7 @@ use stickslip::choice::Choice;
 use stickslip::friction::LawChoice;
 use stickslip::neural::{weights::FeatureSpec, FeatureRole, NeuralModel};
 use stickslip::scene::{FidelityLevel, FrictionLawKind};
+use stickslip::simulation::ExternalCoupling;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::instance::{Instance, Mode};
@@ -78,7 +79,7 @@ fn outputs<M: Model>(fmu: &mut Instance<M>) -> BTreeMap<String, u64> {
                     fmu.get_real(&vr, &mut out).unwrap();
                     out[0].to_bits()
                 }
-                Access::Integer { .. } | Access::Enumeration { .. } => {
+                Access::Integer { .. } | Access::Choice { .. } => {
                     let mut out = [0];
                     fmu.get_integer(&vr, &mut out).unwrap();
                     out[0] as u64
@@ -279,7 +280,7 @@ fn beam(model: FrictionLawKind) -> Instance<StickSlipBeam> {
             .unwrap()
     };
     set_code(&mut fmu, "fidelity.level", FidelityLevel::Modal.code());
-    set_code(&mut fmu, "friction.model", model.code());
+    set_code(&mut fmu, "friction.law", model.code());
     fmu.setup_experiment(0.0, Some(1.2)).unwrap();
     fmu
 }
@@ -300,6 +301,21 @@ fn beam_inputs() -> Vec<(&'static str, Value, Value)> {
             Value::Real(50.0),
             Value::Real(40.0),
         ),
+        (
+            "external.friction_force",
+            Value::Real(30.0),
+            Value::Real(-20.0),
+        ),
+        (
+            "external.friction_slope",
+            Value::Real(-150.0),
+            Value::Real(1e4),
+        ),
+        (
+            "external.sliding_velocity",
+            Value::Real(0.01),
+            Value::Real(-0.01),
+        ),
     ]
 }
 
@@ -311,8 +327,17 @@ fn no_stick_slip_beam_output_follows_an_input_before_the_next_step() {
     let mut seen_outputs = DependencyMap::new();
     let mut seen_initial = DependencyMap::new();
     let h = 1e-3;
-    for model in [FrictionLawKind::Exponential, FrictionLawKind::External] {
+    for (model, coupling) in [
+        (FrictionLawKind::Exponential, ExternalCoupling::Magnitude),
+        (FrictionLawKind::External, ExternalCoupling::Magnitude),
+        (FrictionLawKind::External, ExternalCoupling::Signed),
+    ] {
         let mut fmu = beam(model);
+        fmu.set_integer(
+            &[vr::<StickSlipBeam>("external.coupling")],
+            &[coupling.code()],
+        )
+        .unwrap();
         fmu.enter_initialization_mode().unwrap();
         probe(&mut fmu, &beam_inputs(), &mut seen_initial);
         fmu.exit_initialization_mode().unwrap();
@@ -333,9 +358,17 @@ fn no_stick_slip_beam_output_follows_an_input_before_the_next_step() {
             let saved = fmu.get_state().unwrap();
             fmu.do_step(t, h).unwrap();
             let unchanged = outputs(&mut fmu);
-            let acting = match model {
-                FrictionLawKind::External => ["belt_speed", "external.kinetic_force"],
-                _ => ["belt_speed", "normal_force"],
+            let acting: &[&str] = match (model, coupling) {
+                (FrictionLawKind::External, ExternalCoupling::Magnitude) => {
+                    &["belt_speed", "external.kinetic_force"]
+                }
+                (FrictionLawKind::External, ExternalCoupling::Signed) => &[
+                    "belt_speed",
+                    "external.friction_force",
+                    "external.friction_slope",
+                    "external.sliding_velocity",
+                ],
+                _ => &["belt_speed", "normal_force"],
             };
             for (name, base, changed) in beam_inputs() {
                 if !acting.contains(&name) {
@@ -347,7 +380,7 @@ fn no_stick_slip_beam_output_follows_an_input_before_the_next_step() {
                 assert_ne!(
                     outputs(&mut fmu),
                     unchanged,
-                    "{model:?}: {name} set at t = {t} s changes nothing in the next step"
+                    "{model:?} ({coupling:?}): {name} set at t = {t} s changes nothing in the next step"
                 );
                 set(&mut fmu, name, &base);
             }
@@ -369,9 +402,14 @@ fn no_stick_slip_beam_output_follows_an_input_before_the_next_step() {
             );
         }
     }
+    let external_inputs: Vec<&str> = beam_inputs()
+        .into_iter()
+        .map(|(name, _, _)| name)
+        .filter(|name| name.starts_with("external."))
+        .collect();
+    assert_eq!(external_inputs.len(), 5);
     assert!(declared_initial
         .values()
-        .all(|knowns| !knowns.contains("external.kinetic_force")
-            && !knowns.contains("external.static_limit")));
+        .all(|knowns| external_inputs.iter().all(|k| !knowns.contains(*k))));
     assert!(seen_initial["tip_velocity"].contains("belt_speed"));
 }

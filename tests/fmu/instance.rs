@@ -161,7 +161,7 @@ fn non_finite_and_out_of_range_values_are_refused_when_set() {
     assert!(b
         .set_integer(&[vr::<StickSlipBeam>("fidelity.level")], &[7])
         .is_err());
-    assert!(logged(&log, "7 is not a FidelityLevel value"));
+    assert!(logged(&log, "7 is not a FidelityLevel code"));
     b.reset();
     assert!(b
         .set_real(&[vr::<StickSlipBeam>("tip_deflection")], &[1.0])
@@ -530,8 +530,8 @@ fn breakaway_through_the_fmu_is_at_0_400_s() {
 
 #[test]
 fn external_friction_equal_to_the_law_reproduces_coulomb() {
-    // friction.model = external with inputs mu_k F_n and mu_s F_n is Coulomb friction
-    // with the static limit mu_s F_n: same as friction.model = coulomb.
+    // friction.law = external with inputs mu_k F_n and mu_s F_n is Coulomb friction
+    // with the static limit mu_s F_n: same as friction.law = coulomb.
     let runs: Vec<Vec<f64>> = [FrictionLawKind::Coulomb, FrictionLawKind::External]
         .iter()
         .map(|&model| {
@@ -540,7 +540,7 @@ fn external_friction_equal_to_the_law_reproduces_coulomb() {
             b.set_integer(
                 &[
                     vr::<StickSlipBeam>("fidelity.level"),
-                    vr::<StickSlipBeam>("friction.model"),
+                    vr::<StickSlipBeam>("friction.law"),
                 ],
                 &[FidelityLevel::Modal.code(), model.code()],
             )
@@ -828,7 +828,7 @@ fn the_beam_reads_a_network_only_for_the_neural_law() {
     assert_eq!(b.model().networks_read(), 0);
     b.reset();
     assert_eq!(b.model().networks_read(), 0);
-    let law = vr::<StickSlipBeam>("friction.model");
+    let law = vr::<StickSlipBeam>("friction.law");
     let level = vr::<StickSlipBeam>("fidelity.level");
     for _ in 0..2 {
         b.reset();
@@ -871,6 +871,39 @@ fn fidelity_auto_chooses_at_initialisation_and_logs_the_choice() {
     assert!(tip(&mut b) > 0.0 && tip(&mut b) < 8.1e-3);
 }
 
+/// With the neural law, auto calibrates with the network of friction.weights, the one
+/// the instance will run: weights that are not a network fail the calibration itself,
+/// named in the message, where the shipped plain network would have calibrated.
+#[test]
+fn fidelity_auto_calibrates_with_the_instances_own_weights() {
+    let dir = std::env::temp_dir().join(format!("stickslip-auto-weights-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let broken = dir.join("broken.json");
+    std::fs::write(&broken, "{ not a network").unwrap();
+    let (mut b, log) = beam(true);
+    let level = vr::<StickSlipBeam>("fidelity.level");
+    let law = vr::<StickSlipBeam>("friction.law");
+    b.set_integer(&[level, law], &[FidelityLevel::Auto.code(), 3])
+        .unwrap();
+    b.set_string(
+        &[vr::<StickSlipBeam>("friction.weights")],
+        &[broken.to_str().unwrap()],
+    )
+    .unwrap();
+    b.setup_experiment(0.0, Some(0.05)).unwrap();
+    b.enter_initialization_mode().unwrap();
+    assert!(b.exit_initialization_mode().is_err());
+    let entries = log.lock().unwrap().clone();
+    assert!(
+        entries
+            .iter()
+            .any(|(_, _, m)| m.contains("fidelity = auto, running")
+                && m.contains(broken.to_str().unwrap())),
+        "{entries:?}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// A version-1 state, which kept the friction model, the auto flag and the tolerance
 /// beside the scene, restores into the scene's fields and is saved again as the
 /// current version; a current-version state with the old fields is refused.
@@ -883,7 +916,10 @@ fn a_version_1_beam_state_restores_into_the_scene_fields() {
     assert_eq!(current.version, STATE_VERSION);
     let mut v1 = current.clone();
     v1.version = 1;
+    assert!(v1.model["running"].is_null());
     let settings = v1.model["settings"].as_object_mut().unwrap();
+    // A version-1 state has no external.coupling (it came later).
+    settings.remove("coupling").unwrap();
     settings["scene"]["fidelity"]
         .as_object_mut()
         .unwrap()
@@ -896,7 +932,7 @@ fn a_version_1_beam_state_restores_into_the_scene_fields() {
     let mut codes = [0; 2];
     b.get_integer(
         &[
-            vr::<StickSlipBeam>("friction.model"),
+            vr::<StickSlipBeam>("friction.law"),
             vr::<StickSlipBeam>("fidelity.level"),
         ],
         &mut codes,

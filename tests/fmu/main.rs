@@ -4,6 +4,7 @@ mod allocations;
 mod call_matrix;
 mod dependencies;
 mod ffi;
+mod ffi3;
 mod fuzz_regressions;
 mod instance;
 mod long_run;

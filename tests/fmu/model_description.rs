@@ -8,9 +8,11 @@ use stickslip::scene::{
     Clamp, FidelityLevel, FrictionLawKind, HoldingForce, Inference, InitialState, ModalBasis,
     Scheme, SlidingVelocity,
 };
+use stickslip::simulation::ExternalCoupling;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::model::Model;
+use stickslip_fmi::model_description::CHOICES_TOOL;
 use stickslip_fmi::variables::{Access, Causality, InitialDependencies, Variable, UNITS};
 use stickslip_fmi::FmuKind;
 
@@ -27,6 +29,50 @@ fn checked_in_descriptions_match_the_generated_ones() {
             "{} drifted from the Rust tables; run `cargo run --release -p fmu-build -- --update-model-descriptions`",
             path.display()
         );
+    }
+}
+
+/// The FMI 3.0 copies (`modelDescription/3.0/`) too: generated from the same tables.
+#[test]
+fn checked_in_fmi3_descriptions_match_the_generated_ones() {
+    for kind in FmuKind::ALL {
+        let path = stickslip_tests::workspace_root()
+            .join("modelDescription")
+            .join("3.0")
+            .join(format!("{}.xml", kind.model_identifier()));
+        let checked_in =
+            std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert!(
+            checked_in == kind.model_description3(),
+            "{} drifted from the Rust tables; run `cargo run --release -p fmu-build -- --update-model-descriptions`",
+            path.display()
+        );
+    }
+}
+
+/// Both versions describe the same variables: every FMI 2.0 ScalarVariable's name and
+/// value reference appear in the FMI 3.0 description, which adds only `time`, and the
+/// instantiation token is the GUID.
+#[test]
+fn fmi3_descriptions_have_the_fmi2_variables() {
+    for kind in FmuKind::ALL {
+        let (v2, v3) = (kind.model_description(), kind.model_description3());
+        let pairs = |xml: &str| -> Vec<String> {
+            xml.lines()
+                .filter(|l| l.contains(" valueReference=") && l.contains(" name="))
+                .map(|l| {
+                    let attr = |a: &str| {
+                        let start = l.find(&format!(" {a}=\"")).unwrap() + a.len() + 3;
+                        l[start..start + l[start..].find('"').unwrap()].to_string()
+                    };
+                    format!("{} {}", attr("name"), attr("valueReference"))
+                })
+                .collect()
+        };
+        let mut expected = pairs(&v2);
+        expected.insert(0, "time 0".into());
+        assert_eq!(pairs(&v3), expected, "{kind:?}");
+        assert!(v3.contains(&format!("instantiationToken=\"{}\"", kind.guid())));
     }
 }
 
@@ -114,9 +160,9 @@ fn structure_lists_every_output_as_output_and_initial_unknown() {
     assert!(xml.contains(r#"canHandleVariableCommunicationStepSize="true""#));
 }
 
-/// One `<SimpleType>` of a modelDescription: name, description and its items as
-/// (name, value, description).
-type SimpleType = (String, String, Vec<(String, i32, String)>);
+/// One `<Choice>` of the `stickslip` tool annotation: variable, type name, type
+/// description and the items as (word, code, description).
+type Declared = (String, String, String, Vec<(String, i32, String)>);
 
 /// The value of attribute `name` in an XML tag, unescaped.
 fn attribute(tag: &str, name: &str) -> String {
@@ -133,28 +179,33 @@ fn attribute(tag: &str, name: &str) -> String {
         .replace("&amp;", "&")
 }
 
-/// The enumeration types declared in a modelDescription, in order.
-fn simple_types(xml: &str) -> Vec<SimpleType> {
-    xml.split("<SimpleType ")
+/// The choices listed under `<VendorAnnotations><Tool name="stickslip"><Choices>`, in
+/// order.
+fn annotated_choices(xml: &str) -> Vec<Declared> {
+    let tool = format!(r#"<Tool name="{CHOICES_TOOL}">"#);
+    let start = xml.find(&tool).expect("no stickslip tool annotation");
+    let block = &xml[start..start + xml[start..].find("</Tool>").unwrap()];
+    block
+        .split("<Choice ")
         .skip(1)
-        .map(|block| {
-            let block = &block[..block.find("</SimpleType>").unwrap()];
-            let head = &block[..block.find('>').unwrap()];
-            let items = block
+        .map(|choice| {
+            let choice = &choice[..choice.find("</Choice>").unwrap()];
+            let head = format!(" {}", &choice[..choice.find('>').unwrap()]);
+            let items = choice
                 .split("<Item ")
                 .skip(1)
                 .map(|item| {
                     let tag = format!(" {}", &item[..item.find("/>").unwrap()]);
                     (
                         attribute(&tag, "name"),
-                        attribute(&tag, "value").parse().unwrap(),
+                        attribute(&tag, "code").parse().unwrap(),
                         attribute(&tag, "description"),
                     )
                 })
                 .collect();
-            let head = format!(" {head}");
             (
-                attribute(&head, "name"),
+                attribute(&head, "variable"),
+                attribute(&head, "type"),
                 attribute(&head, "description"),
                 items,
             )
@@ -162,9 +213,11 @@ fn simple_types(xml: &str) -> Vec<SimpleType> {
         .collect()
 }
 
-/// What a choice declares: its type and its values with their codes.
-fn declared<T: Choice>() -> SimpleType {
+/// What the choice `T` of variable `variable` declares: its type and its values with
+/// their codes.
+fn declared<T: Choice>(variable: &str) -> Declared {
     (
+        variable.to_string(),
         T::TYPE_NAME.to_string(),
         T::TYPE_DESCRIPTION.to_string(),
         T::ALL
@@ -174,39 +227,125 @@ fn declared<T: Choice>() -> SimpleType {
     )
 }
 
-/// The FMI enumeration types of the checked-in modelDescriptions are the scene's choice
-/// enums, item for item: the FMU's words are the scene file's and the command line's.
-#[test]
-fn the_enumeration_types_are_the_scenes_choices() {
-    let read = |kind: FmuKind| {
-        let path = stickslip_tests::workspace_root()
-            .join("modelDescription")
-            .join(format!("{}.xml", kind.model_identifier()));
-        simple_types(&std::fs::read_to_string(path).unwrap())
-    };
-    assert_eq!(
-        read(FmuKind::StickSlipBeam),
-        vec![
-            declared::<FrictionLawKind>(),
-            declared::<Inference>(),
-            declared::<HoldingForce>(),
-            declared::<SlidingVelocity>(),
-            declared::<InitialState>(),
-            declared::<FidelityLevel>(),
-            declared::<ModalBasis>(),
-            declared::<Clamp>(),
-            declared::<Scheme>(),
-        ]
-    );
-    assert_eq!(read(FmuKind::NeuralFriction), vec![declared::<LawChoice>()]);
+fn checked_in(kind: FmuKind) -> String {
+    let path = stickslip_tests::workspace_root()
+        .join("modelDescription")
+        .join(format!("{}.xml", kind.model_identifier()));
+    std::fs::read_to_string(path).unwrap()
 }
 
-/// Every enumeration variable takes each of its items and reads it back, and refuses
-/// the values around them with the allowed items in the message.
-fn enumerations_round_trip<M: Model>() {
+/// The choices of the checked-in modelDescriptions are the scene's choice enums, item
+/// for item: the FMU's words are the scene file's and the command line's.
+#[test]
+fn the_annotated_choices_are_the_scenes_choices() {
+    assert_eq!(
+        annotated_choices(&checked_in(FmuKind::StickSlipBeam)),
+        vec![
+            declared::<FrictionLawKind>("friction.law"),
+            declared::<Inference>("friction.inference"),
+            declared::<ExternalCoupling>("external.coupling"),
+            declared::<HoldingForce>("contact.holding_force"),
+            declared::<SlidingVelocity>("contact.sliding_velocity"),
+            declared::<InitialState>("contact.initial_state"),
+            declared::<FidelityLevel>("fidelity.level"),
+            declared::<ModalBasis>("fidelity.modal_basis"),
+            declared::<Clamp>("fidelity.clamp"),
+            declared::<Scheme>("integrator.scheme"),
+        ]
+    );
+    assert_eq!(
+        annotated_choices(&checked_in(FmuKind::NeuralFriction)),
+        vec![declared::<LawChoice>("law")]
+    );
+}
+
+/// The `<ScalarVariable ...>` opening tag and the type element of variable `name`.
+fn scalar_variable<'a>(xml: &'a str, name: &str) -> (&'a str, &'a str) {
+    let start = xml
+        .find(&format!(r#"<ScalarVariable name="{name}""#))
+        .unwrap_or_else(|| panic!("no variable {name}"));
+    let rest = &xml[start..];
+    let head_end = rest.find('>').unwrap();
+    let body = &rest[head_end + 1..];
+    let element = body.trim_start();
+    (&rest[..head_end], &element[..element.find("/>").unwrap()])
+}
+
+/// A choice is an FMI Integer from 1 to its number of values (libcosim and Ecos ignore
+/// FMI Enumerations), its start value is the default's code, and its description ends
+/// with the codes and their words. No Enumeration is left in either model description.
+#[test]
+fn choices_are_integers_with_their_codes_in_range_and_description() {
+    fn check<M: Model>(kind: FmuKind) {
+        let xml = checked_in(kind);
+        assert!(
+            !xml.contains("<Enumeration"),
+            "{kind:?} declares an Enumeration"
+        );
+        assert!(!xml.contains("<TypeDefinitions>"), "{kind:?}");
+        let defaults = M::with_defaults();
+        let mut seen = 0;
+        for v in M::variables() {
+            let Access::Choice {
+                kind: values, get, ..
+            } = &v.access
+            else {
+                continue;
+            };
+            seen += 1;
+            let (head, element) = scalar_variable(&xml, v.name);
+            assert_eq!(
+                element,
+                format!(
+                    r#"<Integer min="1" max="{}" start="{}""#,
+                    values.len,
+                    get(&defaults)
+                ),
+                "{}",
+                v.name
+            );
+            let codes: Vec<String> = values
+                .items()
+                .map(|(code, word, _)| format!("{code} = {word}"))
+                .collect();
+            let description = attribute(&format!(" {head}"), "description");
+            assert!(
+                description.ends_with(&format!(" [{}]", codes.join(", "))),
+                "{}: {description}",
+                v.name
+            );
+        }
+        assert!(seen > 0, "{kind:?} has no choice");
+    }
+    check::<StickSlipBeam>(FmuKind::StickSlipBeam);
+    check::<NeuralFriction>(FmuKind::NeuralFriction);
+}
+
+/// The largest counts the FMU declares are the scene's own limits.
+#[test]
+fn count_maxima_are_the_scenes_limits() {
+    let xml = checked_in(FmuKind::StickSlipBeam);
+    for (name, max) in [
+        ("fidelity.modes", stickslip::scene::MAX_MODES),
+        (
+            "fidelity.beam_elements",
+            stickslip::scene::MAX_BEAM_ELEMENTS,
+        ),
+    ] {
+        let (_, element) = scalar_variable(&xml, name);
+        assert!(
+            element.starts_with(&format!(r#"<Integer min="1" max="{max}" "#)),
+            "{name}: {element}"
+        );
+    }
+}
+
+/// Every choice variable takes each of its codes and reads it back, and refuses the
+/// codes around them with the allowed codes and words in the message.
+fn choices_round_trip<M: Model>() {
     let mut model = M::with_defaults();
     for v in M::variables() {
-        let Access::Enumeration { kind, .. } = &v.access else {
+        let Access::Choice { kind, .. } = &v.access else {
             continue;
         };
         for (value, _, _) in kind.items() {
@@ -215,13 +354,17 @@ fn enumerations_round_trip<M: Model>() {
         }
         for bad in [0, kind.len as i32 + 1] {
             let error = v.set_integer(&mut model, bad).unwrap_err().to_string();
-            assert!(error.contains("allowed: 1 = "), "{}: {error}", v.name);
+            assert!(
+                error.contains(&format!("allowed: {}", kind.codes())),
+                "{}: {error}",
+                v.name
+            );
         }
     }
 }
 
 #[test]
-fn enumeration_variables_take_and_read_back_every_item() {
-    enumerations_round_trip::<StickSlipBeam>();
-    enumerations_round_trip::<NeuralFriction>();
+fn choice_variables_take_and_read_back_every_code() {
+    choices_round_trip::<StickSlipBeam>();
+    choices_round_trip::<NeuralFriction>();
 }

@@ -119,7 +119,7 @@ fn copy_resources(root: &Path) -> PathBuf {
 /// The StickSlipBeam value references these tests use, by name.
 struct BeamVrs {
     fidelity: u32,
-    friction_model: u32,
+    friction_law: u32,
     weights: u32,
     /// tip_deflection, tip_velocity, relative_velocity, friction_force, holding_force.
     real_outputs: [u32; 5],
@@ -132,7 +132,7 @@ impl BeamVrs {
         let vr = vr::<StickSlipBeam>;
         Self {
             fidelity: vr("fidelity.level"),
-            friction_model: vr("friction.model"),
+            friction_law: vr("friction.law"),
             weights: vr("friction.weights"),
             real_outputs: [
                 vr("tip_deflection"),
@@ -157,7 +157,7 @@ type Point = [u64; 7];
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Config {
     fidelity: FidelityLevel,
-    /// friction.model.
+    /// friction.law.
     law: FrictionLawKind,
     /// friction.weights for the neural law.
     weights: &'static str,
@@ -212,7 +212,7 @@ impl Run {
             run.ok(
                 fmi2SetInteger(
                     c,
-                    [vrs.fidelity, vrs.friction_model].as_ptr(),
+                    [vrs.fidelity, vrs.friction_law].as_ptr(),
                     2,
                     [config.fidelity.code(), config.law.code()].as_ptr(),
                 ),
@@ -295,7 +295,7 @@ impl Run {
             self.ok(
                 fmi2SetInteger(
                     self.c,
-                    [vrs.fidelity, vrs.friction_model].as_ptr(),
+                    [vrs.fidelity, vrs.friction_law].as_ptr(),
                     2,
                     [config.fidelity.code(), config.law.code()].as_ptr(),
                 ),
@@ -569,7 +569,7 @@ fn a_missing_resources_folder_fails_instantiation_with_a_reason() {
 /// A weights file that cannot be used is reported where the network is first needed:
 /// NeuralFriction (whose default law is the network) refuses instantiation;
 /// StickSlipBeam (default law exponential, the network read only for
-/// friction.model = neural) instantiates, runs the exponential law, and refuses
+/// friction.law = neural) instantiates, runs the exponential law, and refuses
 /// fmi2ExitInitializationMode with the neural law. Each refusal logs all `needles`.
 fn assert_weights_refused(uri: &str, needles: &[&str]) {
     assert_refused(FmuKind::NeuralFriction, Some(uri), needles);
@@ -609,7 +609,7 @@ fn assert_weights_refused(uri: &str, needles: &[&str]) {
                 OK
             );
             assert_eq!(
-                fmi2SetInteger(c, [vrs.friction_model].as_ptr(), 1, [law.code()].as_ptr()),
+                fmi2SetInteger(c, [vrs.friction_law].as_ptr(), 1, [law.code()].as_ptr()),
                 OK
             );
             assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), OK);
@@ -874,7 +874,7 @@ unsafe fn life(kind: FmuKind, callbacks_kind: Callbacks, steps: usize) {
             ok(
                 fmi2SetInteger(
                     c,
-                    [vrs.fidelity, vrs.friction_model].as_ptr(),
+                    [vrs.fidelity, vrs.friction_law].as_ptr(),
                     2,
                     [FidelityLevel::Modal.code(), FrictionLawKind::Neural.code()].as_ptr(),
                 ),
@@ -988,7 +988,7 @@ unsafe fn life(kind: FmuKind, callbacks_kind: Callbacks, steps: usize) {
         ok(
             fmi2SetInteger(
                 c,
-                [vrs.fidelity, vrs.friction_model].as_ptr(),
+                [vrs.fidelity, vrs.friction_law].as_ptr(),
                 2,
                 [
                     FidelityLevel::Modal.code(),

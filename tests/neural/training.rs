@@ -493,3 +493,46 @@ fn training_the_signed_variant_regenerates_the_shipped_signed_weights() {
         "retrained weights differ from weights/paper-signed.json"
     );
 }
+
+/// The forward-mode slope dF/dv is the derivative of `evaluate`'s force: against central
+/// differences (step 1e-10 m/s; their truncation error F''' d^2 / 6 is below 1e-3 N s/m
+/// even where the plain network bends hardest, at |v| < 1 mm/s), for both variants, and
+/// 0 where the velocity is clamped.
+#[test]
+fn the_slope_is_the_derivative_of_the_force() {
+    for json in [PAPER_PLAIN_JSON, PAPER_SIGNED_JSON] {
+        let mut law = NeuralLaw::from_json(json, "shipped").unwrap();
+        let signed = law.variant() == Variant::Signed;
+        for v in [-0.2, -0.01, -1e-3, 0.0, 3e-4, 2e-3, 0.05, 0.3] {
+            if signed && v == 0.0 {
+                continue; // the jump
+            }
+            for f_n in [95.0, 105.0] {
+                let sample = [v, f_n];
+                let force = law.evaluate(&sample).unwrap();
+                let (value, slope) = law.evaluate_with_velocity_slope(&sample).unwrap();
+                assert_eq!(value, force);
+                let delta = 1e-10;
+                let mut at = |x: f64| law.evaluate(&[x, f_n]).unwrap();
+                let difference = (at(v + delta) - at(v - delta)) / (2.0 * delta);
+                let tolerance = 1e-6 * slope.abs().max(1e2);
+                assert!(
+                    (slope - difference).abs() <= tolerance,
+                    "{json:.20} v {v} F_n {f_n}: slope {slope}, differences {difference}"
+                );
+            }
+        }
+        // Beyond the data (|v| > 0.4 m/s) the law is flat in v.
+        for sample in [[0.5, 100.0], [-0.5, 100.0]] {
+            assert_eq!(law.evaluate_with_velocity_slope(&sample).unwrap().1, 0.0);
+        }
+        assert!(law.evaluate_with_velocity_slope(&[0.1]).is_err());
+        assert!(law
+            .evaluate_with_velocity_slope(&[f64::NAN, 100.0])
+            .is_err());
+    }
+    // The plain network near v = 0, where it crosses from -13 N to +50 N: ~1e5 N s/m.
+    let mut plain = NeuralLaw::paper_default().unwrap();
+    let (_, steepest) = plain.evaluate_with_velocity_slope(&[5e-5, 100.0]).unwrap();
+    assert!(steepest > 5e4, "{steepest}");
+}

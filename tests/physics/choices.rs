@@ -87,12 +87,15 @@ fn a_scene_file_names_auto_with_its_tolerance_and_external() {
 }
 
 #[test]
-fn auto_needs_a_finite_positive_tolerance() {
+fn auto_takes_the_default_or_a_finite_positive_tolerance() {
     let mut scene = Scene::default();
     scene.fidelity.level = FidelityLevel::Auto;
-    let error = scene.clone().check().unwrap_err();
-    assert_eq!(error.field(), Some("fidelity.tolerance"), "{error}");
-    assert!(error.to_string().contains("auto"), "{error}");
+    // Absent: the default, the same as the FMU's start value (issue 17, item 6).
+    assert!(scene.clone().check().is_ok());
+    assert_eq!(
+        stickslip::auto::tolerance_of(&scene),
+        stickslip::auto::DEFAULT_TOLERANCE
+    );
     for bad in [0.0, -1e-4, f64::NAN, f64::INFINITY] {
         scene.fidelity.tolerance = Some(bad);
         let error = scene.clone().check().unwrap_err();
@@ -142,7 +145,7 @@ fn the_external_law_is_refused_by_a_stand_alone_run() {
 #[test]
 fn resolve_replaces_auto_by_the_choice_and_leaves_concrete_scenes_alone() {
     let front = stickslip::auto::paper_front().unwrap();
-    let (same, none) = stickslip::auto::resolve(Scene::default(), &front).unwrap();
+    let (same, none) = stickslip::auto::resolve(Scene::default(), &front, &mut |_| {}).unwrap();
     assert_eq!(same, Scene::default());
     assert!(none.is_none());
 
@@ -150,14 +153,18 @@ fn resolve_replaces_auto_by_the_choice_and_leaves_concrete_scenes_alone() {
     scene.time.end = 0.6;
     scene.fidelity.level = FidelityLevel::Auto;
     scene.fidelity.tolerance = Some(1e-4);
-    let (resolved, choice) = stickslip::auto::resolve(scene.clone(), &front).unwrap();
+    let (resolved, choice) = stickslip::auto::resolve(scene.clone(), &front, &mut |_| {}).unwrap();
     let choice = choice.unwrap();
     assert_ne!(resolved.fidelity.level, FidelityLevel::Auto);
     assert_eq!(resolved, choice.configuration.apply(&scene));
     assert!(choice.estimated_error <= 1e-4);
     assert!(run_scene(resolved.check().unwrap(), 1).is_ok());
 
+    // Without a tolerance: the default's choice, the same as asking for it.
     scene.fidelity.tolerance = None;
-    let error = stickslip::auto::resolve(scene, &front).unwrap_err();
-    assert!(error.to_string().contains("fidelity.tolerance"), "{error}");
+    let (by_default, _) = stickslip::auto::resolve(scene.clone(), &front, &mut |_| {}).unwrap();
+    scene.fidelity.tolerance = Some(stickslip::auto::DEFAULT_TOLERANCE);
+    let (mut explicit, _) = stickslip::auto::resolve(scene, &front, &mut |_| {}).unwrap();
+    explicit.fidelity.tolerance = None;
+    assert_eq!(by_default, explicit);
 }

@@ -137,7 +137,7 @@ fn a_failed_auto_calibration_leads_down_to_the_io_error() {
     scene.time.end = 0.01;
     scene.friction.law = FrictionLawKind::Neural;
     scene.friction.weights = Some("/nonexistent/w.json".into());
-    let e = choose(&scene, 1e-3, &paper_front().unwrap()).unwrap_err();
+    let e = choose(&scene, 1e-3, &paper_front().unwrap(), &mut |_| {}).unwrap_err();
     assert!(matches!(e, AutoError::Calibration(_)), "{e:?}");
     let message = e.to_string();
     assert!(
@@ -161,7 +161,7 @@ fn an_unmet_tolerance_says_what_would_be_needed() {
     };
     assert_eq!(
         e.to_string(),
-        "fidelity = auto: no configuration of the front is verified to meet the tolerance 1e-12 m on this scene; the best estimated RMS tip-deflection error is 1.039e-8 m. Choose a larger tolerance or a fidelity by hand."
+        "fidelity = auto: no configuration of the front is verified to meet the tolerance 1e-12 m on this scene; the best estimated first-cycle tip deviation is 1.039e-8 m. Choose a larger tolerance or a fidelity by hand."
     );
     let front = paper_front().unwrap();
     let e = stickslip::auto::check_front(&[front[1], front[0]]).unwrap_err();

@@ -4,6 +4,7 @@
 
 mod auto;
 mod choices;
+mod coupling;
 mod dynamics;
 mod errors;
 mod extremes;

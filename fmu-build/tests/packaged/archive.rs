@@ -1,9 +1,90 @@
-//! The packaged binaries export exactly the 34 FMI 2.0 co-simulation functions and
-//! nothing else of ours, and each archive holds what an importer expects.
+//! The packaged binaries export exactly the 34 FMI 2.0 co-simulation functions and the
+//! 75 FMI 3.0 functions and nothing else of ours, and each archive holds what an
+//! importer expects.
 
 use std::collections::BTreeSet;
 use std::io::Read;
 use stickslip_fmi::FmuKind;
+
+/// Every function of fmi3Functions.h (FMI 3.0, all three interface types: an FMU
+/// exports them all; those of capabilities ours lack return fmi3Error).
+const FMI3_FUNCTIONS: [&str; 75] = [
+    "fmi3GetVersion",
+    "fmi3SetDebugLogging",
+    "fmi3InstantiateModelExchange",
+    "fmi3InstantiateCoSimulation",
+    "fmi3InstantiateScheduledExecution",
+    "fmi3FreeInstance",
+    "fmi3EnterInitializationMode",
+    "fmi3ExitInitializationMode",
+    "fmi3EnterEventMode",
+    "fmi3Terminate",
+    "fmi3Reset",
+    "fmi3GetFloat32",
+    "fmi3GetFloat64",
+    "fmi3GetInt8",
+    "fmi3GetUInt8",
+    "fmi3GetInt16",
+    "fmi3GetUInt16",
+    "fmi3GetInt32",
+    "fmi3GetUInt32",
+    "fmi3GetInt64",
+    "fmi3GetUInt64",
+    "fmi3GetBoolean",
+    "fmi3GetString",
+    "fmi3GetBinary",
+    "fmi3GetClock",
+    "fmi3SetFloat32",
+    "fmi3SetFloat64",
+    "fmi3SetInt8",
+    "fmi3SetUInt8",
+    "fmi3SetInt16",
+    "fmi3SetUInt16",
+    "fmi3SetInt32",
+    "fmi3SetUInt32",
+    "fmi3SetInt64",
+    "fmi3SetUInt64",
+    "fmi3SetBoolean",
+    "fmi3SetString",
+    "fmi3SetBinary",
+    "fmi3SetClock",
+    "fmi3GetNumberOfVariableDependencies",
+    "fmi3GetVariableDependencies",
+    "fmi3GetFMUState",
+    "fmi3SetFMUState",
+    "fmi3FreeFMUState",
+    "fmi3SerializedFMUStateSize",
+    "fmi3SerializeFMUState",
+    "fmi3DeserializeFMUState",
+    "fmi3GetDirectionalDerivative",
+    "fmi3GetAdjointDerivative",
+    "fmi3EnterConfigurationMode",
+    "fmi3ExitConfigurationMode",
+    "fmi3GetIntervalDecimal",
+    "fmi3GetIntervalFraction",
+    "fmi3GetShiftDecimal",
+    "fmi3GetShiftFraction",
+    "fmi3SetIntervalDecimal",
+    "fmi3SetIntervalFraction",
+    "fmi3SetShiftDecimal",
+    "fmi3SetShiftFraction",
+    "fmi3EvaluateDiscreteStates",
+    "fmi3UpdateDiscreteStates",
+    "fmi3EnterContinuousTimeMode",
+    "fmi3CompletedIntegratorStep",
+    "fmi3SetTime",
+    "fmi3SetContinuousStates",
+    "fmi3GetContinuousStateDerivatives",
+    "fmi3GetEventIndicators",
+    "fmi3GetContinuousStates",
+    "fmi3GetNominalsOfContinuousStates",
+    "fmi3GetNumberOfEventIndicators",
+    "fmi3GetNumberOfContinuousStates",
+    "fmi3EnterStepMode",
+    "fmi3GetOutputDerivatives",
+    "fmi3DoStep",
+    "fmi3ActivateModelPartition",
+];
 
 const FMI2_FUNCTIONS: [&str; 34] = [
     "fmi2GetTypesPlatform",
@@ -116,15 +197,27 @@ fn the_library_does_not_embed_the_signed_network() {
 }
 
 #[test]
-fn binaries_export_exactly_the_fmi2_functions() {
+fn binaries_export_exactly_the_fmi2_and_fmi3_functions() {
     let dir = std::env::temp_dir().join(format!("stickslip-symbols-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    for kind in FmuKind::ALL {
-        let mut archive = open(kind);
+    let fmi3 = |kind: FmuKind| {
+        let path = fmu_build::fmu3_path(kind);
+        let file = std::fs::File::open(&path).unwrap_or_else(|e| {
+            panic!(
+                "{}: {e}; run `cargo run --release -p fmu-build` first",
+                path.display()
+            )
+        });
+        (zip::ZipArchive::new(file).unwrap(), "x86_64-linux")
+    };
+    let archives = FmuKind::ALL
+        .into_iter()
+        .flat_map(|kind| [(kind, (open(kind), "linux64")), (kind, fmi3(kind))]);
+    for (kind, (mut archive, platform)) in archives {
         let id = kind.model_identifier();
         let mut binary = Vec::new();
         archive
-            .by_name(&format!("binaries/linux64/{id}.so"))
+            .by_name(&format!("binaries/{platform}/{id}.so"))
             .unwrap()
             .read_to_end(&mut binary)
             .unwrap();
@@ -140,8 +233,12 @@ fn binaries_export_exactly_the_fmi2_functions() {
             .lines()
             .filter_map(|line| line.split_whitespace().next().map(str::to_owned))
             .collect();
-        let expected: BTreeSet<String> = FMI2_FUNCTIONS.iter().map(|s| s.to_string()).collect();
-        assert_eq!(exported, expected, "{id}");
+        let expected: BTreeSet<String> = FMI2_FUNCTIONS
+            .iter()
+            .chain(&FMI3_FUNCTIONS)
+            .map(|s| s.to_string())
+            .collect();
+        assert_eq!(exported, expected, "{id} ({platform})");
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -152,12 +249,14 @@ fn packaging_is_reproducible() {
         .join("release")
         .join("libstickslip_fmi.so");
     let dir = std::env::temp_dir().join(format!("stickslip-repro-{}", std::process::id()));
-    let first = fmu_build::package(FmuKind::NeuralFriction, &library, &dir.join("a")).unwrap();
-    let second = fmu_build::package(FmuKind::NeuralFriction, &library, &dir.join("b")).unwrap();
-    assert_eq!(
-        std::fs::read(first).unwrap(),
-        std::fs::read(second).unwrap()
-    );
+    for package in [fmu_build::package, fmu_build::package3] {
+        let first = package(FmuKind::NeuralFriction, &library, &dir.join("a")).unwrap();
+        let second = package(FmuKind::NeuralFriction, &library, &dir.join("b")).unwrap();
+        assert_eq!(
+            std::fs::read(first).unwrap(),
+            std::fs::read(second).unwrap()
+        );
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

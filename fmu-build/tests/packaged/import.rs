@@ -136,7 +136,7 @@ struct BeamVrs {
     stick: u32,
     transitions: u32,
     fidelity: u32,
-    friction_model: u32,
+    friction_law: u32,
     kinetic_force: u32,
     static_limit: u32,
 }
@@ -154,7 +154,7 @@ impl BeamVrs {
             stick: vr(import, "stick"),
             transitions: vr(import, "transitions"),
             fidelity: vr(import, "fidelity.level"),
-            friction_model: vr(import, "friction.model"),
+            friction_law: vr(import, "friction.law"),
             kinetic_force: vr(import, "external.kinetic_force"),
             static_limit: vr(import, "external.static_limit"),
         }
@@ -895,7 +895,7 @@ fn e_neural_friction_fmu_matches_the_law() {
 }
 
 // ---------------------------------------------------------------------------------------
-// f. Coupled: StickSlipBeam (friction.model = external) + NeuralFriction (exponential).
+// f. Coupled: StickSlipBeam (friction.law = external) + NeuralFriction (exponential).
 
 /// How far the coupled tip deflection may stray from the monolithic run (m), up to the
 /// second major slip (0.7051 s). The coupling holds the kinetic force of t_k over
@@ -928,7 +928,7 @@ fn f_coupled_with_neural_friction_fmu_matches_the_monolithic_run() {
         "coupled-beam",
         &[
             (vrs.fidelity, FidelityLevel::Beam.code()),
-            (vrs.friction_model, FrictionLawKind::External.code()),
+            (vrs.friction_law, FrictionLawKind::External.code()),
         ],
     );
     let mut friction = start_friction(
@@ -962,14 +962,14 @@ fn f_coupled_with_neural_friction_fmu_matches_the_monolithic_run() {
         coupled.push(beam.outputs());
     }
 
-    // Monolithic: the same beam with friction.model = exponential, i.e. the library.
+    // Monolithic: the same beam with friction.law = exponential, i.e. the library.
     let monolithic_fmu = {
         let mut mono = Beam::start(
             &beam_import,
             "coupled-monolithic",
             &[
                 (vrs.fidelity, FidelityLevel::Beam.code()),
-                (vrs.friction_model, FrictionLawKind::Exponential.code()),
+                (vrs.friction_law, FrictionLawKind::Exponential.code()),
             ],
         );
         mono.run_from_start(STEPS)
@@ -1120,3 +1120,57 @@ fn h_outputs_read_in_initialization_mode_do_not_freeze_the_belt_speed() {
         &library,
     );
 }
+
+// ---------------------------------------------------------------------------------------
+// Bad parameters reach the importer: fmi2Error and the reason in the log.
+
+#[test]
+fn h_a_negative_modulus_fails_initialisation_with_the_reason_logged() {
+    let import = import(FmuKind::StickSlipBeam);
+    let name = "negative-modulus";
+    let mut inst = import
+        .instantiate_cs(name, false, false)
+        .expect("fmi2Instantiate");
+    inst.setup_experiment(None, 0.0, Some(STOP))
+        .expect("fmi2SetupExperiment");
+    Common::enter_initialization_mode(&mut inst).expect("fmi2EnterInitializationMode");
+    inst.set_real(&[vr(&import, "material.youngs_modulus")], &[-1.0])
+        .expect("a negative modulus is checked with the whole scene, not when set");
+    assert!(matches!(
+        Common::exit_initialization_mode(&mut inst),
+        Err(Fmi2Error::Error)
+    ));
+    let messages = messages_of(name);
+    assert!(
+        messages.iter().any(|(level, text)| *level == log::Level::Error
+            && text == "fmi2ExitInitializationMode: invalid scene: material.youngs_modulus = -1e0; it must be finite and > 0 (Pa)"),
+        "logged: {messages:?}"
+    );
+}
+
+#[test]
+fn h_an_out_of_range_choice_code_is_refused_with_the_allowed_codes() {
+    let import = import(FmuKind::StickSlipBeam);
+    let name = "bad-choice";
+    let mut inst = import
+        .instantiate_cs(name, false, false)
+        .expect("fmi2Instantiate");
+    inst.setup_experiment(None, 0.0, Some(STOP))
+        .expect("fmi2SetupExperiment");
+    Common::enter_initialization_mode(&mut inst).expect("fmi2EnterInitializationMode");
+    let law = vr(&import, "friction.law");
+    assert!(matches!(
+        inst.set_integer(&[law], &[5]),
+        Err(Fmi2Error::Error)
+    ));
+    let messages = messages_of(name);
+    assert!(
+        messages.iter().any(|(level, text)| *level == log::Level::Error
+            && text == "fmi2SetInteger: friction.law: 5 is not a FrictionModel code; allowed: 1 = exponential, 2 = coulomb, 3 = neural, 4 = external"),
+        "logged: {messages:?}"
+    );
+}
+
+/// The FMI 3.0 FMUs, against the FMI 2.0 ones above.
+#[path = "import3.rs"]
+mod fmi3;

@@ -16,9 +16,6 @@ use stickslip_train::TrainError;
 pub enum CliError {
     #[error("--tolerance applies to --fidelity auto only")]
     ToleranceWithoutAuto,
-    /// `by` is "--fidelity auto" or "the scene's fidelity.level = auto".
-    #[error("{by} needs --tolerance M: the RMS tip-deflection error allowed (m)")]
-    AutoWithoutTolerance { by: &'static str },
     /// A flag whose value `fidelity = auto` chooses.
     #[error("{flag} is chosen by {by}; leave it out")]
     ChosenByAuto {

@@ -33,8 +33,9 @@ pub struct SceneArgs {
     #[arg(long, value_parser = parser::<FidelityLevel>())]
     pub fidelity: Option<FidelityLevel>,
     /// With fidelity auto (`--fidelity auto`, or a scene file's `fidelity.level =
-    /// "auto"`): the RMS tip-deflection error allowed over the run (m); it replaces
-    /// the scene file's `fidelity.tolerance`.
+    /// "auto"`): the largest tip-deflection deviation allowed over the first
+    /// stick-slip cycle (m); it replaces the scene file's `fidelity.tolerance`.
+    /// Default (neither given): 1e-5 m, as in the FMU (`stickslip::auto::DEFAULT_TOLERANCE`).
     #[arg(long, allow_negative_numbers = true)]
     pub tolerance: Option<f64>,
     /// Number of beam elements (beam, and modal from a beam).
@@ -113,8 +114,7 @@ impl SceneArgs {
         if let Some(i) = self.inference {
             scene.friction.inference = i;
         }
-        // Before the damping: it checks the scene, and a scene with fidelity auto is
-        // valid only with its tolerance.
+        // Before the damping, which checks the scene: the tolerance must be in it.
         let auto_tolerance = self.auto_tolerance(&mut scene)?;
         if let Some(zeta) = self.damping_ratio {
             // At the first and third cantilever frequencies (the same numbers
@@ -129,7 +129,8 @@ impl SceneArgs {
             return Ok(scene.check()?);
         };
         let front = stickslip::auto::paper_front()?;
-        let (resolved, choice) = stickslip::auto::resolve(scene, &front)?;
+        let (resolved, choice) =
+            stickslip::auto::resolve(scene, &front, &mut |line| eprintln!("{line}"))?;
         if let Some(choice) = &choice {
             eprintln!("{}", stickslip::auto::describe(choice, tolerance));
         }
@@ -154,9 +155,8 @@ impl SceneArgs {
         if let Some(tolerance) = self.tolerance {
             scene.fidelity.tolerance = Some(tolerance);
         }
-        let Some(tolerance) = scene.fidelity.tolerance else {
-            return Err(CliError::AutoWithoutTolerance { by });
-        };
+        // Absent from flag and file: the default that the FMU's start value also is.
+        let tolerance = stickslip::auto::tolerance_of(scene);
         let chosen_by_auto = [
             ("--elements", self.elements.is_some()),
             ("--element-size", self.element_size.is_some()),

@@ -2,12 +2,22 @@
 //!
 //! Parameters are the scene's fields under the scene file's names (`geometry.length`,
 //! `fidelity.level`, ...), checked together at fmi2ExitInitializationMode with the
-//! scene's messages; the enumerations are the scene's choice enums. The belt speed and
-//! normal force are inputs. `friction.model = external` (the scene's
-//! `friction.law = external`) takes the kinetic force magnitude and the static limit
-//! from two more inputs, held over each communication step, so that the beam can be
-//! coupled to NeuralFriction.fmu or any other friction FMU. `fidelity.level = auto` is
-//! resolved by the `auto` module at fmi2ExitInitializationMode.
+//! scene's messages; the choices are the scene's choice enums, set by their codes. The
+//! belt speed and normal force are inputs. `friction.law = external` takes the kinetic
+//! force and the static limit (`external.static_limit`) from further inputs, held over
+//! each communication step, so that the beam can be coupled to NeuralFriction.fmu or any
+//! other friction FMU. How it reads the kinetic force is `external.coupling`:
+//! - `magnitude` (the default): `external.kinetic_force` along v_rel, right for laws
+//!   F(v) = sign(v) g(|v|) (exponential, Coulomb, the signed network), whose jump at
+//!   v = 0 the beam places itself;
+//! - `signed`: the law's tangent at the velocity the model was evaluated at,
+//!   `external.friction_force` + `external.friction_slope` (v -
+//!   `external.sliding_velocity`), solved within each internal step, for smooth signed
+//!   laws such as the paper's plain network (see `stickslip::contact`, and the README's
+//!   co-simulation section for the coupling errors).
+//!
+//! `fidelity.level = auto` is resolved by the `auto` module at
+//! fmi2ExitInitializationMode.
 //!
 //! The FMU steps at `time.step` and ends each communication step with one shorter step
 //! when the communication point is not on that grid (`Simulator::advance_to`).
@@ -15,7 +25,7 @@
 use crate::model::{Model, ModelInfo};
 use crate::networks::{weights_name, NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use crate::variables::{
-    choice_at, Access, Causality, Dependencies, EnumerationType, InitialDependencies, Variability,
+    choice_at, Access, Causality, ChoiceType, Dependencies, InitialDependencies, Variability,
     Variable,
 };
 use serde::{Deserialize, Serialize};
@@ -30,7 +40,8 @@ use stickslip::scene::{
     ModalBasis, Scene, SceneError, Scheme, SlidingVelocity,
 };
 use stickslip::simulation::{
-    ExternalFriction, SimulationError, SimulationState, Simulator, RECENT_TRANSITIONS,
+    ExternalCoupling, ExternalFriction, ExternalKinetic, SimulationError, SimulationState,
+    Simulator, RECENT_TRANSITIONS,
 };
 use stickslip::study::Configuration;
 
@@ -42,6 +53,14 @@ pub struct BeamInputs {
     pub normal_force: f64,
     pub kinetic_force: f64,
     pub static_limit: f64,
+    /// The signed coupling's inputs; absent from states saved before it (version 3 and
+    /// earlier), where they read as 0.
+    #[serde(default)]
+    pub friction_force: f64,
+    #[serde(default)]
+    pub friction_slope: f64,
+    #[serde(default)]
+    pub sliding_velocity: f64,
 }
 
 /// Everything set from outside: parameters and inputs. The friction model and the
@@ -51,13 +70,15 @@ pub struct BeamInputs {
 struct Settings {
     scene: Scene,
     weights: String,
+    /// Absent from states saved before it: the magnitude coupling they ran.
+    #[serde(default)]
+    coupling: ExternalCoupling,
     inputs: BeamInputs,
 }
 
-/// Start value of fidelity.tolerance (m): 0.1 mm RMS, about 1 % of the paper scene's
-/// deflection corridor. (A scene file has no default: there the tolerance is required
-/// with `auto`; an FMU parameter needs a start value.)
-pub const DEFAULT_FIDELITY_TOLERANCE: f64 = 1e-4;
+/// Start value of fidelity.tolerance (m): the physics crate's default, which a scene
+/// file or the command line without a tolerance gets as well.
+pub const DEFAULT_FIDELITY_TOLERANCE: f64 = stickslip::auto::DEFAULT_TOLERANCE;
 
 impl Default for Settings {
     fn default() -> Self {
@@ -69,10 +90,14 @@ impl Default for Settings {
             normal_force: scene.loading.normal_force,
             kinetic_force: f.kinetic_coefficient * scene.loading.normal_force,
             static_limit: f.static_coefficient * scene.loading.normal_force,
+            friction_force: 0.0,
+            friction_slope: 0.0,
+            sliding_velocity: 0.0,
         };
         Self {
             scene,
             weights: DEFAULT_WEIGHTS.into(),
+            coupling: ExternalCoupling::default(),
             inputs,
         }
     }
@@ -196,6 +221,7 @@ impl From<SettingsV1> for Settings {
         Settings {
             scene,
             weights: v1.weights,
+            coupling: ExternalCoupling::default(),
             inputs: v1.inputs,
         }
     }
@@ -255,7 +281,7 @@ enum BuildError {
 pub struct StickSlipBeam {
     settings: Settings,
     networks: Networks,
-    /// The last `auto` choice: (scene asking for it, configuration).
+    /// The last `auto` choice: (scene it was calibrated on, configuration).
     auto_cache: Option<(Scene, Configuration)>,
     /// `auto` choices not yet logged.
     auto_log: Vec<String>,
@@ -291,23 +317,36 @@ impl StickSlipBeam {
     /// The `auto` choice for `scene` at its tolerance, computed once per scene: the
     /// calibration runs the scene several times.
     fn auto_choice(&mut self, scene: &Scene) -> Result<Configuration, BuildError> {
+        // The calibration runs stand alone, without this FMU's inputs: with the external
+        // model they run the exponential law of the scene's coefficients instead. With
+        // the neural law they run the network of friction.weights, the one this FMU
+        // will run (not the scene's default, the shipped plain network).
+        let mut calibrated = scene.clone();
+        match calibrated.friction.law {
+            FrictionLawKind::External => calibrated.friction.law = FrictionLawKind::Exponential,
+            FrictionLawKind::Neural => {
+                let path = self.networks.path_of(&self.settings.weights)?;
+                calibrated.friction.weights = Some(path.to_string_lossy().into_owned());
+            }
+            FrictionLawKind::Exponential | FrictionLawKind::Coulomb => {}
+        }
         if let Some((cached_scene, choice)) = &self.auto_cache {
-            if cached_scene == scene {
+            if *cached_scene == calibrated {
                 return Ok(*choice);
             }
         }
-        // The calibration runs stand alone, without this FMU's inputs: with the external
-        // model they run the exponential law of the scene's coefficients instead.
-        let mut calibrated = scene.clone();
-        if calibrated.friction.law == FrictionLawKind::External {
-            calibrated.friction.law = FrictionLawKind::Exponential;
-        }
         let front = stickslip::auto::paper_front()?;
-        let choice = stickslip::auto::choose_for(&calibrated, &front)?;
-        let tolerance = calibrated.fidelity.tolerance.unwrap_or(f64::NAN);
+        let mut progress = Vec::new();
+        let choice = stickslip::auto::choose_cached(&calibrated, &front, &mut |line| {
+            progress.push(line.to_string())
+        });
+        // The progress lines are logged whether or not a choice came of them.
+        self.auto_log.append(&mut progress);
+        let choice = choice?;
+        let tolerance = stickslip::auto::tolerance_of(&calibrated);
         self.auto_log
             .push(stickslip::auto::describe(&choice, tolerance));
-        self.auto_cache = Some((scene.clone(), choice.configuration));
+        self.auto_cache = Some((calibrated, choice.configuration));
         Ok(choice.configuration)
     }
 
@@ -354,9 +393,17 @@ impl StickSlipBeam {
     }
 
     fn external_friction(&self) -> ExternalFriction {
+        let inputs = &self.settings.inputs;
         ExternalFriction {
-            kinetic_force: self.settings.inputs.kinetic_force,
-            static_limit: self.settings.inputs.static_limit,
+            kinetic: match self.settings.coupling {
+                ExternalCoupling::Magnitude => ExternalKinetic::Magnitude(inputs.kinetic_force),
+                ExternalCoupling::Signed => ExternalKinetic::Signed {
+                    force: inputs.friction_force,
+                    slope: inputs.friction_slope,
+                    velocity: inputs.sliding_velocity,
+                },
+            },
+            static_limit: inputs.static_limit,
         }
     }
 
@@ -413,8 +460,8 @@ macro_rules! real_parameter {
     };
 }
 
-/// A scene field holding a choice `$choice`: the FMI enumeration type, its items and
-/// the value's code are all read off the choice.
+/// A scene field holding a choice `$choice`: its codes, words and the value's code are
+/// all read off the choice.
 macro_rules! enum_parameter {
     ($vr:expr, $name:expr, $choice:ty, $description:expr, |$s:ident| $field:expr) => {
         Variable {
@@ -423,8 +470,8 @@ macro_rules! enum_parameter {
             causality: Causality::Parameter,
             variability: Variability::Fixed,
             description: $description,
-            access: Access::Enumeration {
-                kind: EnumerationType::of::<$choice>(),
+            access: Access::Choice {
+                kind: ChoiceType::of::<$choice>(),
                 get: |m: &StickSlipBeam| {
                     let $s = &m.settings.scene;
                     $field.code()
@@ -566,9 +613,9 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
     ),
     enum_parameter!(
         10,
-        "friction.model",
+        "friction.law",
         FrictionLawKind,
-        "Kinetic friction model",
+        "Kinetic friction law",
         |s| s.friction.law
     ),
     real_parameter!(
@@ -605,7 +652,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         causality: Causality::Parameter,
         variability: Variability::Fixed,
         description:
-            "Network weights for friction.model = neural: a file in resources/ or an absolute path",
+            "Network weights for friction.law = neural: a file in resources/ or an absolute path",
         access: Access::String {
             get: |m: &StickSlipBeam| m.settings.weights.clone(),
             set: Some(|m: &mut StickSlipBeam, v: &str| {
@@ -615,11 +662,27 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         },
         depends_on: None,
     },
+    Variable {
+        name: "external.coupling",
+        value_reference: 16,
+        causality: Causality::Parameter,
+        variability: Variability::Fixed,
+        description: "friction.law = external: how the kinetic force is read from the inputs",
+        access: Access::Choice {
+            kind: ChoiceType::of::<ExternalCoupling>(),
+            get: |m: &StickSlipBeam| m.settings.coupling.code(),
+            set: Some(|m: &mut StickSlipBeam, v: i32| {
+                m.settings.coupling = choice_at::<ExternalCoupling>(v)?;
+                Ok(())
+            }),
+        },
+        depends_on: None,
+    },
     enum_parameter!(
-        16,
+        17,
         "friction.inference",
         Inference,
-        "Evaluation of the network for friction.model = neural",
+        "Evaluation of the network for friction.law = neural",
         |s| s.friction.inference
     ),
     enum_parameter!(
@@ -676,7 +739,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         value_reference: 57,
         causality: Causality::Parameter,
         variability: Variability::Fixed,
-        description: "fidelity.level = auto: RMS tip-deflection error allowed over the run",
+        description: "fidelity.level = auto: largest tip-deflection deviation allowed over the first stick-slip cycle",
         access: Access::Real {
             unit: Some("m"),
             // Some from the start value on; NaN stands for a tolerance never given.
@@ -708,7 +771,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
     count_parameter!(
         53,
         "fidelity.modes",
-        10_000,
+        stickslip::scene::MAX_MODES as i32,
         "Number of modes of the modal level",
         modes
     ),
@@ -768,7 +831,7 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         102,
         "external.kinetic_force",
         "N",
-        "Kinetic friction force magnitude (friction.model = external)",
+        "Kinetic friction force magnitude (friction.law = external)",
         kinetic_force,
         non_negative
     ),
@@ -776,9 +839,30 @@ static VARIABLES: &[Variable<StickSlipBeam>] = &[
         103,
         "external.static_limit",
         "N",
-        "Static limit, the largest holding force (friction.model = external)",
+        "Static limit, the largest holding force (friction.law = external)",
         static_limit,
         non_negative
+    ),
+    input!(
+        104,
+        "external.friction_force",
+        "N",
+        "Signed kinetic friction force F(v) at external.sliding_velocity (external.coupling = signed)",
+        friction_force
+    ),
+    input!(
+        105,
+        "external.friction_slope",
+        "N.s/m",
+        "dF/dv at external.sliding_velocity (external.coupling = signed)",
+        friction_slope
+    ),
+    input!(
+        106,
+        "external.sliding_velocity",
+        "m/s",
+        "Sliding velocity the friction model was evaluated at (external.coupling = signed)",
+        sliding_velocity
     ),
     real_output!(
         200,

@@ -10,7 +10,7 @@
 
 use crate::beam::StickSlipBeam;
 use crate::friction::NeuralFriction;
-use crate::instance::{CallResult, Instance, Logger, SavedState, Status, StatusKind};
+use crate::instance::{CallResult, FmiVersion, Instance, Logger, SavedState, Status, StatusKind};
 use crate::model::Model;
 use crate::FmuKind;
 use libc::size_t;
@@ -57,7 +57,7 @@ pub struct fmi2CallbackFunctions {
 /// The importer's logger with its environment pointer. The importer guarantees that the
 /// callback may be called from the thread that calls the instance (FMI 2.0, 2.1.5); the
 /// instance is used from one thread at a time.
-struct ImporterLogger {
+pub(crate) struct ImporterLogger {
     callback: Option<fmi2CallbackLogger>,
     environment: fmi2ComponentEnvironment,
     instance_name: CString,
@@ -87,12 +87,12 @@ impl ImporterLogger {
     }
 }
 
-fn c_string(text: &str) -> CString {
+pub(crate) fn c_string(text: &str) -> CString {
     CString::new(text.replace('\0', " ")).unwrap_or_default()
 }
 
 /// An instance of either FMU.
-enum AnyInstance {
+pub(crate) enum AnyInstance {
     Beam(Box<Instance<StickSlipBeam>>),
     Friction(Box<Instance<NeuralFriction>>),
 }
@@ -100,22 +100,23 @@ enum AnyInstance {
 macro_rules! each {
     ($any:expr, $i:ident => $body:expr) => {
         match $any {
-            AnyInstance::Beam($i) => $body,
-            AnyInstance::Friction($i) => $body,
+            $crate::ffi::AnyInstance::Beam($i) => $body,
+            $crate::ffi::AnyInstance::Friction($i) => $body,
         }
     };
 }
+pub(crate) use each;
 
 /// What fmi2Component points to.
-struct Component {
-    instance: AnyInstance,
+pub(crate) struct Component {
+    pub(crate) instance: AnyInstance,
     /// Strings returned by fmi2GetString, valid until the next call.
-    strings: Vec<CString>,
+    pub(crate) strings: Vec<CString>,
     /// FMU states this instance allocated and the importer has not freed yet.
     /// fmi2FreeInstance frees them: it "frees all the allocated memory and other
     /// resources that have been allocated by the functions of the FMU interface"
     /// (FMI 2.0, section 2.1.6).
-    states: Vec<*mut SavedState>,
+    pub(crate) states: Vec<*mut SavedState>,
 }
 
 impl Drop for Component {
@@ -151,7 +152,7 @@ impl Component {
     }
 }
 
-fn status(result: CallResult<()>) -> Status {
+pub(crate) fn status(result: CallResult<()>) -> Status {
     match result {
         Ok(()) => Status::Ok,
         Err(_) => Status::Error,
@@ -168,7 +169,7 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
 
 /// Runs `body` on the component behind `c`, turning a NULL component and any panic into
 /// fmi2Error.
-unsafe fn with_component(
+pub(crate) unsafe fn with_component(
     c: fmi2Component,
     call: &'static str,
     body: impl FnOnce(&mut Component) -> Status,
@@ -194,7 +195,7 @@ unsafe fn with_component(
 }
 
 /// A slice from a C array, or None for a NULL pointer with a non-zero length.
-unsafe fn slice<'a, T>(ptr: *const T, n: usize) -> Option<&'a [T]> {
+pub(crate) unsafe fn slice<'a, T>(ptr: *const T, n: usize) -> Option<&'a [T]> {
     if n == 0 {
         Some(&[])
     } else if ptr.is_null() {
@@ -205,7 +206,7 @@ unsafe fn slice<'a, T>(ptr: *const T, n: usize) -> Option<&'a [T]> {
     }
 }
 
-unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize) -> Option<&'a mut [T]> {
+pub(crate) unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize) -> Option<&'a mut [T]> {
     if n == 0 {
         Some(&mut [])
     } else if ptr.is_null() {
@@ -217,14 +218,14 @@ unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize) -> Option<&'a mut [T]> {
 }
 
 /// Logs `reason`, puts the instance in the Error mode and returns fmi2Error.
-fn fail(component: &mut Component, call: &str, reason: &str) -> Status {
+pub(crate) fn fail(component: &mut Component, call: &str, reason: &str) -> Status {
     each!(&mut component.instance, i => {
         i.fail(call, reason);
     });
     Status::Error
 }
 
-fn null_argument(component: &mut Component, call: &str, what: &str) -> Status {
+pub(crate) fn null_argument(component: &mut Component, call: &str, what: &str) -> Status {
     fail(component, call, &format!("{what} is NULL"))
 }
 
@@ -287,7 +288,7 @@ fn bad_percent_escape(path: &str) -> Option<&str> {
     })
 }
 
-unsafe fn text(s: fmi2String) -> Option<String> {
+pub(crate) unsafe fn text(s: fmi2String) -> Option<String> {
     if s.is_null() {
         None
     } else {
@@ -296,13 +297,49 @@ unsafe fn text(s: fmi2String) -> Option<String> {
     }
 }
 
-fn instantiate<M: Model>(
+pub(crate) fn instantiate<M: Model>(
     name: &str,
     resources: Option<PathBuf>,
     logging_on: bool,
     logger: Logger,
 ) -> Option<Instance<M>> {
     Instance::<M>::new(name, resources.as_deref(), logging_on, logger).ok()
+}
+
+/// Why a GUID or instantiation token names neither FMU of this binary.
+pub(crate) fn unknown_guid(guid: &str) -> String {
+    let known: Vec<String> = FmuKind::ALL
+        .iter()
+        .map(|k| format!("{} {}", k.model_identifier(), k.guid()))
+        .collect();
+    format!(
+        "GUID \"{guid}\" does not match this binary ({})",
+        known.join(", ")
+    )
+}
+
+/// A new instance of `kind` behind a component, or None after the instance logged why.
+pub(crate) fn new_component(
+    kind: FmuKind,
+    name: &str,
+    resources: Option<PathBuf>,
+    logging_on: bool,
+    logger: Logger,
+    version: FmiVersion,
+) -> Option<Component> {
+    let instance = match kind {
+        FmuKind::StickSlipBeam => instantiate::<StickSlipBeam>(name, resources, logging_on, logger)
+            .map(|i| AnyInstance::Beam(Box::new(i.with_version(version)))),
+        FmuKind::NeuralFriction => {
+            instantiate::<NeuralFriction>(name, resources, logging_on, logger)
+                .map(|i| AnyInstance::Friction(Box::new(i.with_version(version))))
+        }
+    }?;
+    Some(Component {
+        instance,
+        strings: Vec::new(),
+        states: Vec::new(),
+    })
 }
 
 #[no_mangle]
@@ -355,14 +392,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
         }
         let guid = unsafe { text(fmuGUID) }.unwrap_or_default();
         let Some(kind) = FmuKind::from_guid(&guid) else {
-            let known: Vec<String> = FmuKind::ALL
-                .iter()
-                .map(|k| format!("{} {}", k.model_identifier(), k.guid()))
-                .collect();
-            return fail(format!(
-                "GUID \"{guid}\" does not match this binary ({})",
-                known.join(", ")
-            ));
+            return fail(unknown_guid(&guid));
         };
         let location = unsafe { text(fmuResourceLocation) };
         let resources = match location.as_deref().map(resource_folder) {
@@ -373,24 +403,17 @@ pub unsafe extern "C" fn fmi2Instantiate(
         let logging_on = loggingOn != FMI2_FALSE;
         let boxed_logger: Logger =
             Box::new(move |status, category, message| logger.log(status, category, message));
-        let instance = match kind {
-            FmuKind::StickSlipBeam => {
-                instantiate::<StickSlipBeam>(&name, resources, logging_on, boxed_logger)
-                    .map(|i| AnyInstance::Beam(Box::new(i)))
-            }
-            FmuKind::NeuralFriction => {
-                instantiate::<NeuralFriction>(&name, resources, logging_on, boxed_logger)
-                    .map(|i| AnyInstance::Friction(Box::new(i)))
-            }
-        };
-        match instance {
-            Some(instance) => Box::into_raw(Box::new(Component {
-                instance,
-                strings: Vec::new(),
-                states: Vec::new(),
-            })) as fmi2Component,
-            None => std::ptr::null_mut(),
-        }
+        new_component(
+            kind,
+            &name,
+            resources,
+            logging_on,
+            boxed_logger,
+            FmiVersion::V2,
+        )
+        .map_or(std::ptr::null_mut(), |c| {
+            Box::into_raw(Box::new(c)) as fmi2Component
+        })
     }));
     result.unwrap_or(std::ptr::null_mut())
 }
@@ -779,7 +802,7 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
 }
 
 /// A function whose capability flag is false.
-fn unsupported(component: &mut Component, call: &str, why: &str) -> Status {
+pub(crate) fn unsupported(component: &mut Component, call: &str, why: &str) -> Status {
     fail(component, call, &format!("not supported: {why}"))
 }
 

@@ -6,12 +6,18 @@
 //! `sliding_velocity`, normal_force from `normal_force`, and any further features, in
 //! the order the weights file lists them, from `extra_feature[1]` ... `extra_feature[4]`.
 //! Inputs are clamped to the network's training range (see `neural`).
+//!
+//! Besides the force, its slope dF/dv at the input (`friction_force_slope`, by
+//! forward-mode differentiation of the network, or the exponential law's closed form)
+//! and the velocity it was evaluated at (`evaluated_velocity`) are outputs: together
+//! they are the law's tangent, which StickSlipBeam's `external.coupling = signed` solves
+//! within its internal steps (see `stickslip::contact`).
 
 use crate::model::{Model, ModelInfo};
 use crate::networks::{weights_name, NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use crate::variables::{
-    choice_at, Access, Causality, Dependencies, DependencyKind, EnumerationType,
-    InitialDependencies, Variability, Variable,
+    choice_at, Access, Causality, ChoiceType, Dependencies, DependencyKind, InitialDependencies,
+    Variability, Variable,
 };
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -55,6 +61,10 @@ impl Default for Settings {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct Outputs {
     force: f64,
+    /// dF/dv (N s/m) at `velocity`.
+    slope: f64,
+    /// The sliding velocity (m/s) the outputs were evaluated at.
+    velocity: f64,
     coefficient: f64,
     static_limit: f64,
 }
@@ -72,11 +82,12 @@ enum EvaluateError {
         source: NeuralError,
     },
     /// Inputs (m/s, N) at which the law gives a non-finite force.
-    #[error("the outputs are not finite at sliding_velocity = {sliding_velocity} m/s, normal_force = {normal_force} N (force {force}, coefficient {coefficient}, static limit {static_limit})")]
+    #[error("the outputs are not finite at sliding_velocity = {sliding_velocity} m/s, normal_force = {normal_force} N (force {force}, slope {slope}, coefficient {coefficient}, static limit {static_limit})")]
     NonFiniteOutputs {
         sliding_velocity: f64,
         normal_force: f64,
         force: f64,
+        slope: f64,
         coefficient: f64,
         static_limit: f64,
     },
@@ -103,13 +114,18 @@ impl NeuralFriction {
 
     fn evaluate(&mut self) -> Result<Outputs, EvaluateError> {
         let s = self.settings.clone();
-        let force = match s.law {
-            LawChoice::Exponential => ExponentialLaw {
-                static_coefficient: s.static_coefficient,
-                kinetic_coefficient: s.kinetic_coefficient,
-                decay: s.decay,
+        let (force, slope) = match s.law {
+            LawChoice::Exponential => {
+                let mut law = ExponentialLaw {
+                    static_coefficient: s.static_coefficient,
+                    kinetic_coefficient: s.kinetic_coefficient,
+                    decay: s.decay,
+                };
+                (
+                    law.sliding_force(s.sliding_velocity, s.normal_force),
+                    law.slope(s.sliding_velocity, s.normal_force),
+                )
             }
-            .sliding_force(s.sliding_velocity, s.normal_force),
             LawChoice::Neural => {
                 let mut features = std::mem::take(&mut self.scratch);
                 let network = self.networks.get(&s.weights)?;
@@ -131,9 +147,10 @@ impl NeuralFriction {
                         return Err(EvaluateError::TooManyFeatures { weights: s.weights });
                     }
                 }
-                let force = network.evaluate(&features);
+                // A network without a velocity feature does not depend on it: slope 0.
+                let evaluated = network.evaluate_with_velocity_slope(&features);
                 self.scratch = features;
-                force.map_err(|source| EvaluateError::Evaluation {
+                evaluated.map_err(|source| EvaluateError::Evaluation {
                     weights: s.weights,
                     source,
                 })?
@@ -141,6 +158,8 @@ impl NeuralFriction {
         };
         let outputs = Outputs {
             force,
+            slope,
+            velocity: s.sliding_velocity,
             coefficient: if s.normal_force > 0.0 {
                 force.abs() / s.normal_force
             } else {
@@ -148,14 +167,21 @@ impl NeuralFriction {
             },
             static_limit: s.static_coefficient * s.normal_force,
         };
-        if ![outputs.force, outputs.coefficient, outputs.static_limit]
-            .iter()
-            .all(|x| x.is_finite())
+        if ![
+            outputs.force,
+            outputs.slope,
+            outputs.velocity,
+            outputs.coefficient,
+            outputs.static_limit,
+        ]
+        .iter()
+        .all(|x| x.is_finite())
         {
             return Err(EvaluateError::NonFiniteOutputs {
                 sliding_velocity: s.sliding_velocity,
                 normal_force: s.normal_force,
                 force: outputs.force,
+                slope: outputs.slope,
                 coefficient: outputs.coefficient,
                 static_limit: outputs.static_limit,
             });
@@ -261,6 +287,12 @@ const LAW_OUTPUT: Dependencies = Dependencies {
     ]),
 };
 
+/// The velocity the outputs were evaluated at: the input itself.
+const EVALUATED_VELOCITY: Dependencies = Dependencies {
+    inputs: &[(SLIDING_VELOCITY, DependencyKind::Constant)],
+    initial: InitialDependencies::InputsAnd(&[]),
+};
+
 /// The static limit mu_s F_n: the normal force times a fixed parameter.
 const STATIC_LIMIT: Dependencies = Dependencies {
     inputs: &[(NORMAL_FORCE, DependencyKind::Fixed)],
@@ -274,8 +306,8 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         causality: Causality::Parameter,
         variability: Variability::Fixed,
         description: "Friction law: the network, or the analytical law for comparison",
-        access: Access::Enumeration {
-            kind: EnumerationType::of::<LawChoice>(),
+        access: Access::Choice {
+            kind: ChoiceType::of::<LawChoice>(),
             get: |m: &NeuralFriction| m.settings.law.code(),
             set: Some(|m: &mut NeuralFriction, v: i32| {
                 m.settings.law = choice_at::<LawChoice>(v)?;
@@ -405,6 +437,22 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         "Static limit mu_s F_n",
         STATIC_LIMIT,
         |o| o.static_limit
+    ),
+    output!(
+        24,
+        "friction_force_slope",
+        Some("N.s/m"),
+        "dF/dv of friction_force at sliding_velocity (the exponential law: beside its jump at 0)",
+        LAW_OUTPUT,
+        |o| o.slope
+    ),
+    output!(
+        25,
+        "evaluated_velocity",
+        Some("m/s"),
+        "The sliding_velocity the outputs were evaluated at: where friction_force and its slope hold",
+        EVALUATED_VELOCITY,
+        |o| o.velocity
     ),
 ];
 

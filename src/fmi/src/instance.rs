@@ -20,6 +20,7 @@
 use crate::model::Model;
 use crate::model_description::{guid, LOG_CATEGORIES};
 use crate::variables::{lookup, AccessError, BaseType, Causality, Variable};
+pub use crate::version::FmiVersion;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -239,6 +240,7 @@ pub enum StatusKind {
 /// An FMU instance of model `M`.
 pub struct Instance<M: Model> {
     name: String,
+    version: FmiVersion,
     guid: String,
     model: M,
     mode: Mode,
@@ -278,6 +280,7 @@ impl<M: Model> Instance<M> {
         categories[ERROR] = true;
         Ok(Self {
             name: name.to_owned(),
+            version: FmiVersion::V2,
             guid: guid::<M>(),
             model,
             mode: Mode::Instantiated,
@@ -291,6 +294,16 @@ impl<M: Model> Instance<M> {
 
     pub fn name(&self) -> &str {
         &self.name
+    }
+
+    /// The same instance, logging FMI 3.0 function names (`ffi3`).
+    pub fn with_version(mut self, version: FmiVersion) -> Self {
+        self.version = version;
+        self
+    }
+
+    pub fn version(&self) -> FmiVersion {
+        self.version
     }
 
     pub fn mode(&self) -> Mode {
@@ -314,21 +327,22 @@ impl<M: Model> Instance<M> {
     /// Logs a call in the logCalls category (the ffi layer formats the arguments).
     pub fn log_call(&mut self, message: impl FnOnce() -> String) {
         if self.categories[CALLS] {
-            let text = message();
+            let text = self.version.rename(&message());
             self.log(CALLS, Status::Ok, &text);
         }
     }
 
     /// Logs `reason`, enters the Error mode and returns the failure.
     pub fn fail(&mut self, call: &str, reason: &str) -> Failed {
-        let message = format!("{call}: {reason}");
+        let message = self.version.rename(&format!("{call}: {reason}"));
         self.log(ERROR, Status::Error, &message);
         self.mode = Mode::Error;
         Failed
     }
 
     fn warn(&mut self, message: &str) {
-        self.log(WARNING, Status::Warning, message);
+        let message = self.version.rename(message);
+        self.log(WARNING, Status::Warning, &message);
     }
 
     /// Checks that `call` is legal now.

@@ -13,18 +13,23 @@
 //! - `model_description`: generates modelDescription.xml from that table;
 //! - `beam`, `friction`: one small file per model;
 //! - `networks`: the neural weights files a model reads from the FMU's `resources/`;
+//! - `version`: FMI 2.0 or 3.0, and the function names of each in the log;
 //! - `instance`: the FMI state machine, logging and FMU state, in plain Rust;
-//! - `ffi`: the 34 `extern "C"` functions, which only convert C arguments and catch
-//!   panics.
+//! - `ffi`: the 34 FMI 2.0 `extern "C"` functions, which only convert C arguments and
+//!   catch panics;
+//! - `ffi3`: the 75 FMI 3.0 functions over the same instances (the FMUs under
+//!   `target/fmu/3.0/`); most call their FMI 2.0 twins.
 
 pub mod beam;
 pub mod ffi;
+pub mod ffi3;
 pub mod friction;
 pub mod instance;
 pub mod model;
 pub mod model_description;
 pub mod networks;
 pub mod variables;
+pub mod version;
 
 use model::{Model, ModelInfo};
 
@@ -54,6 +59,14 @@ impl FmuKind {
         match self {
             FmuKind::StickSlipBeam => model_description::generate::<beam::StickSlipBeam>(),
             FmuKind::NeuralFriction => model_description::generate::<friction::NeuralFriction>(),
+        }
+    }
+
+    /// The generated FMI 3.0 modelDescription.xml.
+    pub fn model_description3(self) -> String {
+        match self {
+            FmuKind::StickSlipBeam => model_description::generate3::<beam::StickSlipBeam>(),
+            FmuKind::NeuralFriction => model_description::generate3::<friction::NeuralFriction>(),
         }
     }
 

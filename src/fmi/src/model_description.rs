@@ -10,13 +10,18 @@
 //!   `Outputs` with the inputs that reach it directly and their `dependenciesKind`,
 //!   `InitialUnknowns` with the inputs and parameters it is computed from (there only
 //!   "dependent" is meaningful, so no `dependenciesKind`).
+//! - A choice (`Access::Choice`) is an `<Integer min="1" max="N">` whose description ends
+//!   with its codes, "[1 = exponential, 2 = coulomb, ...]", and whose codes, words and
+//!   descriptions are listed for programs in `<VendorAnnotations><Tool name="stickslip">`
+//!   ([`CHOICES_TOOL`]). FMI Enumerations are not used: libcosim and Ecos ignore them.
 //! - No generation date, so that the file is reproducible byte for byte.
 
 use crate::model::Model;
 use crate::variables::{
-    Access, Causality, DependencyKind, EnumerationType, InitialDependencies, Variability, Variable,
+    Access, Causality, ChoiceType, DependencyKind, InitialDependencies, Variability, Variable,
     UNITS,
 };
+use crate::version::FmiVersion;
 use std::fmt::Write;
 
 /// The log categories every FMU declares, in modelDescription order.
@@ -53,17 +58,38 @@ fn real(value: f64) -> String {
     format!("{value:?}")
 }
 
-/// The enumeration types the table uses, in first-use order.
-fn enumeration_types<M: Model>() -> Vec<&'static EnumerationType> {
-    let mut types: Vec<&'static EnumerationType> = Vec::new();
-    for v in M::variables() {
-        if let Access::Enumeration { kind, .. } = &v.access {
-            if !types.iter().any(|t| t.name == kind.name) {
-                types.push(kind);
-            }
-        }
+/// The `name` of the `<Tool>` under `<VendorAnnotations>` that lists the choices:
+///
+/// ```xml
+/// <Tool name="stickslip">
+///   <Choices>
+///     <Choice variable="friction.law" type="FrictionLaw" description="...">
+///       <Item code="1" name="exponential" description="..."/>
+/// ```
+///
+/// One `<Choice>` per choice variable, in table order, and one `<Item>` per code.
+/// (FMI 2.0 allows a single element inside a `<Tool>`, hence `<Choices>`; per-variable
+/// `<Annotations>` would be closer, but some importers, the `fmi` crate among them,
+/// refuse unknown elements inside a ScalarVariable.)
+pub const CHOICES_TOOL: &str = "stickslip";
+
+/// The choice variables of the table: (name, values).
+fn choice_variables<M>(variables: &[Variable<M>]) -> Vec<(&'static str, &ChoiceType)> {
+    variables
+        .iter()
+        .filter_map(|v| match &v.access {
+            Access::Choice { kind, .. } => Some((v.name, kind)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The description written for variable `v`: a choice's ends with its codes.
+pub fn description<M>(v: &Variable<M>) -> String {
+    match &v.access {
+        Access::Choice { kind, .. } => format!("{} [{}]", v.description, kind.codes()),
+        _ => v.description.to_string(),
     }
-    types
 }
 
 fn body<M: Model>(guid: &str) -> String {
@@ -88,67 +114,9 @@ fn body<M: Model>(guid: &str) -> String {
         info.model_identifier
     );
 
-    let _ = writeln!(w, "  <UnitDefinitions>");
-    for unit in UNITS.iter().filter(|u| {
-        variables
-            .iter()
-            .any(|v| matches!(v.access, Access::Real { unit: Some(name), .. } if name == u.name))
-    }) {
-        let mut exponents = String::new();
-        for (base, exponent) in [("kg", unit.kg), ("m", unit.m), ("s", unit.s)] {
-            if exponent != 0 {
-                let _ = write!(exponents, r#" {base}="{exponent}""#);
-            }
-        }
-        let _ = writeln!(
-            w,
-            r#"    <Unit name="{}"><BaseUnit{exponents}/></Unit>"#,
-            escape(unit.name)
-        );
-    }
-    let _ = writeln!(w, "  </UnitDefinitions>");
+    write_units_categories_experiment(w, variables, FmiVersion::V2);
 
-    let types = enumeration_types::<M>();
-    if !types.is_empty() {
-        let _ = writeln!(w, "  <TypeDefinitions>");
-        for t in &types {
-            let _ = writeln!(
-                w,
-                r#"    <SimpleType name="{}" description="{}">"#,
-                t.name,
-                escape(t.description)
-            );
-            let _ = writeln!(w, "      <Enumeration>");
-            for (value, name, description) in t.items() {
-                let _ = writeln!(
-                    w,
-                    r#"        <Item name="{}" value="{value}" description="{}"/>"#,
-                    escape(name),
-                    escape(description)
-                );
-            }
-            let _ = writeln!(w, "      </Enumeration>");
-            let _ = writeln!(w, "    </SimpleType>");
-        }
-        let _ = writeln!(w, "  </TypeDefinitions>");
-    }
-
-    let _ = writeln!(w, "  <LogCategories>");
-    for (name, description) in LOG_CATEGORIES {
-        let _ = writeln!(
-            w,
-            r#"    <Category name="{name}" description="{}"/>"#,
-            escape(description)
-        );
-    }
-    let _ = writeln!(w, "  </LogCategories>");
-    let _ = writeln!(
-        w,
-        r#"  <DefaultExperiment startTime="{}" stopTime="{}" stepSize="{}"/>"#,
-        real(info.start_time),
-        real(info.stop_time),
-        real(info.step_size)
-    );
+    write_choices(w, variables);
 
     let _ = writeln!(w, "  <ModelVariables>");
     for v in variables {
@@ -162,7 +130,7 @@ fn body<M: Model>(guid: &str) -> String {
             r#"    <ScalarVariable name="{}" valueReference="{}" description="{}" causality="{}" variability="{}"{initial}>"#,
             escape(v.name),
             v.value_reference,
-            escape(v.description),
+            escape(&description(v)),
             v.causality.as_str(),
             v.variability.as_str()
         );
@@ -195,13 +163,13 @@ fn body<M: Model>(guid: &str) -> String {
                 };
                 format!("<Boolean{start}/>")
             }
-            Access::Enumeration { kind, get, .. } => {
+            Access::Choice { kind, get, .. } => {
                 let start = if with_start {
                     format!(r#" start="{}""#, get(&defaults))
                 } else {
                     String::new()
                 };
-                format!(r#"<Enumeration declaredType="{}"{start}/>"#, kind.name)
+                format!(r#"<Integer min="1" max="{}"{start}/>"#, kind.len)
             }
             Access::String { get, .. } => {
                 let start = if with_start {
@@ -244,6 +212,256 @@ fn body<M: Model>(guid: &str) -> String {
         Causality::Parameter => v.variability == Variability::Fixed,
         _ => v.variability != Variability::Fixed,
     }));
+    x
+}
+
+/// The units of the table's Real variables, in `UNITS` order.
+fn units_used<M>(variables: &[Variable<M>]) -> impl Iterator<Item = &'static str> + '_ {
+    UNITS
+        .iter()
+        .filter(|u| {
+            variables.iter().any(
+                |v| matches!(v.access, Access::Real { unit: Some(name), .. } if name == u.name),
+            )
+        })
+        .map(|u| u.name)
+}
+
+/// FMI 3.0 TypeDefinitions: one `<Float64Type>` per unit, named after the unit, which
+/// the variables with that unit declare as their type. A unit could also sit on each
+/// `<Float64>` itself (the standard allows both), but the `fmi` crate's FMI 3.0 reader
+/// refuses a `unit` attribute there and accepts it on a type, as Reference-FMUs write it.
+fn write_float64_types<M>(w: &mut String, variables: &[Variable<M>]) {
+    let _ = writeln!(w, "  <TypeDefinitions>");
+    for unit in units_used(variables) {
+        let _ = writeln!(
+            w,
+            r#"    <Float64Type name="{}" unit="{}"/>"#,
+            escape(unit),
+            escape(unit)
+        );
+    }
+    let _ = writeln!(w, "  </TypeDefinitions>");
+}
+
+/// UnitDefinitions, (FMI 3.0: TypeDefinitions,) LogCategories and DefaultExperiment.
+fn write_units_categories_experiment<M: Model>(
+    w: &mut String,
+    variables: &[Variable<M>],
+    version: FmiVersion,
+) {
+    let info = &M::INFO;
+    let _ = writeln!(w, "  <UnitDefinitions>");
+    for unit in UNITS.iter().filter(|u| {
+        variables
+            .iter()
+            .any(|v| matches!(v.access, Access::Real { unit: Some(name), .. } if name == u.name))
+    }) {
+        let mut exponents = String::new();
+        for (base, exponent) in [("kg", unit.kg), ("m", unit.m), ("s", unit.s)] {
+            if exponent != 0 {
+                let _ = write!(exponents, r#" {base}="{exponent}""#);
+            }
+        }
+        let _ = writeln!(
+            w,
+            r#"    <Unit name="{}"><BaseUnit{exponents}/></Unit>"#,
+            escape(unit.name)
+        );
+    }
+    let _ = writeln!(w, "  </UnitDefinitions>");
+    if version == FmiVersion::V3 {
+        write_float64_types(w, variables);
+    }
+
+    let _ = writeln!(w, "  <LogCategories>");
+    for (name, description) in LOG_CATEGORIES {
+        let _ = writeln!(
+            w,
+            r#"    <Category name="{name}" description="{}"/>"#,
+            escape(&version.rename(description))
+        );
+    }
+    let _ = writeln!(w, "  </LogCategories>");
+    let _ = writeln!(
+        w,
+        r#"  <DefaultExperiment startTime="{}" stopTime="{}" stepSize="{}"/>"#,
+        real(info.start_time),
+        real(info.stop_time),
+        real(info.step_size)
+    );
+}
+
+/// The choices' codes and words for programs ([`CHOICES_TOOL`]), in FMI 2.0's
+/// `<VendorAnnotations><Tool name=...>` (not in FMI 3.0's description; see [`body3`]).
+fn write_choices<M>(w: &mut String, variables: &[Variable<M>]) {
+    let (outer, element, attribute) = ("VendorAnnotations", "Tool", "name");
+    let choices = choice_variables(variables);
+    if !choices.is_empty() {
+        let _ = writeln!(w, "  <{outer}>");
+        let _ = writeln!(w, r#"    <{element} {attribute}="{CHOICES_TOOL}">"#);
+        let _ = writeln!(w, "      <Choices>");
+        for (name, kind) in choices {
+            let _ = writeln!(
+                w,
+                r#"        <Choice variable="{}" type="{}" description="{}">"#,
+                escape(name),
+                escape(kind.name),
+                escape(kind.description)
+            );
+            for (code, word, description) in kind.items() {
+                let _ = writeln!(
+                    w,
+                    r#"          <Item code="{code}" name="{}" description="{}"/>"#,
+                    escape(word),
+                    escape(description)
+                );
+            }
+            let _ = writeln!(w, "        </Choice>");
+        }
+        let _ = writeln!(w, "      </Choices>");
+        let _ = writeln!(w, "    </{element}>");
+        let _ = writeln!(w, "  </{outer}>");
+    }
+}
+
+/// The FMI 3.0 modelDescription.xml of the same table (FMI 3.0 standard, section 2.4):
+/// the same variables, units, categories and experiment as [`body`], with FMI 3.0's
+/// names (Float64, Int32, `instantiationToken`), a `<CoSimulation>` element that says no
+/// event mode and no early return, and ModelStructure by value reference. A choice is an
+/// `<Int32 min="1" max="N">`, as in FMI 2.0, so the codes, the scripts that read them
+/// from the `stickslip` annotation, and the SSP parameter sets are the same for both
+/// versions; their words are in each choice's description. The instantiation token is the FMI 2.0 GUID: both descriptions come from
+/// one table, so one hash names the interface, and an FMU state saved through one
+/// version restores through the other.
+/// The value reference of FMI 3.0's independent variable `time`; no table uses it.
+pub const TIME_VALUE_REFERENCE: u32 = 0;
+
+fn body3<M: Model>(token: &str) -> String {
+    let info = &M::INFO;
+    let defaults = M::with_defaults();
+    let variables = M::variables();
+    let mut x = String::new();
+    let w = &mut x;
+    let _ = writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+    let _ = writeln!(
+        w,
+        r#"<fmiModelDescription fmiVersion="3.0" modelName="{}" instantiationToken="{}" description="{}" generationTool="stickslip {}" variableNamingConvention="structured">"#,
+        info.model_identifier,
+        token,
+        escape(info.description),
+        env!("CARGO_PKG_VERSION")
+    );
+    let _ = writeln!(
+        w,
+        r#"  <CoSimulation modelIdentifier="{}" needsExecutionTool="false" canBeInstantiatedOnlyOncePerProcess="false" canGetAndSetFMUState="true" canSerializeFMUState="true" providesDirectionalDerivatives="false" providesAdjointDerivatives="false" providesPerElementDependencies="false" canHandleVariableCommunicationStepSize="true" maxOutputDerivativeOrder="0" providesIntermediateUpdate="false" mightReturnEarlyFromDoStep="false" canReturnEarlyAfterIntermediateUpdate="false" hasEventMode="false" providesEvaluateDiscreteStates="false"/>"#,
+        info.model_identifier
+    );
+    write_units_categories_experiment(w, variables, FmiVersion::V3);
+
+    let _ = writeln!(w, "  <ModelVariables>");
+    // FMI 3.0 requires exactly one independent variable (section 2.4.7.4); FMI 2.0 left
+    // time implicit. It is not in the tables: it is the instance's clock, not a model
+    // value, and it cannot be got or set.
+    let _ = writeln!(
+        w,
+        r#"    <Float64 name="time" valueReference="{TIME_VALUE_REFERENCE}" description="Simulation time (s)" causality="independent" variability="continuous"/>"#
+    );
+    for v in variables {
+        let initial = match v.causality {
+            Causality::Parameter => r#" initial="exact""#,
+            Causality::Input => "",
+            Causality::Output => r#" initial="calculated""#,
+        };
+        let with_start = v.causality != Causality::Output;
+        let start = |value: String| {
+            if with_start {
+                format!(r#" start="{value}""#)
+            } else {
+                String::new()
+            }
+        };
+        let (element, attributes, children) = match &v.access {
+            Access::Real { unit, get, .. } => (
+                "Float64",
+                format!(
+                    "{}{}",
+                    unit.map(|u| format!(r#" declaredType="{}""#, escape(u)))
+                        .unwrap_or_default(),
+                    start(real(get(&defaults)))
+                ),
+                None,
+            ),
+            Access::Integer { min, max, get, .. } => (
+                "Int32",
+                format!(
+                    r#" min="{min}" max="{max}"{}"#,
+                    start(get(&defaults).to_string())
+                ),
+                None,
+            ),
+            Access::Choice { kind, get, .. } => (
+                "Int32",
+                format!(
+                    r#" min="1" max="{}"{}"#,
+                    kind.len,
+                    start(get(&defaults).to_string())
+                ),
+                None,
+            ),
+            Access::Boolean { get, .. } => ("Boolean", start(get(&defaults).to_string()), None),
+            // FMI 3.0 gives a String's start value as a child element.
+            Access::String { get, .. } => (
+                "String",
+                String::new(),
+                with_start.then(|| format!(r#"<Start value="{}"/>"#, escape(&get(&defaults)))),
+            ),
+        };
+        let head = format!(
+            r#"    <{element} name="{}" valueReference="{}" description="{}" causality="{}" variability="{}"{initial}{attributes}"#,
+            escape(v.name),
+            v.value_reference,
+            escape(&description(v)),
+            v.causality.as_str(),
+            v.variability.as_str()
+        );
+        let _ = match children {
+            None => writeln!(w, "{head}/>"),
+            Some(children) => writeln!(w, "{head}>\n      {children}\n    </{element}>"),
+        };
+    }
+    let _ = writeln!(w, "  </ModelVariables>");
+
+    // The same dependencies as FMI 2.0's, named by value reference instead of index.
+    let vr_of = |k: usize| variables[k - 1].value_reference as usize;
+    let _ = writeln!(w, "  <ModelStructure>");
+    let dependencies = output_dependencies(variables);
+    for (k, d) in &dependencies {
+        let (indices, kinds): (Vec<usize>, Vec<DependencyKind>) = d.step.iter().copied().unzip();
+        let vrs: Vec<usize> = indices.into_iter().map(vr_of).collect();
+        let _ = writeln!(
+            w,
+            r#"    <Output valueReference="{}"{}/>"#,
+            vr_of(*k),
+            dependency_attributes(&vrs, &kinds)
+        );
+    }
+    for (k, d) in &dependencies {
+        let vrs: Vec<usize> = d.initial.iter().copied().map(vr_of).collect();
+        let _ = writeln!(
+            w,
+            r#"    <InitialUnknown valueReference="{}"{}/>"#,
+            vr_of(*k),
+            dependency_attributes(&vrs, &[])
+        );
+    }
+    let _ = writeln!(w, "  </ModelStructure>");
+    // No `stickslip` choices annotation here: FMI 3.0 allows any element inside an
+    // <Annotation>, but the `fmi` crate's reader refuses child elements there (it takes
+    // text only), and an importer that cannot read the file at all is worse than one
+    // that has the codes only in each choice's description. Programs read the codes and
+    // words from the FMI 2.0 description, generated from the same table.
+    let _ = writeln!(w, "</fmiModelDescription>");
     x
 }
 
@@ -350,6 +568,11 @@ pub fn generate<M: Model>() -> String {
     body::<M>(&guid::<M>())
 }
 
+/// The FMI 3.0 modelDescription.xml of model `M` (instantiation token: [`guid`]).
+pub fn generate3<M: Model>() -> String {
+    body3::<M>(&guid::<M>())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -360,6 +583,17 @@ mod tests {
         assert_eq!(real(2.0), "2.0");
         assert_eq!(real(5e-5), "5e-5");
         assert_eq!(real(0.1).parse::<f64>().unwrap(), 0.1);
+    }
+
+    #[test]
+    fn time_has_a_value_reference_of_its_own() {
+        use crate::{beam::StickSlipBeam, friction::NeuralFriction};
+        assert!(StickSlipBeam::variables()
+            .iter()
+            .all(|v| v.value_reference != TIME_VALUE_REFERENCE));
+        assert!(NeuralFriction::variables()
+            .iter()
+            .all(|v| v.value_reference != TIME_VALUE_REFERENCE));
     }
 
     #[test]

@@ -78,7 +78,9 @@ impl Networks {
         Ok(&mut self.loaded[k].1)
     }
 
-    fn read(&self, name: &str) -> Result<NeuralLaw, NetworkError> {
+    /// The file that weights `name` are read from (it exists): in `resources/`, or the
+    /// absolute path itself.
+    pub fn path_of(&self, name: &str) -> Result<PathBuf, NetworkError> {
         let path = Path::new(name);
         let full = if path.is_absolute() {
             path.to_path_buf()
@@ -95,6 +97,11 @@ impl Networks {
         if !full.is_file() {
             return Err(NetworkError::Missing { path: full });
         }
+        Ok(full)
+    }
+
+    fn read(&self, name: &str) -> Result<NeuralLaw, NetworkError> {
+        let full = self.path_of(name)?;
         NeuralLaw::from_file(&full)
             .map_err(|source| NetworkError::Unreadable { path: full, source })
     }

@@ -47,26 +47,32 @@ impl Variability {
     }
 }
 
-/// An FMI enumeration type, read off a [`Choice`]: the type's name and description
-/// ([`Choice::TYPE_NAME`], [`Choice::TYPE_DESCRIPTION`]), and one item per value in
-/// [`Choice::ALL`] order, numbered 1, 2, ..., with the value's word and description. A
-/// scene file, the command line and the FMU therefore use the same words.
+/// A choice variable's set of values, read off a [`Choice`]: the type's name and
+/// description ([`Choice::TYPE_NAME`], [`Choice::TYPE_DESCRIPTION`]), and one value per
+/// item of [`Choice::ALL`], numbered 1, 2, ... ([`Choice::code`]), with its word and
+/// description. A scene file, the command line and the FMU therefore use the same words.
+///
+/// In the FMU a choice is an FMI Integer with min 1 and max `len`, not an FMI
+/// Enumeration: libcosim and Ecos ignore Enumeration variables, so a choice could not be
+/// set there. The words reach the model description twice, both generated from here:
+/// in the variable's description (for people) and in the `stickslip` tool annotation
+/// (for programs; see `model_description`).
 #[derive(Clone, Copy, Debug)]
-pub struct EnumerationType {
+pub struct ChoiceType {
     pub name: &'static str,
     pub description: &'static str,
-    /// Number of items; their values are 1..=len.
+    /// Number of values; their codes are 1..=len.
     pub len: usize,
-    /// (name, description) of the item with a 1-based value, if there is one.
+    /// (word, description) of the value with a 1-based code, if there is one.
     item: fn(i32) -> Option<(&'static str, &'static str)>,
 }
 
-fn item_of<T: Choice>(value: i32) -> Option<(&'static str, &'static str)> {
-    T::from_code(value).map(|c| (c.name(), c.description()))
+fn item_of<T: Choice>(code: i32) -> Option<(&'static str, &'static str)> {
+    T::from_code(code).map(|c| (c.name(), c.description()))
 }
 
-impl EnumerationType {
-    /// The enumeration type of the choice `T`.
+impl ChoiceType {
+    /// The values of the choice `T`.
     pub const fn of<T: Choice>() -> Self {
         Self {
             name: T::TYPE_NAME,
@@ -76,36 +82,41 @@ impl EnumerationType {
         }
     }
 
-    /// (value, name, description) of every item, in order.
+    /// (code, word, description) of every value, in code order.
     pub fn items(&self) -> impl Iterator<Item = (i32, &'static str, &'static str)> + '_ {
         (1..=self.len as i32).filter_map(|v| (self.item)(v).map(|(n, d)| (v, n, d)))
     }
 
-    /// Name of item `value` (1-based), or an error naming the allowed values.
-    pub fn item(&self, value: i32) -> Result<&'static str, String> {
-        (self.item)(value)
+    /// Word of the value with code `code` (1-based), or an error naming the allowed codes.
+    pub fn item(&self, code: i32) -> Result<&'static str, String> {
+        (self.item)(code)
             .map(|(name, _)| name)
-            .ok_or_else(|| self.not_an_item(value))
+            .ok_or_else(|| self.not_an_item(code))
     }
 
-    /// Why `value` is not an item: the allowed values.
-    fn not_an_item(&self, value: i32) -> String {
-        let allowed: Vec<String> = self
+    /// The codes and their words, "1 = exponential, 2 = coulomb, ...".
+    pub fn codes(&self) -> String {
+        let codes: Vec<String> = self
             .items()
-            .map(|(v, name, _)| format!("{v} = {name}"))
+            .map(|(code, name, _)| format!("{code} = {name}"))
             .collect();
+        codes.join(", ")
+    }
+
+    /// Why `code` is not a value: the allowed codes.
+    fn not_an_item(&self, code: i32) -> String {
         format!(
-            "{value} is not a {} value; allowed: {}",
+            "{code} is not a {} code; allowed: {}",
             self.name,
-            allowed.join(", ")
+            self.codes()
         )
     }
 }
 
-/// The value of choice `T` at FMI enumeration value `value` (1-based), or an error
-/// naming the allowed values.
-pub fn choice_at<T: Choice>(value: i32) -> Result<T, String> {
-    T::from_code(value).ok_or_else(|| EnumerationType::of::<T>().not_an_item(value))
+/// The value of choice `T` with code `code` (1-based), or an error naming the allowed
+/// codes.
+pub fn choice_at<T: Choice>(code: i32) -> Result<T, String> {
+    T::from_code(code).ok_or_else(|| ChoiceType::of::<T>().not_an_item(code))
 }
 
 /// Writes a value into model `M`, or says why it refuses it.
@@ -133,8 +144,10 @@ pub enum Access<M: 'static> {
         get: fn(&M) -> bool,
         set: Setter<M, bool>,
     },
-    Enumeration {
-        kind: EnumerationType,
+    /// A closed set of values, set and read as its code (an FMI Integer, see
+    /// [`ChoiceType`]).
+    Choice {
+        kind: ChoiceType,
         get: fn(&M) -> i32,
         set: Setter<M, i32>,
     },
@@ -148,7 +161,7 @@ pub enum Access<M: 'static> {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BaseType {
     Real,
-    /// Integer and Enumeration variables (both are read with fmi2GetInteger).
+    /// Integer variables, choices included.
     Integer,
     Boolean,
     String,
@@ -158,7 +171,7 @@ impl<M> Access<M> {
     pub fn base_type(&self) -> BaseType {
         match self {
             Access::Real { .. } => BaseType::Real,
-            Access::Integer { .. } | Access::Enumeration { .. } => BaseType::Integer,
+            Access::Integer { .. } | Access::Choice { .. } => BaseType::Integer,
             Access::Boolean { .. } => BaseType::Boolean,
             Access::String { .. } => BaseType::String,
         }
@@ -169,7 +182,7 @@ impl<M> Access<M> {
             Access::Real { set, .. } => set.is_some(),
             Access::Integer { set, .. } => set.is_some(),
             Access::Boolean { set, .. } => set.is_some(),
-            Access::Enumeration { set, .. } => set.is_some(),
+            Access::Choice { set, .. } => set.is_some(),
             Access::String { set, .. } => set.is_some(),
         }
     }
@@ -184,6 +197,8 @@ pub enum DependencyKind {
     /// A fixed factor: y = p v, with p fixed once fmi2ExitInitializationMode returns (a
     /// function of `fixed` parameters). Only for Real outputs at communication points.
     Fixed,
+    /// A constant factor: y = c v, c known before the FMU runs.
+    Constant,
 }
 
 impl DependencyKind {
@@ -191,6 +206,7 @@ impl DependencyKind {
         match self {
             DependencyKind::Dependent => "dependent",
             DependencyKind::Fixed => "fixed",
+            DependencyKind::Constant => "constant",
         }
     }
 }
@@ -282,6 +298,12 @@ pub const UNITS: &[Unit] = &[
         s: -2,
     },
     Unit {
+        name: "N.s/m",
+        kg: 1,
+        m: 0,
+        s: -1,
+    },
+    Unit {
         name: "Pa",
         kg: 1,
         m: -1,
@@ -358,7 +380,7 @@ impl<M> Variable<M> {
 
     pub fn get_integer(&self, model: &M) -> i32 {
         match &self.access {
-            Access::Integer { get, .. } | Access::Enumeration { get, .. } => get(model),
+            Access::Integer { get, .. } | Access::Choice { get, .. } => get(model),
             _ => 0,
         }
     }
@@ -391,7 +413,8 @@ impl<M> Variable<M> {
         set(model, value).map_err(refused(self.name))
     }
 
-    /// Sets an Integer or Enumeration, refusing values outside its range.
+    /// Sets an Integer or a choice's code, refusing values outside its range (for a
+    /// choice, with the allowed codes in the reason).
     pub fn set_integer(&self, model: &mut M, value: i32) -> Result<(), AccessError> {
         match &self.access {
             Access::Integer {
@@ -408,7 +431,7 @@ impl<M> Variable<M> {
                 }
                 set(model, value).map_err(refused(self.name))
             }
-            Access::Enumeration {
+            Access::Choice {
                 set: Some(set),
                 kind,
                 ..

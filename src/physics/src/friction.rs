@@ -85,6 +85,18 @@ impl ExponentialLaw {
             * (-self.decay * speed.abs()).exp();
         (self.kinetic_coefficient + drop, -self.decay * drop)
     }
+
+    /// dF/dv (N s/m) of the law at sliding velocity `sliding_velocity` (m/s) under
+    /// `normal_force` (N): F = sign(v) mu(|v|) F_n is odd, so
+    /// dF/dv = mu'(|v|) F_n = -alpha (mu_s - mu_k) exp(-alpha |v|) F_n on either side of
+    /// v = 0. The jump of 2 mu_s F_n at v = 0 itself has no slope; there this is the
+    /// one-sided limit.
+    pub fn slope(&self, sliding_velocity: f64, normal_force: f64) -> f64 {
+        -self.decay
+            * (self.static_coefficient - self.kinetic_coefficient)
+            * (-self.decay * sliding_velocity.abs()).exp()
+            * normal_force
+    }
 }
 
 impl FrictionLaw for ExponentialLaw {

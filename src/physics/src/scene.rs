@@ -21,7 +21,6 @@
 //! v_b = 0.02 m/s, F_n = 100 N, mu_s = 0.5, mu_k = 0.2, alpha = 5 s/m, eps = 1e-3 m/s,
 //! dt = 1e-4 s, t_end = 1.2 s. The paper does not give Poisson's ratio; 0.3 (steel) is used.
 
-use crate::choice::Choice;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -89,8 +88,9 @@ impl Default for Loading {
 }
 
 crate::choice! {
-    /// Which kinetic friction law acts during slip. (The FMI type keeps the name
-    /// `FrictionModel` of the StickSlipBeam variable `friction.model`.)
+    /// Which kinetic friction law acts during slip (the scene's `friction.law`, and
+    /// StickSlipBeam's parameter of that name). The type is named `FrictionModel`, apart
+    /// from NeuralFriction's `FrictionLaw` (`friction::LawChoice`), whose values differ.
     #[choice(name = "FrictionModel", description = "Where the kinetic friction force comes from")]
     pub enum FrictionLawKind {
         /// mu(v) = mu_k + (mu_s - mu_k) exp(-alpha |v|) (paper, Eq. 6).
@@ -99,12 +99,13 @@ crate::choice! {
         Coulomb = "coulomb": "mu = mu_k",
         /// A trained network (see the `neural` module); weights from `friction.weights`.
         Neural = "neural": "the network in friction.weights",
-        /// The kinetic force magnitude and the static limit come from outside, as the
-        /// StickSlipBeam FMU's inputs `external.kinetic_force` and
-        /// `external.static_limit` (to couple it with NeuralFriction or any other
-        /// friction FMU). Only a run that has those inputs can honour it: a stand-alone
-        /// run refuses it (`run::friction_law`).
-        External = "external": "inputs external.kinetic_force and external.static_limit",
+        /// The kinetic force and the static limit come from outside, as the
+        /// StickSlipBeam FMU's inputs `external.*` (to couple it with NeuralFriction or
+        /// any other friction FMU): a magnitude `external.kinetic_force` or a signed
+        /// tangent, as `external.coupling` says (`simulation::ExternalKinetic`), and
+        /// `external.static_limit`. Only a run that has those inputs can honour it: a
+        /// stand-alone run refuses it (`run::friction_law`).
+        External = "external": "inputs external.*: the kinetic force as external.coupling says, and external.static_limit",
     }
 }
 
@@ -295,7 +296,7 @@ crate::choice! {
         PlaneStress = "plane-stress": "2D plane-stress mesh of 8-node quadrilaterals",
         /// Not a model but a request: the `auto` module replaces the level, the time
         /// step and the integrator by the cheapest point of the measured front whose
-        /// RMS tip-deflection error on this scene meets `fidelity.tolerance`
+        /// first-cycle tip deviation on this scene meets `fidelity.tolerance`
         /// (`auto::resolve`). A scene must be resolved before a model is built from it.
         Auto = "auto": "the cheapest measured configuration that meets fidelity.tolerance on this scene",
     }
@@ -330,8 +331,9 @@ crate::choice! {
 #[serde(default, deny_unknown_fields)]
 pub struct Fidelity {
     pub level: FidelityLevel,
-    /// With `level = auto`, which requires it: the RMS tip-deflection error (m) over the
-    /// run that the chosen configuration must meet. Ignored by the other levels.
+    /// With `level = auto`: the largest tip-deflection deviation (m) over the first
+    /// stick-slip cycle that the chosen configuration must meet (`auto` module doc);
+    /// absent, `auto::DEFAULT_TOLERANCE`. Ignored by the other levels.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tolerance: Option<f64>,
     /// Number of beam elements (beam level, and the modal basis when it is a beam).
@@ -583,17 +585,9 @@ impl Scene {
         }
 
         let fi = &self.fidelity;
+        // Absent, `auto` uses `auto::DEFAULT_TOLERANCE`, as the FMU's start value does.
         if let Some(tolerance) = fi.tolerance {
             positive("fidelity.tolerance", tolerance, "m")?;
-        } else if fi.level == FidelityLevel::Auto {
-            return Err(SceneError::Invalid {
-                field: "fidelity.tolerance",
-                value: "(absent)".into(),
-                requirement: format!(
-                    "given with fidelity.level = {}: the RMS tip-deflection error allowed over the run (m)",
-                    FidelityLevel::Auto.name()
-                ),
-            });
         }
         if fi.beam_elements == 0 || fi.beam_elements > MAX_BEAM_ELEMENTS {
             return Err(invalid(

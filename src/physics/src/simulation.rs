@@ -74,10 +74,46 @@ pub enum SimulationError {
 /// It replaces the law and the static limit mu_s F_n of the scene.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ExternalFriction {
-    /// Magnitude of the kinetic friction force (N); it acts in the direction of v_rel.
-    pub kinetic_force: f64,
+    /// The kinetic friction force in slip.
+    pub kinetic: ExternalKinetic,
     /// Largest holding force that stick sustains (N).
     pub static_limit: f64,
+}
+
+crate::choice! {
+    /// How a coupled friction model hands over its kinetic force (the StickSlipBeam
+    /// FMU's `external.coupling`, with `friction.law = external`).
+    #[choice(name = "ExternalCoupling", description = "How friction.law = external reads the coupled friction model")]
+    #[derive(Default)]
+    pub enum ExternalCoupling {
+        /// [`ExternalKinetic::Magnitude`] from `external.kinetic_force`.
+        #[default]
+        Magnitude = "magnitude": "external.kinetic_force along v_rel: for laws sign(v) g(|v|) (exponential, Coulomb, the signed network)",
+        /// [`ExternalKinetic::Signed`] from `external.friction_force`,
+        /// `external.friction_slope` and `external.sliding_velocity`.
+        Signed = "signed": "the tangent external.friction_force + external.friction_slope (v - external.sliding_velocity): for smooth signed laws (the plain network)",
+    }
+}
+
+/// How a coupled friction model gives the kinetic force.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum ExternalKinetic {
+    /// A magnitude (N), applied in the direction of v_rel: for laws of the form
+    /// F(v) = sign(v) g(|v|), whose sign the beam knows better than a force held from
+    /// the start of the step (the exponential and Coulomb laws, the signed network).
+    Magnitude(f64),
+    /// A signed law F(v) by its value `force` (N) and slope `slope` = dF/dv (N s/m) at
+    /// the sliding velocity `velocity` (m/s) the model was evaluated at. In slip the
+    /// step takes the tangent F(v) ~ force + slope (v - velocity) at its own sliding
+    /// velocity, solved implicitly as the embedded slip solve does with a law; where
+    /// the tangent points against v_rel, its magnitude acts along v_rel (friction
+    /// dissipates; see `contact::Kinetic::ExternalSigned`). For smooth signed laws such
+    /// as the paper's plain network.
+    Signed {
+        force: f64,
+        slope: f64,
+        velocity: f64,
+    },
 }
 
 /// Why a saved state does not fit a simulator.
@@ -351,8 +387,22 @@ impl Simulator {
     fn take_step(&mut self, landing: bool) -> Result<(), SimulationError> {
         let static_limit = self.static_limit();
         let kinetic = match self.external {
-            Some(e) => Kinetic::External {
-                force: e.kinetic_force,
+            Some(ExternalFriction {
+                kinetic: ExternalKinetic::Magnitude(force),
+                ..
+            }) => Kinetic::External { force },
+            Some(ExternalFriction {
+                kinetic:
+                    ExternalKinetic::Signed {
+                        force,
+                        slope,
+                        velocity,
+                    },
+                ..
+            }) => Kinetic::ExternalSigned {
+                force,
+                slope,
+                velocity,
             },
             None => Kinetic::Law {
                 law: self.law.as_mut(),

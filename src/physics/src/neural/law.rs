@@ -280,6 +280,13 @@ impl NeuralLaw {
     /// Friction force (target units) for one sample of features in model order and raw
     /// units. Refuses a wrong number of inputs and non-finite values. Allocation-free.
     pub fn evaluate(&mut self, features: &[f64]) -> Result<f64, NeuralError> {
+        self.load_features(features)?;
+        Ok(self.evaluate_scratch())
+    }
+
+    /// Checks one sample of features (model order, raw units) and copies it into the
+    /// scratch vector: refuses a wrong number of inputs and non-finite values.
+    fn load_features(&mut self, features: &[f64]) -> Result<(), NeuralError> {
         if features.len() != self.features.len() {
             return Err(NeuralError::FeatureCount {
                 expected: self.features.len(),
@@ -294,7 +301,26 @@ impl NeuralLaw {
             });
         }
         self.features.copy_from_slice(features);
-        Ok(self.evaluate_scratch())
+        Ok(())
+    }
+
+    /// The force (target units) of [`NeuralLaw::evaluate`], the same number, and its
+    /// derivative dF/dv with respect to the sliding-velocity feature (target units per
+    /// m/s), by forward-mode differentiation in the same pass (see
+    /// `evaluate_scratch_with`): 0 where the velocity is clamped to the training range,
+    /// and for the signed variant F = sign(v) max(y(|v|), 0) the slope y'(|v|) where
+    /// y > 0 (else 0) on either side of v = 0 (the jump at 0 itself has no slope). A
+    /// network without a sliding-velocity feature gives slope 0. Refuses what `evaluate`
+    /// refuses. Allocation-free.
+    pub fn evaluate_with_velocity_slope(
+        &mut self,
+        features: &[f64],
+    ) -> Result<(f64, f64), NeuralError> {
+        self.load_features(features)?;
+        if self.velocity.is_none() {
+            return Ok((self.evaluate_scratch(), 0.0));
+        }
+        Ok(self.evaluate_scratch_with::<true>())
     }
 
     /// Batch evaluation: `features` has one row per feature (model order) and one column

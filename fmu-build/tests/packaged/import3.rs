@@ -1,0 +1,147 @@
+//! The packaged FMI 3.0 FMUs (`target/fmu/3.0/*.fmu`) imported with the `fmi` crate
+//! (feature `fmi3`): their descriptions parse and carry the instantiation token of this
+//! source tree, and StickSlipBeam's outputs equal the FMI 2.0 FMU's bit for bit at the
+//! same settings (the same library and tables behind both interfaces; without event
+//! mode or early return an FMI 3.0 step is an FMI 2.0 step).
+//!
+//! A child of `import`, so it reuses its helpers (`Beam`, `Outputs`, `assert_bitwise`).
+
+use super::*;
+use fmi::fmi3::import::Fmi3Import;
+use fmi::fmi3::instance::InstanceCS as InstanceCS3;
+use fmi::fmi3::{CoSimulation as _, Common as _, Fmi3Model, GetSet};
+
+/// The packaged FMI 3.0 FMU of `kind`, imported; fails (does not skip) when missing.
+fn import3(kind: FmuKind) -> Fmi3Import {
+    install_logger();
+    let path = fmu_build::fmu3_path(kind);
+    assert!(
+        path.is_file(),
+        "{} is missing: run `cargo run --release -p fmu-build` first",
+        path.display()
+    );
+    let import: Fmi3Import = fmi::import::from_path(&path)
+        .unwrap_or_else(|e| panic!("cannot import {}: {e}", path.display()));
+    let md = import.model_description();
+    assert_eq!(
+        md.instantiation_token,
+        kind.guid(),
+        "{} is stale: run `cargo run --release -p fmu-build` first",
+        path.display()
+    );
+    assert_eq!(md.fmi_version, "3.0");
+    assert_eq!(
+        md.co_simulation
+            .as_ref()
+            .map(|cs| cs.model_identifier.as_str()),
+        Some(kind.model_identifier())
+    );
+    import
+}
+
+/// An FMI 3.0 StickSlipBeam instance, initialised for [0, STOP], stepped by `H`.
+struct Beam3 {
+    inst: InstanceCS3,
+    vr: BeamVrs,
+    t: f64,
+}
+
+impl Beam3 {
+    fn start(import: &Fmi3Import, name: &str, vr: BeamVrs, integers: &[(u32, i32)]) -> Self {
+        let mut inst = import
+            .instantiate_cs(name, false, false, false, false, &[])
+            .unwrap_or_else(|e| panic!("{name}: fmi3InstantiateCoSimulation failed: {e}"));
+        inst.enter_initialization_mode(None, 0.0, Some(STOP))
+            .expect("fmi3EnterInitializationMode");
+        for &(vr, value) in integers {
+            inst.set_int32(&[vr], &[value])
+                .unwrap_or_else(|e| panic!("fmi3SetInt32({vr}, {value}): {e}"));
+        }
+        inst.exit_initialization_mode()
+            .expect("fmi3ExitInitializationMode");
+        Self { inst, vr, t: 0.0 }
+    }
+
+    fn outputs(&mut self) -> Outputs {
+        let mut r = [0.0; 5];
+        self.inst
+            .get_float64(&self.vr.reals, &mut r)
+            .expect("fmi3GetFloat64");
+        let mut stick = [false; 1];
+        self.inst
+            .get_boolean(&[self.vr.stick], &mut stick)
+            .expect("fmi3GetBoolean");
+        let mut transitions = [0i32; 1];
+        self.inst
+            .get_int32(&[self.vr.transitions], &mut transitions)
+            .expect("fmi3GetInt32");
+        Outputs {
+            tip_deflection: r[0],
+            tip_velocity: r[1],
+            relative_velocity: r[2],
+            friction_force: r[3],
+            holding_force: r[4],
+            stick: stick[0],
+            transitions: transitions[0],
+        }
+    }
+
+    fn step(&mut self) {
+        let (mut event, mut terminate, mut early, mut last) = (true, true, true, f64::NAN);
+        self.inst
+            .do_step(
+                self.t,
+                H,
+                true,
+                &mut event,
+                &mut terminate,
+                &mut early,
+                &mut last,
+            )
+            .unwrap_or_else(|e| panic!("fmi3DoStep at t = {} s: {e}", self.t));
+        // No event mode, never terminates by itself, never returns early.
+        assert!(!event && !terminate && !early);
+        assert_eq!(last, self.t + H, "lastSuccessfulTime");
+        self.t += H;
+    }
+
+    fn run_from_start(&mut self, n: usize) -> Vec<Outputs> {
+        let mut out = vec![self.outputs()];
+        for _ in 0..n {
+            self.step();
+            out.push(self.outputs());
+        }
+        out
+    }
+}
+
+#[test]
+fn i_fmi3_descriptions_parse_with_the_token_of_this_source() {
+    for kind in FmuKind::ALL {
+        import3(kind);
+    }
+}
+
+/// The paper scene at modal and beam fidelity with the exponential and the neural law:
+/// FMI 3.0 and FMI 2.0 give the same bits at every communication point.
+#[test]
+fn i_fmi3_beam_equals_the_fmi2_fmu_bit_for_bit() {
+    const N: usize = 600; // 0.6 s: the breakaway at 0.4 s and the first slip
+    let import2 = import(FmuKind::StickSlipBeam);
+    let import3 = import3(FmuKind::StickSlipBeam);
+    let vrs = BeamVrs::of(&import2);
+    for level in [FidelityLevel::Modal, FidelityLevel::Beam] {
+        for law in [FrictionLawKind::Exponential, FrictionLawKind::Neural] {
+            let tag = format!("fmi3-{}-{}", level.name(), law.name());
+            let integers = [(vrs.fidelity, level.code()), (vrs.friction_law, law.code())];
+            let two = Beam::start(&import2, &format!("{tag}-2"), &integers).run_from_start(N);
+            let three =
+                Beam3::start(&import3, &format!("{tag}-3"), vrs, &integers).run_from_start(N);
+            assert!(
+                two[N].transitions >= 1,
+                "{tag}: no stick/slip in the window"
+            );
+            assert_bitwise(&format!("{tag}: FMI 3.0 vs FMI 2.0"), &three, &two);
+        }
+    }
+}

@@ -1,0 +1,384 @@
+"""Our FMUs and SSP systems in the co-simulation masters users run them in: libcosim,
+Ecos, fmucontainer (its container run by fmpy) and fmpy's SSP runner, each driven as its
+users drive it (stickslip_checks.masters). For each master:
+
+- it loads the systems, with every variable of the FMUs (choices included: they are
+  Integers, which every master here supports, unlike FMI Enumerations);
+- StickSlipBeam with no parameter given equals our master (fmpy) bit for bit;
+- parameters set through the master (non-default choices) give what fmpy gives with
+  the same settings, bit for bit, and differ from the defaults;
+- the coupled system (StickSlipCoupled) equals our Jacobi or Gauss-Seidel master bit
+  for bit, whichever scheme the master runs;
+- an FMU error at initialisation (a negative Young's modulus) reaches the user, or we
+  record exactly what the user sees (README, "Co-simulation masters").
+
+Runs at h = 1e-3 s to 0.7 s (breakaway at 0.4 s, then the first slip, where the schemes
+part). Needs the FMUs and system files of `cargo run --release -p fmu-build`, and the
+masters of python-checks/requirements-masters.txt (scripts/python-env.sh installs them).
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import need
+from fmpy.ssp.ssd import read_ssd
+from fmpy.validation import validate_fmu
+
+from stickslip_checks import masters
+from stickslip_checks.artifacts import BEAM, FRICTION, fmu_paths
+from stickslip_checks.master import COUPLINGS, GAUSS_SEIDEL, JACOBI, run_coupled
+from stickslip_checks.masters import COUPLED, MONOLITHIC, H, T_END
+
+N = round(T_END / H)
+TIP = ("beam", "tip_deflection")
+# A non-default choice of each kind the scripts set: the modal model and Coulomb friction.
+NON_DEFAULT = {"fidelity.level": "modal", "friction.law": "coulomb"}
+
+_references: dict = {}
+
+
+def reference(fmus, key):
+    """Our master's tip deflection (fmpy), cached per module run: "defaults",
+    "non-default" (NON_DEFAULT), "monolithic" (friction.law = neural, as in
+    StickSlipMonolithic.ssp), or a coupling scheme."""
+    if key not in _references:
+        if key in (JACOBI, GAUSS_SEIDEL):
+            _references[key] = masters.reference_coupled(fmus, key)
+        else:
+            parameters = {
+                "defaults": {},
+                "non-default": NON_DEFAULT,
+                "monolithic": {"friction.law": "neural"},
+            }[key]
+            _references[key] = masters.reference_beam(fmus, parameters)
+    return _references[key]
+
+
+def codes(fmus, values: dict) -> dict:
+    """`values` with choices as their integer codes (as masters other than ours take them)."""
+    model = fmus.models[BEAM]
+    return {
+        name: model.code(name, value) if name in model.choices else value
+        for name, value in values.items()
+    }
+
+
+def assert_bit_identical(series: masters.Series, name, expected: np.ndarray, what: str):
+    got = series.at_grid(name, N)
+    recorded = ~np.isnan(got)
+    # Every master records the whole grid, fmpy's SSP runner all but t = 0.
+    assert recorded[1:].all(), f"{what}: points missing"
+    same = got[recorded] == expected[recorded]
+    assert same.all(), (
+        f"{what}: differs from our master from t = {np.argmin(same) * H:.3f} s on, by up to "
+        f"{masters.deviation(got, expected):.3g} m"
+    )
+
+
+def single_beam_csv(start: dict) -> str:
+    """fmucontainer's link list for StickSlipBeam alone: its inputs and tip deflection
+    exposed, and `start` as START rules (choices as codes)."""
+    lines = ["rule;from_fmu;from_port;to_fmu;to_port", "FMU;StickSlipBeam.fmu;;;"]
+    for line in masters.csv_path(MONOLITHIC).read_text().splitlines():
+        if line.startswith("INPUT;"):
+            lines.append(line)
+    lines.append("OUTPUT;StickSlipBeam.fmu;tip_deflection;;beam.tip_deflection")
+    lines += [f"START;StickSlipBeam.fmu;{name};{value};" for name, value in start.items()]
+    return "\n".join(lines) + "\n"
+
+
+def container_run(csv_text: str, tmp_path: Path, name: str, *, sequential=False):
+    container, _ = masters.build_container(csv_text, tmp_path / name, name, sequential=sequential)
+    return masters.run_fmpy_fmu(container, ("beam.tip_deflection",))
+
+
+# ----------------------------------------------------------------------------- loads
+
+
+def test_the_system_files_are_valid_ssp(built):
+    """fmpy reads both SSD files against the SSP 1.0 schema (read_ssd validates), with
+    the components and connections fmu-build wrote."""
+    need(built)
+    coupled = read_ssd(str(masters.ssp_path(COUPLED)))
+    assert [c.name for c in coupled.system.elements] == ["beam", "friction"]
+    links = {
+        (c.startElement, c.startConnector, c.endElement, c.endConnector)
+        for c in coupled.system.connections
+    }
+    # The signed coupling's links: the ones our master runs the same system with.
+    element = {BEAM: "beam", FRICTION: "friction"}
+    assert links == {
+        (element[link.source], link.output, element[link.target], link.input)
+        for link in COUPLINGS["signed"]
+    }
+    assert ("friction", "friction_force_slope", "beam", "external.friction_slope") in links
+    monolithic = read_ssd(str(masters.ssp_path(MONOLITHIC)))
+    assert [c.name for c in monolithic.system.elements] == ["beam"]
+
+
+def test_libcosim_loads_every_variable_of_both_fmus(built):
+    """libcosim dropped every FMI Enumeration ("Enumeration variable type not
+    supported"); with Integer choices it sees every variable of both FMUs."""
+    fmus = need(built)
+    from libcosimpy.CosimEnums import CosimVariableType
+
+    seen = masters.libcosim_variables(masters.ssp_path(COUPLED))
+    for fmu, instance in masters.INSTANCES.items():
+        model = fmus.models[fmu]
+        assert set(seen[instance]) == set(model.variables), instance
+        for name in model.choices:
+            assert seen[instance][name] == CosimVariableType.INTEGER.value, name
+
+
+def test_ecos_reads_every_choice_as_an_integer(built):
+    """Ecos reported "No variable named 'fidelity.level' of type int" for Enumerations;
+    now every choice reads as an Integer with the value the SSD's parameter set gives."""
+    fmus = need(built)
+    names = {masters.INSTANCES[f]: list(fmus.models[f].choices) for f in (BEAM, FRICTION)}
+    values = masters.ecos_integers(masters.ssp_path(COUPLED), names)
+    beam = fmus.models[BEAM]
+    assert values["beam", "friction.law"] == beam.code("friction.law", "external")
+    assert values["beam", "fidelity.level"] == int(beam.variables["fidelity.level"].start)
+    assert values["friction", "law"] == fmus.models[FRICTION].code("law", "neural")
+    assert len(values) == sum(len(v) for v in names.values())
+
+
+def test_fmucontainer_builds_a_valid_container_of_the_coupled_system(built, tmp_path):
+    need(built)
+    container, log = masters.build_container(
+        masters.csv_path(COUPLED).read_text(), tmp_path, COUPLED, sequential=False
+    )
+    assert "ERROR" not in log, log
+    assert validate_fmu(str(container)) == []
+
+
+# ----------------------------------------------------------------------------- defaults
+
+
+def test_defaults_equal_our_master_in_every_master(built, tmp_path):
+    """StickSlipBeam with no parameter given: libcosim and Ecos on the bare FMU, a
+    container of it, and fmpy's SSP runner (which applies no parameter of the SSD unless
+    passed them) all equal our master bit for bit."""
+    fmus = need(built)
+    expected = reference(fmus, "defaults")
+    beam = fmu_paths()[BEAM]
+    assert_bit_identical(masters.run_libcosim(fmu=beam), TIP, expected, "libcosim")
+    assert_bit_identical(masters.run_ecos(fmu=beam), TIP, expected, "Ecos")
+    container = container_run(single_beam_csv({}), tmp_path, "defaults")
+    assert_bit_identical(container, ("", "beam.tip_deflection"), expected, "fmucontainer")
+    fmpy_ssp = masters.run_fmpy_ssp(masters.ssp_path(MONOLITHIC))
+    assert_bit_identical(fmpy_ssp, TIP, expected, "fmpy.ssp")
+
+
+# ----------------------------------------------------------------------------- parameters
+
+
+def test_non_default_choices_set_in_every_master_act_as_in_fmpy(built, tmp_path):
+    """fidelity.level = modal and friction.law = coulomb, set through each master's own
+    way of setting parameters, give fmpy's run with the same settings bit for bit, and
+    not the defaults."""
+    fmus = need(built)
+    expected = reference(fmus, "non-default")
+    defaults = reference(fmus, "defaults")
+    assert masters.deviation(expected, defaults) > 1e-4, "the settings change nothing"
+    beam = fmu_paths()[BEAM]
+    settings = codes(fmus, NON_DEFAULT)
+    runs = {
+        "libcosim": masters.run_libcosim(fmu=beam, parameters={"beam": settings}),
+        "Ecos": masters.run_ecos(fmu=beam, parameters={"beam": settings}),
+        "fmpy.ssp": masters.run_fmpy_ssp(
+            masters.ssp_path(MONOLITHIC),
+            parameters=masters.ssd_parameter_set(masters.ssp_path(MONOLITHIC), {"beam": settings}),
+        ),
+    }
+    for label, series in runs.items():
+        assert_bit_identical(series, TIP, expected, label)
+    container = container_run(single_beam_csv(settings), tmp_path, "nondefault")
+    assert_bit_identical(container, ("", "beam.tip_deflection"), expected, "fmucontainer")
+
+
+def test_the_monolithic_system_runs_its_parameter_set_in_every_master(built, tmp_path):
+    """StickSlipMonolithic.ssp sets friction.law = neural (and every other parameter to
+    its default) in its parameter set: libcosim and Ecos apply it from the SSD, fmpy's
+    runner when given the SSD's values, fmucontainer from the START rules of the link
+    list. All equal fmpy with friction.law = neural, which is not the default."""
+    fmus = need(built)
+    expected = reference(fmus, "monolithic")
+    assert masters.deviation(expected, reference(fmus, "defaults")) > 1e-4
+    ssp = masters.ssp_path(MONOLITHIC)
+    assert_bit_identical(masters.run_libcosim(ssp=ssp), TIP, expected, "libcosim")
+    assert_bit_identical(masters.run_ecos(ssp=ssp), TIP, expected, "Ecos")
+    fmpy_ssp = masters.run_fmpy_ssp(ssp, parameters=masters.ssd_parameter_set(ssp))
+    assert_bit_identical(fmpy_ssp, TIP, expected, "fmpy.ssp")
+    container = container_run(masters.csv_path(MONOLITHIC).read_text(), tmp_path, MONOLITHIC)
+    assert_bit_identical(container, ("", "beam.tip_deflection"), expected, "fmucontainer")
+
+
+def test_ecos_applies_no_parameter_set_unless_it_is_named(built):
+    """What an Ecos user must know: without init(parameter_set="initialValues") Ecos
+    silently runs the FMU's defaults, not the SSD's values."""
+    fmus = need(built)
+    unnamed = masters.run_ecos(ssp=masters.ssp_path(MONOLITHIC), parameter_set=None)
+    assert_bit_identical(unnamed, TIP, reference(fmus, "defaults"), "Ecos without a set")
+
+
+# ----------------------------------------------------------------------------- coupled system
+
+
+def test_the_coupled_system_equals_our_masters_scheme_for_scheme(built, tmp_path):
+    """libcosim's fixed-step algorithm, Ecos and a parallel container step every FMU from
+    the outputs of the last communication point: our Jacobi master, bit for bit. A
+    -sequential container steps the beam, then the friction law with the beam's new
+    outputs: our Gauss-Seidel master (beam first), bit for bit."""
+    fmus = need(built)
+    jacobi, gauss_seidel = reference(fmus, JACOBI), reference(fmus, GAUSS_SEIDEL)
+    # The schemes part after breakaway, so matching one is not matching both.
+    assert masters.deviation(jacobi, gauss_seidel) > 1e-5
+    ssp = masters.ssp_path(COUPLED)
+    assert_bit_identical(masters.run_libcosim(ssp=ssp), TIP, jacobi, "libcosim")
+    assert_bit_identical(masters.run_ecos(ssp=ssp), TIP, jacobi, "Ecos")
+    csv = masters.csv_path(COUPLED).read_text()
+    parallel = container_run(csv, tmp_path, "parallel")
+    assert_bit_identical(parallel, ("", "beam.tip_deflection"), jacobi, "fmucontainer")
+    sequential = container_run(csv, tmp_path, "sequential", sequential=True)
+    assert_bit_identical(sequential, ("", "beam.tip_deflection"), gauss_seidel, "-sequential")
+
+
+def test_fmpy_ssp_starts_the_connected_inputs_at_zero(built):
+    """fmpy's SSP runner steps every FMU, then copies outputs to inputs: Jacobi, but
+    without an exchange before the first step. Every connector starts at 0, so over the
+    first step the beam's static limit is 0 N: it slips at once (one transition), where
+    our masters keep it stuck until breakaway at 0.4 s. Its coupled run therefore leaves
+    ours from the first step on (README: fmpy.ssp)."""
+    fmus = need(built)
+    ssp = masters.ssp_path(COUPLED)
+    transitions = ("beam", "transitions")
+    series = masters.run_fmpy_ssp(
+        ssp, parameters=masters.ssd_parameter_set(ssp), record=(TIP, transitions), t_end=0.01
+    )
+    assert series.at_grid(transitions, 10)[1] == 1
+    jacobi = reference(fmus, JACOBI)
+    assert series.at_grid(TIP, 10)[1] != jacobi[1]
+    # Ours: no transition before breakaway.
+    ours = run_coupled(
+        fmus,
+        H,
+        0.01,
+        beam={},
+        friction={},
+        record={BEAM: ["transitions"]},
+        scheme=JACOBI,
+        coupling="signed",
+    )
+    assert (ours[BEAM, "transitions"] == 0).all()
+
+
+# ----------------------------------------------------------------------------- FMU errors
+
+
+def run_script(code: str, tmp: Path | None = None) -> subprocess.CompletedProcess:
+    """`code` in a fresh Python process (libcosim aborts the whole process on an FMU
+    error), with stdout and stderr together; `tmp` as its TMPDIR (an aborted libcosim
+    leaves its unpacked FMUs there)."""
+    env = dict(os.environ)
+    if tmp is not None:
+        env["TMPDIR"] = str(tmp)
+    return subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(code)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        timeout=120,
+        check=False,
+        env=env,
+    )
+
+
+REASON = "invalid scene: material.youngs_modulus = -1e0; it must be finite and > 0 (Pa)"
+
+
+def test_libcosim_shows_the_reason_then_aborts_the_process(built, tmp_path):
+    """libcosim logs the FMU's reason at error level, then ends the whole process with
+    SIGABRT from an uncaught C++ exception: no Python exception, nothing after it runs,
+    and its unpacked FMU is left in the temporary folder."""
+    need(built)
+    done = run_script(
+        f"""
+        from stickslip_checks import masters
+        masters.run_libcosim(fmu={str(fmu_paths()[BEAM])!r},
+                             parameters={{"beam": {{"material.youngs_modulus": -1.0}}}})
+        print("still running")
+        """,
+        tmp_path,
+    )
+    assert done.returncode == -6, done.stdout  # SIGABRT
+    assert list(tmp_path.glob("libcosim_*")), "libcosim cleaned up after all"
+    logged = f"[error]   [FMI status=error, category=logStatusError] fmi2GetReal: {REASON}"
+    assert logged in done.stdout
+    assert f"what():  Model error: fmi2GetReal: {REASON}" in done.stdout
+    assert "still running" not in done.stdout
+
+
+def test_ecos_hides_the_error_unless_its_log_level_is_debug(built):
+    """Ecos logs an FMU's fmi2Error at debug level only; init() returns True and the
+    steps go on, reading 0 from the failed FMU. At log level "debug" the reason shows."""
+    need(built)
+    script = """
+        import numpy as np
+        from stickslip_checks import masters
+        bad = {{"beam": {{"material.youngs_modulus": -1.0}}}}
+        series = masters.run_ecos(fmu={fmu!r}, parameters=bad, t_end=0.01, log_level={level!r})
+        print("outputs", np.unique(series.values[("beam", "tip_deflection")]))
+        """
+    fmu = str(fmu_paths()[BEAM])
+    quiet = run_script(script.format(fmu=fmu, level="warn"))
+    assert quiet.returncode == 0, quiet.stdout
+    assert "youngs_modulus" not in quiet.stdout
+    assert "outputs [0.]" in quiet.stdout
+    debug = run_script(script.format(fmu=fmu, level="debug"))
+    assert debug.returncode == 0, debug.stdout
+    assert f"fmi2Error fmi2ExitInitializationMode: {REASON}" in debug.stdout
+
+
+def test_fmucontainer_passes_the_error_and_the_reason_on(built, tmp_path):
+    """The container returns the embedded FMU's fmi2Error from
+    fmi2ExitInitializationMode and logs its reason with the FMU's name; fmpy shows both."""
+    need(built)
+    container, _ = masters.build_container(
+        single_beam_csv({"material.youngs_modulus": -1.0}), tmp_path, "error", sequential=False
+    )
+    done = run_script(
+        f"""
+        from stickslip_checks import masters
+        try:
+            masters.run_fmpy_fmu({str(container)!r}, ("beam.tip_deflection",), t_end=0.01)
+        except Exception as error:
+            print("raised", type(error).__name__, error)
+        """
+    )
+    assert f"[ERROR] StickSlipBeam.fmu: fmi2ExitInitializationMode: {REASON}" in done.stdout
+    assert "raised FMICallException fmi2ExitInitializationMode failed with status 3" in done.stdout
+
+
+def test_fmpy_ssp_shows_the_reason_and_raises(built):
+    need(built)
+    ssp = str(masters.ssp_path(MONOLITHIC))
+    done = run_script(
+        f"""
+        from stickslip_checks import masters
+        p = masters.ssd_parameter_set({ssp!r}, {{"beam": {{"material.youngs_modulus": -1.0}}}})
+        try:
+            masters.run_fmpy_ssp({ssp!r}, parameters=p, t_end=0.01)
+        except Exception as error:
+            print("raised", type(error).__name__, error)
+        """
+    )
+    assert f"fmi2ExitInitializationMode: {REASON}" in done.stdout, done.stdout
+    assert "raised FMICallException fmi2ExitInitializationMode failed with status 3" in done.stdout
