@@ -1029,7 +1029,7 @@ fn neural_inference_is_a_parameter_of_the_beam() {
         b.set_integer(
             &[
                 vr::<StickSlipBeam>("fidelity.level"),
-                vr::<StickSlipBeam>("friction.model"),
+                vr::<StickSlipBeam>("friction.law"),
                 vr::<StickSlipBeam>("friction.inference"),
             ],
             &[
@@ -1075,7 +1075,7 @@ fn neural_inference_is_a_parameter_of_the_beam() {
     let (mut b, log) = beam(false);
     b.set_integer(
         &[
-            vr::<StickSlipBeam>("friction.model"),
+            vr::<StickSlipBeam>("friction.law"),
             vr::<StickSlipBeam>("friction.inference"),
         ],
         &[FrictionLawKind::Neural.code(), Inference::Table.code()],

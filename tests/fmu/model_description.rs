@@ -242,8 +242,8 @@ fn the_annotated_choices_are_the_scenes_choices() {
         annotated_choices(&checked_in(FmuKind::StickSlipBeam)),
         vec![
             declared::<FrictionLawKind>("friction.law"),
-            declared::<Inference>("friction.inference"),
             declared::<ExternalCoupling>("external.coupling"),
+            declared::<Inference>("friction.inference"),
             declared::<HoldingForce>("contact.holding_force"),
             declared::<SlidingVelocity>("contact.sliding_velocity"),
             declared::<InitialState>("contact.initial_state"),
