@@ -164,8 +164,9 @@ fn complete(seen: DependencyMap, declared: &DependencyMap) -> DependencyMap {
 
 /// A copy of the paper's network with four more features (role `other`, trained range
 /// [-1, 1]) that every hidden unit of the first layer reads: a network that uses all of
-/// NeuralFriction's inputs.
-fn six_feature_weights() -> PathBuf {
+/// NeuralFriction's inputs. Written to a temporary file named after `tag` and the
+/// process (tests run in parallel, and each removes its file).
+pub(crate) fn six_feature_weights(tag: &str) -> PathBuf {
     let mut model =
         NeuralModel::load(&stickslip_tests::weights_dir().join("paper-plain.json")).unwrap();
     for k in 1..=4 {
@@ -186,7 +187,7 @@ fn six_feature_weights() -> PathBuf {
         }
     }
     let path = std::env::temp_dir().join(format!(
-        "stickslip-six-features-{}.json",
+        "stickslip-six-features-{tag}-{}.json",
         std::process::id()
     ));
     model.save(&path).unwrap();
@@ -207,7 +208,7 @@ fn friction() -> Instance<NeuralFriction> {
 fn neural_friction_outputs_change_with_exactly_the_inputs_and_parameters_declared() {
     let (declared_outputs, declared_initial) =
         declared(&FmuKind::NeuralFriction.model_description());
-    let weights = six_feature_weights();
+    let weights = six_feature_weights("dependencies");
     let weights = weights.to_str().unwrap().to_string();
     let neural = LawChoice::Neural.code();
     let exponential = LawChoice::Exponential.code();

@@ -10,3 +10,4 @@ mod instance;
 mod long_run;
 mod model_description;
 mod threads_resources;
+mod values3;

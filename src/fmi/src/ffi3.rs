@@ -24,6 +24,7 @@ use crate::ffi::{
     unsupported, with_component, Component,
 };
 use crate::instance::{Call, FmiVersion, Logger, Status};
+use crate::values3;
 use crate::FmuKind;
 use libc::size_t;
 use std::ffi::{c_char, c_int, c_void};
@@ -349,8 +350,52 @@ macro_rules! via_fmi2 {
     };
 }
 
-via_fmi2!(fmi3GetFloat64, ffi::fmi2GetReal, *mut fmi3Float64);
-via_fmi2!(fmi3SetFloat64, ffi::fmi2SetReal, *const fmi3Float64);
+/// fmi3GetFloat64: besides scalars, `time` and array variables, whose values take more
+/// than one slot of `values` (`values3`), so nValues is checked there.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetFloat64(
+    instance: fmi3Instance,
+    valueReferences: *const fmi3ValueReference,
+    nValueReferences: size_t,
+    values: *mut fmi3Float64,
+    nValues: size_t,
+) -> fmi3Status {
+    const CALL: &str = "fmi3GetFloat64";
+    unsafe {
+        with_component(instance, CALL, |component| {
+            let (Some(vrs), Some(out)) = (
+                slice(valueReferences, nValueReferences),
+                slice_mut(values, nValues),
+            ) else {
+                return null_argument(component, CALL, "valueReferences or values");
+            };
+            status(each!(&mut component.instance, i => values3::get(i, vrs, out)))
+        })
+    }
+}
+
+/// fmi3SetFloat64: as [`fmi3GetFloat64`]; `time` cannot be set.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetFloat64(
+    instance: fmi3Instance,
+    valueReferences: *const fmi3ValueReference,
+    nValueReferences: size_t,
+    values: *const fmi3Float64,
+    nValues: size_t,
+) -> fmi3Status {
+    const CALL: &str = "fmi3SetFloat64";
+    unsafe {
+        with_component(instance, CALL, |component| {
+            let (Some(vrs), Some(values)) = (
+                slice(valueReferences, nValueReferences),
+                slice(values, nValues),
+            ) else {
+                return null_argument(component, CALL, "valueReferences or values");
+            };
+            status(each!(&mut component.instance, i => values3::set(i, vrs, values)))
+        })
+    }
+}
 via_fmi2!(fmi3GetInt32, ffi::fmi2GetInteger, *mut fmi3Int32);
 via_fmi2!(fmi3SetInt32, ffi::fmi2SetInteger, *const fmi3Int32);
 via_fmi2!(fmi3GetString, ffi::fmi2GetString, *mut fmi3String);

@@ -4,7 +4,8 @@
 //! The outputs follow the inputs directly (no state): they are evaluated when read. A
 //! network's features are filled by role: the one with role sliding_velocity from
 //! `sliding_velocity`, normal_force from `normal_force`, and any further features, in
-//! the order the weights file lists them, from `extra_feature[1]` ... `extra_feature[4]`.
+//! the order the weights file lists them, from `extra_feature[1]` ... `extra_feature[4]`
+//! (in FMI 3.0 the four elements of the array variable `extra_feature`).
 //! Inputs are clamped to the network's training range (see `neural`).
 //!
 //! Besides the force, its slope dF/dv at the input (`friction_force_slope`, by
@@ -16,8 +17,8 @@
 use crate::model::{Model, ModelInfo};
 use crate::networks::{weights_name, NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use crate::variables::{
-    choice_at, Access, Causality, ChoiceType, Dependencies, DependencyKind, InitialDependencies,
-    Variability, Variable,
+    choice_at, Access, ArrayVariable, Causality, ChoiceType, Dependencies, DependencyKind,
+    InitialDependencies, Variability, Variable,
 };
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -262,6 +263,18 @@ const SLIDING_VELOCITY: u32 = 10;
 const NORMAL_FORCE: u32 = 11;
 /// extra_feature[1] ... extra_feature[4].
 const EXTRA_FEATURE: [u32; EXTRA_FEATURES] = [12, 13, 14, 15];
+/// The FMI 3.0 array `extra_feature` of those four: a value reference of its own (16,
+/// free in both descriptions), so that 12 means `extra_feature[1]` in FMI 2.0 and
+/// nothing in FMI 3.0, never the whole array.
+pub const EXTRA_FEATURE_ARRAY: u32 = 16;
+
+/// NeuralFriction's FMI 3.0 arrays: the extra features.
+static ARRAYS: &[ArrayVariable] = &[ArrayVariable {
+    name: "extra_feature",
+    value_reference: EXTRA_FEATURE_ARRAY,
+    description: "Network features besides velocity and normal force, in the order the weights file lists them, if any",
+    elements: &EXTRA_FEATURE,
+}];
 
 /// What the force, its magnitude and the coefficient depend on: the law is evaluated
 /// from the inputs when an output is read, so every input it may read reaches them
@@ -468,6 +481,10 @@ impl Model for NeuralFriction {
 
     fn variables() -> &'static [Variable<Self>] {
         VARIABLES
+    }
+
+    fn arrays() -> &'static [ArrayVariable] {
+        ARRAYS
     }
 
     fn with_defaults() -> Self {

@@ -18,7 +18,8 @@
 //! - `ffi`: the 34 FMI 2.0 `extern "C"` functions, which only convert C arguments and
 //!   catch panics;
 //! - `ffi3`: the 75 FMI 3.0 functions over the same instances (the FMUs under
-//!   `target/fmu/3.0/`); most call their FMI 2.0 twins.
+//!   `target/fmu/3.0/`); most call their FMI 2.0 twins;
+//! - `values3`: what an FMI 3.0 Float64 request stands for (time, arrays, scalars).
 
 pub mod beam;
 pub mod ffi;
@@ -28,6 +29,7 @@ pub mod instance;
 pub mod model;
 pub mod model_description;
 pub mod networks;
+pub mod values3;
 pub mod variables;
 pub mod version;
 

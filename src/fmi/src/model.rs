@@ -2,7 +2,7 @@
 //! the interface between the plain-Rust models (`beam`, `friction`) and the FMI layer
 //! (`instance`, `model_description`, `ffi`).
 
-use crate::variables::Variable;
+use crate::variables::{ArrayVariable, Variable};
 use std::path::Path;
 
 /// Static facts of an FMU.
@@ -33,6 +33,12 @@ pub trait Model: Send + Sized + 'static {
 
     /// The variable table (one source of truth for the XML and the accessors).
     fn variables() -> &'static [Variable<Self>];
+
+    /// The FMI 3.0 array variables made of rows of [`Model::variables`] (none by
+    /// default). The FMI 2.0 description keeps the rows as scalars.
+    fn arrays() -> &'static [ArrayVariable] {
+        &[]
+    }
 
     /// A model with every variable at its start value and nothing loaded.
     fn with_defaults() -> Self;

@@ -18,8 +18,8 @@
 
 use crate::model::Model;
 use crate::variables::{
-    Access, Causality, ChoiceType, DependencyKind, InitialDependencies, Variability, Variable,
-    UNITS,
+    Access, ArrayVariable, Causality, ChoiceType, DependencyKind, InitialDependencies, Variability,
+    Variable, UNITS,
 };
 use crate::version::FmiVersion;
 use std::fmt::Write;
@@ -335,6 +335,7 @@ fn write_choices<M>(w: &mut String, variables: &[Variable<M>]) {
 /// one table, so one hash names the interface, and an FMU state saved through one
 /// version restores through the other.
 /// The value reference of FMI 3.0's independent variable `time`; no table uses it.
+/// fmi3GetFloat64 reads the instance's time there (`values3`).
 pub const TIME_VALUE_REFERENCE: u32 = 0;
 
 fn body3<M: Model>(token: &str) -> String {
@@ -362,12 +363,20 @@ fn body3<M: Model>(token: &str) -> String {
     let _ = writeln!(w, "  <ModelVariables>");
     // FMI 3.0 requires exactly one independent variable (section 2.4.7.4); FMI 2.0 left
     // time implicit. It is not in the tables: it is the instance's clock, not a model
-    // value, and it cannot be got or set.
+    // value; fmi3GetFloat64 reads it and fmi3SetFloat64 refuses it (`values3`).
     let _ = writeln!(
         w,
         r#"    <Float64 name="time" valueReference="{TIME_VALUE_REFERENCE}" description="Simulation time (s)" causality="independent" variability="continuous"/>"#
     );
     for v in variables {
+        // An array's elements are rows of the table: the array is written in place of
+        // its first element, the other elements not at all.
+        if let Some((array, index)) = ArrayVariable::containing(M::arrays(), v.value_reference) {
+            if index == 1 {
+                write_array(w, array, variables, &defaults);
+            }
+            continue;
+        }
         let initial = match v.causality {
             Causality::Parameter => r#" initial="exact""#,
             Causality::Input => "",
@@ -432,13 +441,17 @@ fn body3<M: Model>(token: &str) -> String {
     }
     let _ = writeln!(w, "  </ModelVariables>");
 
-    // The same dependencies as FMI 2.0's, named by value reference instead of index.
-    let vr_of = |k: usize| variables[k - 1].value_reference as usize;
+    // The same dependencies as FMI 2.0's, named by value reference instead of index;
+    // an array element by its array (no per-element dependencies: the output depends
+    // on the whole array if on any element).
+    let vr_of = |k: usize| {
+        let vr = variables[k - 1].value_reference;
+        ArrayVariable::containing(M::arrays(), vr).map_or(vr, |(a, _)| a.value_reference) as usize
+    };
     let _ = writeln!(w, "  <ModelStructure>");
     let dependencies = output_dependencies(variables);
     for (k, d) in &dependencies {
-        let (indices, kinds): (Vec<usize>, Vec<DependencyKind>) = d.step.iter().copied().unzip();
-        let vrs: Vec<usize> = indices.into_iter().map(vr_of).collect();
+        let (vrs, kinds) = merge_elements(d.step.iter().map(|&(k, kind)| (vr_of(k), kind)));
         let _ = writeln!(
             w,
             r#"    <Output valueReference="{}"{}/>"#,
@@ -447,7 +460,11 @@ fn body3<M: Model>(token: &str) -> String {
         );
     }
     for (k, d) in &dependencies {
-        let vrs: Vec<usize> = d.initial.iter().copied().map(vr_of).collect();
+        let (vrs, _) = merge_elements(
+            d.initial
+                .iter()
+                .map(|&k| (vr_of(k), DependencyKind::Dependent)),
+        );
         let _ = writeln!(
             w,
             r#"    <InitialUnknown valueReference="{}"{}/>"#,
@@ -463,6 +480,70 @@ fn body3<M: Model>(token: &str) -> String {
     // words from the FMI 2.0 description, generated from the same table.
     let _ = writeln!(w, "</fmiModelDescription>");
     x
+}
+
+/// An FMI 3.0 array variable: a `<Float64>` with the first element's causality,
+/// variability and unit, the start values of all elements (in element order, which is
+/// row-major order for a vector) and one `<Dimension start="N"/>`.
+fn write_array<M>(
+    w: &mut String,
+    array: &ArrayVariable,
+    variables: &'static [Variable<M>],
+    defaults: &M,
+) {
+    let first = match array.check(variables) {
+        Ok(first) => first,
+        Err(reason) => panic!("{reason}"),
+    };
+    let unit = match first.access {
+        Access::Real { unit, .. } => unit,
+        _ => None,
+    };
+    let initial = match first.causality {
+        Causality::Parameter => r#" initial="exact""#,
+        Causality::Input | Causality::Output => "",
+    };
+    let start = if first.causality == Causality::Output {
+        String::new()
+    } else {
+        let values: Vec<String> = array
+            .elements
+            .iter()
+            .filter_map(|&vr| variables.iter().find(|v| v.value_reference == vr))
+            .map(|v| real(v.get_real(defaults)))
+            .collect();
+        format!(r#" start="{}""#, values.join(" "))
+    };
+    let _ = writeln!(
+        w,
+        r#"    <Float64 name="{}" valueReference="{}" description="{}" causality="{}" variability="{}"{initial}{}{start}>"#,
+        escape(array.name),
+        array.value_reference,
+        escape(array.description),
+        first.causality.as_str(),
+        first.variability.as_str(),
+        unit.map(|u| format!(r#" declaredType="{}""#, escape(u)))
+            .unwrap_or_default(),
+    );
+    let _ = writeln!(w, r#"      <Dimension start="{}"/>"#, array.elements.len());
+    let _ = writeln!(w, "    </Float64>");
+}
+
+/// Dependencies by value reference with the elements of an array merged into one
+/// entry (the first occurrence's place). Elements that enter in different ways make
+/// the array's kind "dependent", the kind that claims no structure.
+fn merge_elements(
+    dependencies: impl Iterator<Item = (usize, DependencyKind)>,
+) -> (Vec<usize>, Vec<DependencyKind>) {
+    let mut merged: Vec<(usize, DependencyKind)> = Vec::new();
+    for (vr, kind) in dependencies {
+        match merged.iter_mut().find(|(v, _)| *v == vr) {
+            Some((_, known)) if *known != kind => *known = DependencyKind::Dependent,
+            Some(_) => {}
+            None => merged.push((vr, kind)),
+        }
+    }
+    merged.into_iter().unzip()
 }
 
 /// An output's dependencies as ModelStructure lists them: (1-based ScalarVariable

@@ -250,6 +250,87 @@ pub struct Variable<M: 'static> {
     pub depends_on: Option<Dependencies>,
 }
 
+/// An FMI 3.0 array variable made of scalar rows of the same table (FMI 3.0 section
+/// 2.4.7.8, one `<Dimension start="N"/>`). The rows stay the variables of the FMI 2.0
+/// description, which has no arrays; the FMI 3.0 description writes the array in place
+/// of its first element and leaves the others out, and fmi3GetFloat64/fmi3SetFloat64
+/// read and write the elements in this order (a vector: row-major order is this order).
+/// The elements must be Real rows of one causality, variability and unit (checked by
+/// [`ArrayVariable::check`]).
+#[derive(Debug)]
+pub struct ArrayVariable {
+    pub name: &'static str,
+    /// Its own value reference: no FMI 2.0 variable has it, so that no value reference
+    /// names a scalar in one version and an array in the other.
+    pub value_reference: u32,
+    pub description: &'static str,
+    /// The value references of its elements in the table, element 1 first.
+    pub elements: &'static [u32],
+}
+
+impl ArrayVariable {
+    /// The array of `arrays` that element `vr` belongs to, with the element's 1-based
+    /// index.
+    pub fn containing(
+        arrays: &'static [ArrayVariable],
+        vr: u32,
+    ) -> Option<(&'static ArrayVariable, usize)> {
+        arrays
+            .iter()
+            .find_map(|a| a.elements.iter().position(|&e| e == vr).map(|k| (a, k + 1)))
+    }
+
+    /// Checks the array against the table: every element exists, is a Real and shares
+    /// the first element's causality, variability and unit, and the array's own value
+    /// reference names no row. Returns the first element's row.
+    pub fn check<M>(&self, table: &'static [Variable<M>]) -> Result<&'static Variable<M>, String> {
+        if table
+            .iter()
+            .any(|v| v.value_reference == self.value_reference)
+        {
+            return Err(format!(
+                "array {}: value reference {} is also a scalar's",
+                self.name, self.value_reference
+            ));
+        }
+        let rows: Vec<&'static Variable<M>> = self
+            .elements
+            .iter()
+            .map(|&vr| {
+                table
+                    .iter()
+                    .find(|v| v.value_reference == vr)
+                    .ok_or_else(|| {
+                        format!("array {}: no element has value reference {vr}", self.name)
+                    })
+            })
+            .collect::<Result<_, _>>()?;
+        let first = *rows
+            .first()
+            .ok_or_else(|| format!("array {} has no elements", self.name))?;
+        let unit = |v: &Variable<M>| match v.access {
+            Access::Real { unit, .. } => Ok(unit),
+            _ => Err(format!(
+                "array {}: element {} is not a Real",
+                self.name, v.name
+            )),
+        };
+        let first_unit = unit(first)?;
+        for row in &rows {
+            if unit(row)? != first_unit
+                || row.causality != first.causality
+                || row.variability != first.variability
+            {
+                return Err(format!(
+                    "array {}: element {} differs from {} in unit, causality or variability",
+                    self.name, row.name, first.name
+                ));
+            }
+        }
+        Ok(first)
+    }
+}
+
 /// A unit in SI base-unit exponents (kg, m, s).
 #[derive(Debug)]
 pub struct Unit {
