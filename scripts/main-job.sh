@@ -9,7 +9,7 @@ cd "$root"
 out="$root/out"
 mkdir -p "$out"
 bash scripts/system-deps.sh
-echo "== fmu-build: target/fmu/StickSlipBeam.fmu and target/fmu/NeuralFriction.fmu (FMI 2.0), target/fmu/3.0/*.fmu (FMI 3.0)"
+echo "== fmu-build: target/fmu/2.0/*.fmu (FMI 2.0, with the SSP systems and fmucontainer link lists) and target/fmu/3.0/*.fmu (FMI 3.0)"
 # zig and cargo-zigbuild (.venv-zig): fmu-build links the FMU binary for glibc 2.17.
 bash scripts/zig-env.sh >/dev/null
 cargo run --release -p fmu-build

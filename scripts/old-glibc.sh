@@ -28,7 +28,7 @@ suite="${OLD_GLIBC_SUITE:-bullseye}"
 target="${CARGO_TARGET_DIR:-target}"
 case "$target" in /*) ;; *) target="$root/$target" ;; esac
 work="$target/old-glibc"
-fmu="$target/fmu/StickSlipBeam.fmu"
+fmu="$target/fmu/2.0/StickSlipBeam.fmu"
 host_library="$target/release/libstickslip_fmi.so"
 if [ ! -f "$fmu" ]; then
   echo "old-glibc: $fmu is missing; run cargo run --release -p fmu-build first" >&2

@@ -139,21 +139,56 @@ pub fn target_dir() -> PathBuf {
         .unwrap_or_else(|| workspace_root().join("target"))
 }
 
-/// Where the FMUs are written.
-pub fn fmu_dir() -> PathBuf {
+/// The folder of everything fmu-build writes: `target/fmu/`, with one folder per FMI
+/// version, as Reference-FMUs sorts its builds (`2.0/`, `3.0/`). Nothing is written
+/// at its top level ([`remove_old_layout`]).
+pub fn fmu_root() -> PathBuf {
     target_dir().join("fmu")
 }
 
-/// Path of the packaged FMU of `kind`.
+/// Where the FMI 2.0 FMUs are written: `target/fmu/2.0/`. The SSP systems and
+/// fmucontainer's link lists are written next to them: an SSP 1.0 system embeds FMI 2.0
+/// FMUs (these), and fmucontainer reads the FMUs a link list names from the list's own
+/// folder.
+pub fn fmu_dir() -> PathBuf {
+    fmu_root().join("2.0")
+}
+
+/// Path of the packaged FMI 2.0 FMU of `kind`.
 pub fn fmu_path(kind: FmuKind) -> PathBuf {
     fmu_dir().join(format!("{}.fmu", kind.model_identifier()))
 }
 
-/// Where the FMI 3.0 FMUs are written: `target/fmu/3.0/`, as Reference-FMUs sorts
-/// its builds by FMI version. The FMI 2.0 FMUs stay in `target/fmu/`, where the SSP
-/// files, the scripts and the masters' tests find them.
+/// Where the FMI 3.0 FMUs are written: `target/fmu/3.0/`.
 pub fn fmu3_dir() -> PathBuf {
-    fmu_dir().join("3.0")
+    fmu_root().join("3.0")
+}
+
+/// Removes what an older fmu-build wrote at the top of `root` (`target/fmu/*.fmu`,
+/// `*.ssp`, `*.csv`, from before the FMUs moved to `2.0/`), so that a script or a
+/// master pointed at an old path fails instead of running a stale FMU. Returns what it
+/// removed.
+pub fn remove_old_layout(root: &Path) -> Result<Vec<PathBuf>, BuildError> {
+    let mut removed = Vec::new();
+    let entries = match std::fs::read_dir(root) {
+        Ok(entries) => entries,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(removed),
+        Err(e) => return Err(io(root)(e)),
+    };
+    for entry in entries {
+        let path = entry.map_err(io(root))?.path();
+        let old = path.is_file()
+            && matches!(
+                path.extension().and_then(|e| e.to_str()),
+                Some("fmu" | "ssp" | "csv")
+            );
+        if old {
+            std::fs::remove_file(&path).map_err(io(&path))?;
+            removed.push(path);
+        }
+    }
+    removed.sort();
+    Ok(removed)
 }
 
 /// Path of the packaged FMI 3.0 FMU of `kind`.

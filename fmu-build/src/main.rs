@@ -1,9 +1,10 @@
 //! `cargo run --release -p fmu-build`: builds the stickslip library and writes
-//! `target/fmu/StickSlipBeam.fmu` and `target/fmu/NeuralFriction.fmu` (FMI 2.0), their
-//! FMI 3.0 versions `target/fmu/3.0/*.fmu` (the same library), then the SSP
-//! systems around them (`target/fmu/StickSlipCoupled.ssp`,
-//! `target/fmu/StickSlipMonolithic.ssp`) and fmucontainer's link list of each
-//! (`target/fmu/<system>.csv`).
+//! `target/fmu/2.0/StickSlipBeam.fmu` and `target/fmu/2.0/NeuralFriction.fmu` (FMI 2.0),
+//! their FMI 3.0 versions `target/fmu/3.0/*.fmu` (the same library), then the SSP
+//! systems around the FMI 2.0 FMUs (`target/fmu/2.0/StickSlipCoupled.ssp`,
+//! `target/fmu/2.0/StickSlipMonolithic.ssp`) and fmucontainer's link list of each
+//! (`target/fmu/2.0/<system>.csv`). Files an older fmu-build left at the top of
+//! `target/fmu/` are removed.
 //!
 //! `--update-model-descriptions` rewrites the checked-in `modelDescription/*.xml` and
 //! `modelDescription/3.0/*.xml` from
@@ -86,6 +87,12 @@ fn run() -> Result<(), BuildError> {
             library.display(),
             glibc::FLOOR,
             problems.join(", ")
+        );
+    }
+    for path in fmu_build::remove_old_layout(&fmu_build::fmu_root())? {
+        println!(
+            "removed {} (the FMI 2.0 files are in 2.0/ now)",
+            path.display()
         );
     }
     for kind in FmuKind::ALL {

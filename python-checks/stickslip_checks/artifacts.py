@@ -2,9 +2,11 @@
 where the FMUs and the `stickslip` binary are, and how a variable's name, type and
 choices map to FMI value references and integer codes.
 
-- FMUs: $STICKSLIP_FMU_DIR, else $CARGO_TARGET_DIR/fmu (relative to the repository
-  root, as fmu-build resolves it), else <repo>/target/fmu, where
-  `cargo run --release -p fmu-build` writes them.
+- FMUs: under $STICKSLIP_FMU_DIR, else $CARGO_TARGET_DIR/fmu (relative to the
+  repository root, as fmu-build resolves it), else <repo>/target/fmu, where
+  `cargo run --release -p fmu-build` writes them: the FMI 2.0 FMUs, the SSP systems and
+  fmucontainer's link lists in its `2.0/` folder, the FMI 3.0 FMUs in `3.0/`. Nothing is
+  read from the top of that folder, where an older fmu-build wrote the FMI 2.0 files.
 - Binary: $STICKSLIP_BIN, else the release binary, built (if needed) by cargo.
 - Value references, types, start values and the choices of every variable are read from
   each FMU's modelDescription.xml; nothing here is hard-coded. A choice variable is an
@@ -34,7 +36,10 @@ FRICTION = "NeuralFriction"
 # The item of StickSlipBeam's fidelity.level that is not a structural model: it picks one
 # of the others (and a time step and integrator) by itself. See `fidelities`.
 AUTO = "auto"
-BUILD_HINT = "run `cargo run --release -p fmu-build` first (it writes <target dir>/fmu/*.fmu)"
+BUILD_HINT = (
+    "run `cargo run --release -p fmu-build` first "
+    "(it writes <target dir>/fmu/2.0/*.fmu and <target dir>/fmu/3.0/*.fmu)"
+)
 
 
 def _repo_root() -> Path:
@@ -62,8 +67,9 @@ def shipped_training() -> dict:
     return json.loads(SHIPPED_WEIGHTS.read_text())["training"]
 
 
-def fmu_dir() -> Path:
-    """$STICKSLIP_FMU_DIR, else $CARGO_TARGET_DIR/fmu, else <repo>/target/fmu."""
+def fmu_root() -> Path:
+    """$STICKSLIP_FMU_DIR, else $CARGO_TARGET_DIR/fmu, else <repo>/target/fmu: the folder
+    that holds one folder per FMI version (`2.0/`, `3.0/`)."""
     if os.environ.get("STICKSLIP_FMU_DIR"):
         return Path(os.environ["STICKSLIP_FMU_DIR"])
     if os.environ.get("CARGO_TARGET_DIR"):
@@ -72,8 +78,15 @@ def fmu_dir() -> Path:
     return REPO / "target" / "fmu"
 
 
+def fmu_dir() -> Path:
+    """<fmu root>/2.0: the FMI 2.0 FMUs, the SSP systems that embed them and
+    fmucontainer's link lists (which name FMUs in their own folder)."""
+    return fmu_root() / "2.0"
+
+
 def fmu_paths() -> dict[str, Path]:
-    """Paths of both FMUs; FileNotFoundError (with the build command) if one is missing."""
+    """Paths of both FMI 2.0 FMUs; FileNotFoundError (with the build command) if one is
+    missing."""
     directory = fmu_dir()
     paths = {name: directory / f"{name}.fmu" for name in (BEAM, FRICTION)}
     missing = [str(p) for p in paths.values() if not p.is_file()]
@@ -83,9 +96,9 @@ def fmu_paths() -> dict[str, Path]:
 
 
 def fmu3_paths() -> dict[str, Path]:
-    """Paths of both FMI 3.0 FMUs (<fmu dir>/3.0/, the same library as the FMI 2.0 ones);
+    """Paths of both FMI 3.0 FMUs (<fmu root>/3.0/, the same library as the FMI 2.0 ones);
     FileNotFoundError (with the build command) if one is missing."""
-    directory = fmu_dir() / "3.0"
+    directory = fmu_root() / "3.0"
     paths = {name: directory / f"{name}.fmu" for name in (BEAM, FRICTION)}
     missing = [str(p) for p in paths.values() if not p.is_file()]
     if missing:

@@ -32,8 +32,9 @@
 Exits with status 1 if validation reports a problem or if a run's breakaway is not within
 1 ms of 0.400 s.
 
-The FMUs are read from $STICKSLIP_FMU_DIR, else $CARGO_TARGET_DIR/fmu, else
-<repo>/target/fmu (where `cargo run --release -p fmu-build` writes them; see artifacts).
+The FMUs are read from the 2.0/ folder of $STICKSLIP_FMU_DIR, else of
+$CARGO_TARGET_DIR/fmu, else of <repo>/target/fmu (where
+`cargo run --release -p fmu-build` writes them; see artifacts).
 The coupled runs and the law sweeps go through the co-simulation master (master.run);
 the embedded runs through fmpy's simulate_fmu.
 

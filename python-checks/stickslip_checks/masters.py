@@ -46,7 +46,8 @@ NANOSECONDS = 1_000_000_000
 
 
 def ssp_path(system: str) -> Path:
-    """target/fmu/<system>.ssp; FileNotFoundError with the build command if missing."""
+    """target/fmu/2.0/<system>.ssp (next to the FMI 2.0 FMUs it embeds);
+    FileNotFoundError with the build command if missing."""
     path = artifacts.fmu_dir() / f"{system}.ssp"
     if not path.is_file():
         raise FileNotFoundError(f"missing {path}: {artifacts.BUILD_HINT}")
@@ -54,7 +55,7 @@ def ssp_path(system: str) -> Path:
 
 
 def csv_path(system: str) -> Path:
-    """target/fmu/<system>.csv, fmucontainer's link list of the system."""
+    """target/fmu/2.0/<system>.csv, fmucontainer's link list of the system."""
     path = artifacts.fmu_dir() / f"{system}.csv"
     if not path.is_file():
         raise FileNotFoundError(f"missing {path}: {artifacts.BUILD_HINT}")

@@ -1,4 +1,4 @@
-"""The FMI 3.0 FMUs (<fmu dir>/3.0/*.fmu) under fmpy: validation, the same results as the
+"""The FMI 3.0 FMUs (<fmu root>/3.0/*.fmu) under fmpy: validation, the same results as the
 FMI 2.0 FMUs bit for bit, the FMI 3.0 state machine refusing illegal calls, FMU state
 round trips, and resourcePath as a path.
 

@@ -1,8 +1,9 @@
 """The FMUs under fmpy: validation, the stick-slip curve (against the command line),
 missing resources, refused inputs and parameters, and the FMI call order.
 
-Needs the FMUs built by `cargo run --release -p fmu-build`; they are read from
-$STICKSLIP_FMU_DIR, else $CARGO_TARGET_DIR/fmu, else <repo>/target/fmu. Without them every
+Needs the FMUs built by `cargo run --release -p fmu-build`; they are read from the 2.0/
+folder of $STICKSLIP_FMU_DIR, else of $CARGO_TARGET_DIR/fmu, else of <repo>/target/fmu.
+Without them every
 test here FAILS (it is not skipped) and says how to build them. The command-line binary
 is $STICKSLIP_BIN, else the release binary built (if needed) by cargo.
 
@@ -80,6 +81,16 @@ def still_usable(fmus: Fmus, slave, name: str) -> None:
 def test_fmu_dir_missing_fails_with_the_build_command(tmp_path, monkeypatch):
     monkeypatch.setenv("STICKSLIP_FMU_DIR", str(tmp_path / "no-such-dir"))
     with pytest.raises(FileNotFoundError, match="cargo run --release -p fmu-build"):
+        fmu_paths()
+
+
+def test_fmus_left_at_the_old_top_level_paths_are_not_used(tmp_path, monkeypatch):
+    """An older fmu-build wrote the FMI 2.0 FMUs at <fmu root>/*.fmu; they now live in
+    <fmu root>/2.0/. A stale copy at the old place must not be run in their stead."""
+    for name in (BEAM, FRICTION):
+        (tmp_path / f"{name}.fmu").write_bytes(b"stale")
+    monkeypatch.setenv("STICKSLIP_FMU_DIR", str(tmp_path))
+    with pytest.raises(FileNotFoundError, match="2.0"):
         fmu_paths()
 
 

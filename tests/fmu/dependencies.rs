@@ -11,10 +11,8 @@
 //! Rust tables.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::PathBuf;
 use stickslip::choice::Choice;
 use stickslip::friction::LawChoice;
-use stickslip::neural::{weights::FeatureSpec, FeatureRole, NeuralModel};
 use stickslip::scene::{FidelityLevel, FrictionLawKind};
 use stickslip::simulation::ExternalCoupling;
 use stickslip_fmi::beam::StickSlipBeam;
@@ -162,38 +160,6 @@ fn complete(seen: DependencyMap, declared: &DependencyMap) -> DependencyMap {
         .collect()
 }
 
-/// A copy of the paper's network with four more features (role `other`, trained range
-/// [-1, 1]) that every hidden unit of the first layer reads: a network that uses all of
-/// NeuralFriction's inputs. Written to a temporary file named after `tag` and the
-/// process (tests run in parallel, and each removes its file).
-pub(crate) fn six_feature_weights(tag: &str) -> PathBuf {
-    let mut model =
-        NeuralModel::load(&stickslip_tests::weights_dir().join("paper-plain.json")).unwrap();
-    for k in 1..=4 {
-        model.features.push(FeatureSpec {
-            name: format!("extra{k}"),
-            unit: String::new(),
-            role: FeatureRole::Other,
-            input_mean: 0.0,
-            input_std: 1.0,
-            min: -1.0,
-            max: 1.0,
-        });
-    }
-    model.layer_sizes[0] = 6;
-    for (o, row) in model.layers[0].weights.iter_mut().enumerate() {
-        for k in 0..4 {
-            row.push(0.2 + 0.05 * ((o + k) % 5) as f64);
-        }
-    }
-    let path = std::env::temp_dir().join(format!(
-        "stickslip-six-features-{tag}-{}.json",
-        std::process::id()
-    ));
-    model.save(&path).unwrap();
-    path
-}
-
 fn friction() -> Instance<NeuralFriction> {
     Instance::new(
         "friction",
@@ -208,7 +174,7 @@ fn friction() -> Instance<NeuralFriction> {
 fn neural_friction_outputs_change_with_exactly_the_inputs_and_parameters_declared() {
     let (declared_outputs, declared_initial) =
         declared(&FmuKind::NeuralFriction.model_description());
-    let weights = six_feature_weights("dependencies");
+    let weights = stickslip_tests::six_feature_weights("dependencies");
     let weights = weights.to_str().unwrap().to_string();
     let neural = LawChoice::Neural.code();
     let exponential = LawChoice::Exponential.code();

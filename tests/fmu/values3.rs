@@ -8,7 +8,6 @@
 //! gives with the same four values set through the scalars `extra_feature[1..4]`, and
 //! other values give other outputs.
 
-use crate::dependencies::six_feature_weights;
 use std::ffi::{c_void, CStr, CString};
 use std::ptr::null;
 use std::sync::Mutex;
@@ -19,6 +18,7 @@ use stickslip_fmi::friction::{NeuralFriction, EXTRA_FEATURE_ARRAY};
 use stickslip_fmi::instance::Instance;
 use stickslip_fmi::model_description::TIME_VALUE_REFERENCE;
 use stickslip_fmi::FmuKind;
+use stickslip_tests::six_feature_weights;
 use stickslip_tests::vr;
 
 const OK: fmi3Status = 0;

@@ -20,6 +20,40 @@ pub fn weights_dir() -> PathBuf {
     workspace_root().join("weights")
 }
 
+/// A copy of the paper's network with four more features (role `other`, trained range
+/// [-1, 1]) that every hidden unit of the first layer reads: a network that uses all of
+/// NeuralFriction's inputs. Written to a temporary file named after `tag` and the
+/// process (tests run in parallel, and each removes its file).
+pub fn six_feature_weights(tag: &str) -> PathBuf {
+    let mut model =
+        stickslip::neural::NeuralModel::load(&weights_dir().join("paper-plain.json")).unwrap();
+    for k in 1..=4 {
+        model
+            .features
+            .push(stickslip::neural::weights::FeatureSpec {
+                name: format!("extra{k}"),
+                unit: String::new(),
+                role: stickslip::neural::FeatureRole::Other,
+                input_mean: 0.0,
+                input_std: 1.0,
+                min: -1.0,
+                max: 1.0,
+            });
+    }
+    model.layer_sizes[0] = 6;
+    for (o, row) in model.layers[0].weights.iter_mut().enumerate() {
+        for k in 0..4 {
+            row.push(0.2 + 0.05 * ((o + k) % 5) as f64);
+        }
+    }
+    let path = std::env::temp_dir().join(format!(
+        "stickslip-six-features-{tag}-{}.json",
+        std::process::id()
+    ));
+    model.save(&path).unwrap();
+    path
+}
+
 /// The value reference of `M`'s variable `name`, read from its variable table (which the
 /// modelDescription.xml is generated from), so that tests name variables instead of
 /// retyping their numbers.

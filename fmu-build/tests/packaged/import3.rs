@@ -145,3 +145,104 @@ fn i_fmi3_beam_equals_the_fmi2_fmu_bit_for_bit() {
         }
     }
 }
+
+/// NeuralFriction's extra features: in FMI 3.0 one `Float64` input array,
+/// `extra_feature` (value reference 16, `<Dimension start="4"/>`), read as such by the
+/// `fmi` crate; set through it, a network of six features (the paper's with four more
+/// inputs that every first-layer unit reads) gives every output bit for bit what the FMI
+/// 2.0 FMU gives with the same values set through `extra_feature[1..4]`.
+#[test]
+fn i_fmi3_extra_features_are_one_array_and_reach_the_network() {
+    use std::ffi::CString;
+    let import2 = import(FmuKind::NeuralFriction);
+    let import3 = import3(FmuKind::NeuralFriction);
+    let array = import3
+        .model_description()
+        .model_variables
+        .float64()
+        .into_iter()
+        .find(|v| v.name == "extra_feature")
+        .expect("extra_feature in the FMI 3.0 description");
+    assert_eq!(array.value_reference, 16);
+    assert_eq!(
+        array
+            .dimensions
+            .iter()
+            .map(|d| d.as_fixed())
+            .collect::<Vec<_>>(),
+        [Some(4)]
+    );
+    assert_eq!(
+        array.start.as_ref().map(|s| s.0.clone()),
+        Some(vec![0.0; 4])
+    );
+    let weights = stickslip_tests::six_feature_weights("import3");
+    let weights = CString::new(weights.to_str().unwrap()).unwrap();
+    let fvrs = FrictionVrs::of(&import2);
+    let weights_vr = vr(&import2, "weights");
+    let elements: Vec<u32> = (1..=4)
+        .map(|k| vr(&import2, &format!("extra_feature[{k}]")))
+        .collect();
+    let (velocity, normal) = (0.05, 100.0);
+    let features = [0.3, -0.6, 0.8, -0.1];
+
+    let mut two = import2
+        .instantiate_cs("features-2", false, false)
+        .expect("fmi2Instantiate");
+    two.setup_experiment(None, 0.0, Some(STOP))
+        .expect("fmi2SetupExperiment");
+    Common::enter_initialization_mode(&mut two).expect("fmi2EnterInitializationMode");
+    two.set_integer(&[fvrs.law], &[LawChoice::Neural.code()])
+        .expect("law");
+    two.set_string(&[weights_vr], std::slice::from_ref(&weights))
+        .expect("weights");
+    Common::exit_initialization_mode(&mut two).expect("fmi2ExitInitializationMode");
+    two.set_real(&elements, &features)
+        .expect("extra_feature[1..4]");
+    let out2 = friction_at(&mut two, &fvrs, velocity, normal);
+
+    let mut three = import3
+        .instantiate_cs("features-3", false, false, false, false, &[])
+        .expect("fmi3InstantiateCoSimulation");
+    three
+        .enter_initialization_mode(None, 0.0, Some(STOP))
+        .expect("fmi3EnterInitializationMode");
+    three
+        .set_int32(&[fvrs.law], &[LawChoice::Neural.code()])
+        .expect("law");
+    three
+        .set_string(&[weights_vr], std::slice::from_ref(&weights))
+        .expect("weights");
+    three
+        .exit_initialization_mode()
+        .expect("fmi3ExitInitializationMode");
+    // One request of three variables and six values: velocity, the array, normal force.
+    let mut values = vec![velocity];
+    values.extend(features);
+    values.push(normal);
+    three
+        .set_float64(&[fvrs.sliding_velocity, 16, fvrs.normal_force], &values)
+        .expect("fmi3SetFloat64 with the array");
+    let mut out3 = [0.0; 4];
+    three
+        .get_float64(&fvrs.outputs, &mut out3)
+        .expect("fmi3GetFloat64");
+    let mut read = [0.0; 4];
+    three.get_float64(&[16], &mut read).expect("the array");
+    assert_eq!(read, features);
+    assert_eq!(
+        out2.map(f64::to_bits),
+        out3.map(f64::to_bits),
+        "{out2:?} vs {out3:?}"
+    );
+
+    // The features reach the network: zeros give another force.
+    two.set_real(&elements, &[0.0; 4]).expect("zeros");
+    let zeros = friction_at(&mut two, &fvrs, velocity, normal);
+    println!(
+        "friction_force {} N with the features (FMI 3.0 = FMI 2.0), {} N with zeros",
+        out3[0], zeros[0]
+    );
+    assert!((out3[0] - zeros[0]).abs() > 1e-3 * zeros[0].abs());
+    let _ = std::fs::remove_file(weights.to_str().unwrap());
+}

@@ -1,5 +1,5 @@
 //! The SSP system files and fmucontainer link lists fmu-build writes
-//! (`target/fmu/<system>.ssp`, `.csv`): what they hold, that it comes from the FMUs'
+//! (`target/fmu/2.0/<system>.ssp`, `.csv`): what they hold, that it comes from the FMUs'
 //! tables, and that they are reproducible. The masters that run them are driven by
 //! `python-checks/tests/test_masters.py`.
 
