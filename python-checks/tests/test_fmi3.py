@@ -278,3 +278,114 @@ def test_resource_path_is_a_path_not_a_uri(paths, unzipped):
         assert not instantiate(empty + "/")
     finally:
         shutil.rmtree(empty)
+
+
+def six_feature_network(path):
+    """The shipped plain network with four more inputs (role other, trained range [-1, 1])
+    that every first-layer unit reads, written to `path`: a network that uses all of
+    NeuralFriction's inputs (the Rust tests build the same one)."""
+    import json
+
+    from stickslip_checks.artifacts import SHIPPED_WEIGHTS
+
+    network = json.loads(SHIPPED_WEIGHTS.read_text())
+    for k in range(1, 5):
+        network["features"].append(
+            {
+                "name": f"extra{k}",
+                "unit": "",
+                "role": "other",
+                "input_mean": 0.0,
+                "input_std": 1.0,
+                "min": -1.0,
+                "max": 1.0,
+            }
+        )
+    network["layer_sizes"][0] = 6
+    for o, row in enumerate(network["layers"][0]["weights"]):
+        row.extend(0.2 + 0.05 * ((o + k) % 5) for k in range(4))
+    path.write_text(json.dumps(network))
+    return path
+
+
+def test_extra_features_are_one_array_that_reaches_the_network(paths, unzipped, tmp_path):
+    """NeuralFriction's FMI 3.0 input `extra_feature` is one Float64 array of four
+    (value reference 16); set with fmi3SetFloat64 in a request that also holds scalars,
+    it gives the network the same four values as FMI 2.0's `extra_feature[1..4]`: every
+    output equal bit for bit, and other values give another force."""
+    from fmpy.fmi2 import FMU2Slave
+
+    description3 = read_model_description(str(paths["3.0"][FRICTION]))
+    array = next(v for v in description3.modelVariables if v.name == "extra_feature")
+    assert (array.type, array.causality, array.valueReference) == ("Float64", "input", 16)
+    assert [int(d.start) for d in array.dimensions] == [4]
+    assert not any(v.name.startswith("extra_feature[") for v in description3.modelVariables)
+
+    weights = str(six_feature_network(tmp_path / "six-features.json"))
+    features, velocity, normal = [0.3, -0.6, 0.8, -0.1], 0.05, 100.0
+    model = Model.read(paths["2.0"][FRICTION])
+    neural = model.code("law", "neural")
+    law_outputs = ["friction_force", "friction_force_magnitude", "friction_coefficient"]
+
+    description2 = read_model_description(str(paths["2.0"][FRICTION]))
+    folder2 = extract(str(paths["2.0"][FRICTION]))
+    try:
+        two = FMU2Slave(
+            guid=description2.guid,
+            unzipDirectory=folder2,
+            modelIdentifier=FRICTION,
+            instanceName="scalars",
+        )
+        two.instantiate()
+        two.setupExperiment(startTime=0.0)
+        two.enterInitializationMode()
+        two.setInteger([vr(description2, "law")], [neural])
+        two.setString([vr(description2, "weights")], [weights])
+        two.exitInitializationMode()
+        elements = [vr(description2, f"extra_feature[{k}]") for k in range(1, 5)]
+        inputs = [vr(description2, "sliding_velocity"), vr(description2, "normal_force")]
+        two.setReal(elements + inputs, features + [velocity, normal])
+        out2 = two.getReal([vr(description2, name) for name in law_outputs])
+        two.setReal(elements, [0.0] * 4)
+        zeros = two.getReal([vr(description2, "friction_force")])[0]
+        two.terminate()
+        two.freeInstance()
+    finally:
+        shutil.rmtree(folder2, ignore_errors=True)
+
+    three, _ = slave(paths, unzipped, FRICTION, "array")
+    three.enterInitializationMode(startTime=0.0)
+    three.setInt32([vr(description3, "law")], [neural])
+    three.setString([vr(description3, "weights")], [weights])
+    three.exitInitializationMode()
+    three.setFloat64(
+        [vr(description3, "sliding_velocity"), 16, vr(description3, "normal_force")],
+        [velocity, *features, normal],
+    )
+    out3 = three.getFloat64([vr(description3, name) for name in law_outputs])
+    assert three.getFloat64([16], nValues=4) == features
+    assert out3 == out2
+    assert abs(out3[0] - zeros) > 1e-3 * abs(zeros), (out3[0], zeros)
+    # A request whose nValues does not count the array's four values is refused.
+    with pytest.raises(FMICallException):
+        three.getFloat64([16])
+    three.freeInstance()
+
+
+def test_time_reads_as_the_instance_clock(paths, unzipped):
+    """`time` (value reference 0, the independent variable) reads as the instance's
+    current time, as in Reference-FMUs; setting it is refused with the reason."""
+    messages = []
+    fmu, _ = slave(paths, unzipped, BEAM, "time", messages=messages)
+    fmu.enterInitializationMode(startTime=0.1, stopTime=1.0)
+    assert fmu.getFloat64([0]) == [0.1]
+    fmu.exitInitializationMode()
+    t = 0.1
+    for _ in range(5):
+        fmu.doStep(t, 1e-3)
+        t += 1e-3
+    assert fmu.getFloat64([0]) == [t]
+    with pytest.raises(FMICallException):
+        fmu.setFloat64([0], [0.0])
+    assert any("independent variable" in m for _, _, m in messages), messages
+    fmu.freeInstance()
