@@ -47,7 +47,10 @@ echo
 echo "== The paper scene through the FMUs with fmpy (validation, both friction laws, coupling)"
 "$python" -m stickslip_checks.fmu_scene "$out"
 echo
-echo "== The FMI 3.0 FMUs: fmpy validation, the paper scene bit for bit against the FMI 2.0 FMUs, state machine, FMU state"
+echo "== The paper scene through the FMI 2.0 and the FMI 3.0 FMUs side by side (fmpy)"
+"$python" -m stickslip_checks.fmi_versions
+echo
+echo "== The FMI 3.0 FMUs: fmpy validation, the paper scene bit for bit against the FMI 2.0 FMUs, state machine, FMU state, the extra_feature array, time"
 "$python" -m pytest -q -p no:cacheprovider python-checks/tests/test_fmi3.py
 echo
 echo "== System-level co-simulation: coupling error against the monolithic FMU, Jacobi and Gauss-Seidel"

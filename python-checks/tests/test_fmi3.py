@@ -389,3 +389,14 @@ def test_time_reads_as_the_instance_clock(paths, unzipped):
         fmu.setFloat64([0], [0.0])
     assert any("independent variable" in m for _, _, m in messages), messages
     fmu.freeInstance()
+
+
+def test_the_side_by_side_table_sees_equal_runs(paths):
+    """stickslip_checks.fmi_versions (the main job's table) on a short run: both
+    versions' columns filled, equal bit for bit, the breakaway at 0.4 s in each."""
+    from stickslip_checks import fmi_versions
+
+    row = fmi_versions.beam_row(paths, "modal", "exponential", t_end=0.5)
+    assert row.identical and row.max_difference == 0.0
+    assert row.breakaway[0] == row.breakaway[1] == pytest.approx(0.4, abs=1e-3)
+    assert row.transitions[0] == row.transitions[1] >= 1
