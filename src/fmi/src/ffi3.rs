@@ -4,9 +4,11 @@
 //!
 //! Nothing model-specific is here. An FMI 3.0 instance is the same `Instance` over the
 //! same `Model`, marked `FmiVersion::V3` so that its log names FMI 3.0 functions; where
-//! an FMI 3.0 function does what an FMI 2.0 one does (fmi3GetFloat64 and fmi2GetReal,
+//! an FMI 3.0 function does what an FMI 2.0 one does (fmi3GetInt32 and fmi2GetInteger,
 //! the FMU-state functions, ...) it checks what FMI 3.0 adds (`nValues`) and calls the
 //! FMI 2.0 function, so both versions share one state machine and one set of checks.
+//! fmi3GetFloat64 and fmi3SetFloat64 also serve `time` and array variables, whose
+//! values `values3` maps onto the same instance's FMI 2.0 accessors.
 //!
 //! What FMI 3.0 co-simulation offers beyond FMI 2.0 and these FMUs do not
 //! (modelDescription.xml says so with its capability flags), returns fmi3Error with

@@ -1,7 +1,7 @@
 //! What an FMI 3.0 Float64 request means in terms of the tables: fmi3GetFloat64 and
-//! fmi3SetFloat64 take value references and a flat buffer of `nValues` values (FMI 3.0
-//! section 2.2.6.2: the values of all variables in the order of the value references,
-//! each array serialized in row-major order). Besides the tables' scalar Reals, a
+//! fmi3SetFloat64 take value references and a flat buffer of `nValues` values (FMI 3.0:
+//! the values of all variables in the order of the value references, each array
+//! serialized in row-major order). Besides the tables' scalar Reals, a
 //! value reference there can name:
 //! - the independent variable `time` (value reference 0,
 //!   [`model_description::TIME_VALUE_REFERENCE`]): the instance's current time, which

@@ -250,9 +250,9 @@ pub struct Variable<M: 'static> {
     pub depends_on: Option<Dependencies>,
 }
 
-/// An FMI 3.0 array variable made of scalar rows of the same table (FMI 3.0 section
-/// 2.4.7.8, one `<Dimension start="N"/>`). The rows stay the variables of the FMI 2.0
-/// description, which has no arrays; the FMI 3.0 description writes the array in place
+/// An FMI 3.0 array variable made of scalar rows of the same table (one
+/// `<Dimension start="N"/>`). The rows stay the variables of the FMI 2.0 description,
+/// which has no arrays; the FMI 3.0 description writes the array in place
 /// of its first element and leaves the others out, and fmi3GetFloat64/fmi3SetFloat64
 /// read and write the elements in this order (a vector: row-major order is this order).
 /// The elements must be Real rows of one causality, variability and unit (checked by
