@@ -210,8 +210,9 @@ unsafe fn life(kind: FmuKind, steps: usize, name: &str) -> (Vec<Vec<u64>>, Vec<V
         assert_eq!(fmi3FreeFMUState(c, &mut restored), OK);
         assert!(restored.is_null());
 
-        // Event mode is not offered: fmi3Error with the reason, then the Error state
-        // refuses steps until fmi3SetFMUState brings the saved state back.
+        // This instance was instantiated without event mode: fmi3EnterEventMode is
+        // fmi3Error with the reason, then the Error state refuses steps until
+        // fmi3SetFMUState brings the saved state back.
         assert_eq!(fmi3EnterEventMode(c), ERROR);
         let (mut e, mut t_, mut r, mut l) = (false, false, false, 0.0);
         assert_eq!(
@@ -231,7 +232,7 @@ unsafe fn life(kind: FmuKind, steps: usize, name: &str) -> (Vec<Vec<u64>>, Vec<V
         );
         assert!(
             log.iter().any(|(s, m)| *s == ERROR
-                && m.starts_with("fmi3EnterEventMode: not supported: hasEventMode is false")),
+                && m.starts_with("fmi3EnterEventMode: the instance was instantiated with eventModeUsed = false")),
             "{log:?}"
         );
         (straight, again)
@@ -277,17 +278,18 @@ fn fmi3_instantiation_refuses_what_the_fmu_does_not_offer() {
     ))
     .unwrap();
     let environment = &messages as *const Messages as *mut c_void;
-    let refused = |event_mode: bool, resources: &CString| unsafe {
+    let required = [1u32];
+    let refused = |intermediate: bool, resources: &CString| unsafe {
         fmi3InstantiateCoSimulation(
             name.as_ptr(),
             token.as_ptr(),
             resources.as_ptr(),
             false,
             false,
-            event_mode,
-            false,
-            null(),
-            0,
+            true,
+            true,
+            if intermediate { required.as_ptr() } else { null() },
+            usize::from(intermediate),
             environment,
             Some(log3),
             None,
@@ -315,7 +317,11 @@ fn fmi3_instantiation_refuses_what_the_fmu_does_not_offer() {
         .iter()
         .map(|(_, m)| m.clone())
         .collect();
-    for expected in ["is a URI", "hasEventMode = false", "co-simulation only"] {
+    for expected in [
+        "is a URI",
+        "providesIntermediateUpdate = false",
+        "co-simulation only",
+    ] {
         assert!(
             log.iter().any(|m| m.contains(expected)),
             "{expected}: {log:?}"
