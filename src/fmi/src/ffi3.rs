@@ -705,9 +705,11 @@ macro_rules! not_supported {
 #[no_mangle]
 pub unsafe extern "C" fn fmi3EnterEventMode(instance: fmi3Instance) -> fmi3Status {
     unsafe {
-        with_component(instance, "fmi3EnterEventMode", |component| {
-            each!(&mut component.instance, i => status(i.enter_event_mode()))
-        })
+        with_component(
+            instance,
+            "fmi3EnterEventMode",
+            |component| each!(&mut component.instance, i => status(i.enter_event_mode())),
+        )
     }
 }
 
@@ -715,9 +717,11 @@ pub unsafe extern "C" fn fmi3EnterEventMode(instance: fmi3Instance) -> fmi3Statu
 #[no_mangle]
 pub unsafe extern "C" fn fmi3EnterStepMode(instance: fmi3Instance) -> fmi3Status {
     unsafe {
-        with_component(instance, "fmi3EnterStepMode", |component| {
-            each!(&mut component.instance, i => status(i.enter_step_mode()))
-        })
+        with_component(
+            instance,
+            "fmi3EnterStepMode",
+            |component| each!(&mut component.instance, i => status(i.enter_step_mode())),
+        )
     }
 }
 

@@ -807,9 +807,12 @@ impl<M: Model> Instance<M> {
         }
         let mut events = Vec::new();
         let result = if until_event {
-            self.model.do_step_until_event(self.time, target, &mut events)
+            self.model
+                .do_step_until_event(self.time, target, &mut events)
         } else {
-            self.model.do_step(self.time, target, &mut events).map(|()| None)
+            self.model
+                .do_step(self.time, target, &mut events)
+                .map(|()| None)
         };
         for event in &events {
             self.log(EVENTS, Status::Ok, event);
@@ -892,8 +895,7 @@ impl<M: Model> Instance<M> {
         if let Err(e) = state.check_clock() {
             return Err(self.fail(CALL, &e.to_string()));
         }
-        if (state.mode == Mode::EventMode || state.event_pending) && !self.events.event_mode_used
-        {
+        if (state.mode == Mode::EventMode || state.event_pending) && !self.events.event_mode_used {
             return Err(self.fail(
                 CALL,
                 "the state was saved in or before Event Mode, but this instance was instantiated with eventModeUsed = false",
