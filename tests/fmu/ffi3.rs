@@ -563,7 +563,12 @@ unsafe fn event_life(name: &str, h: f64, end: f64) -> EventLife {
                 assert!(event && last < t + h && last > t);
                 break last;
             }
-            assert!(!event && last == t + h);
+            assert_eq!(last, t + h);
+            if event {
+                // The switch fell on the communication point: an event without an
+                // early return.
+                break last;
+            }
             t = last;
             assert!(t < end, "no switch before {end} s");
         };

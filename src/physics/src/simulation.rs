@@ -384,6 +384,12 @@ impl Simulator {
         }
         for _ in 0..full_steps {
             if self.take_step(false)? && stop_at_switch {
+                if (target - self.state.time).abs() <= tolerance {
+                    // The last step, with nothing left to land: end on `target`, as
+                    // advance_to does.
+                    self.land_on(target);
+                    return Ok(Some(target));
+                }
                 return Ok(Some(self.state.time));
             }
         }
