@@ -1,5 +1,6 @@
 //! One FMU instance: the FMI 2.0 co-simulation state machine (standard, section 4.2.4),
-//! logging, and FMU state, over a `Model`. Plain Rust, so that every rule can be tested
+//! with FMI 3.0's Event Mode and early return for FMI 3.0 instances (`EventOptions`,
+//! `Mode::EventMode`, `do_step3`), logging, and FMU state, over a `Model`. Plain Rust, so that every rule can be tested
 //! without a C importer; `ffi` only converts arguments.
 //!
 //! Decisions where the standard leaves room:
