@@ -56,6 +56,9 @@ echo
 echo "== System-level co-simulation: coupling error against the monolithic FMU, Jacobi and Gauss-Seidel"
 "$python" -m stickslip_checks.cosim_convergence "$out"
 echo
+echo "== FMI 3.0 events: early return at stick/slip switches and Event Mode, coupling error against FMI 2.0 Gauss-Seidel"
+"$python" -m stickslip_checks.cosim_events "$out"
+echo
 echo "== The coupled system's SSP file in other masters: libcosim, Ecos, fmucontainer, fmpy.ssp"
 "$python" -m stickslip_checks.masters "$out"
 echo

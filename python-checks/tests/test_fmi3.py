@@ -139,7 +139,8 @@ def vr(description, name):
 
 def test_illegal_calls_are_refused(paths, unzipped):
     """FMI 3.0's co-simulation state table (section 4.2.4): a step before initialisation,
-    a fixed parameter set in Step Mode, event mode, and a call after the error."""
+    a fixed parameter set in Step Mode, event mode in an instance instantiated without
+    it, and a call after the error."""
     messages = []
     fmu, description = slave(paths, unzipped, BEAM, messages=messages)
     with pytest.raises(FMICallException) as error:
@@ -161,7 +162,8 @@ def test_illegal_calls_are_refused(paths, unzipped):
     for call in (fmu.enterEventMode, fmu.enterStepMode):
         with pytest.raises(FMICallException):
             call()
-    assert any("hasEventMode is false" in m for _, _, m in messages), messages
+    # Instantiated without eventModeUsed: no Event Mode, and no Step Mode to re-enter.
+    assert any("instantiated with eventModeUsed = false" in m for _, _, m in messages), messages
     # In the error state only reset, free, and the FMU-state functions are accepted.
     with pytest.raises(FMICallException):
         fmu.doStep(1e-3, 1e-3)

@@ -12,3 +12,4 @@ mod layering;
 mod scene_validation;
 mod slip_solve;
 mod statics;
+mod switch_stop;

@@ -246,3 +246,107 @@ fn i_fmi3_extra_features_are_one_array_and_reach_the_network() {
     assert!((out3[0] - zeros[0]).abs() > 1e-3 * zeros[0].abs());
     let _ = std::fs::remove_file(weights.to_str().unwrap());
 }
+
+/// The event capability flags in the packaged descriptions, and StickSlipBeam instantiated
+/// with eventModeUsed and earlyReturnAllowed through the `fmi` crate: Event Mode after
+/// initialisation, a step of 7 ms that returns early at the breakaway, where the FMI 2.0
+/// FMU stepped at 1 ms records its first transition, with the same outputs bit for bit
+/// (the same internal steps up to it), then Event Mode and on through further switches.
+#[test]
+fn i_fmi3_beam_returns_early_at_a_switch_and_handles_event_mode() {
+    for kind in FmuKind::ALL {
+        let import = import3(kind);
+        let cs = import.model_description().co_simulation.as_ref().unwrap();
+        assert_eq!(cs.has_event_mode, Some(true), "{kind:?}");
+        assert_eq!(
+            cs.might_return_early_from_do_step,
+            Some(kind == FmuKind::StickSlipBeam),
+            "{kind:?}"
+        );
+        assert_eq!(cs.can_handle_variable_communication_step_size, Some(true));
+    }
+    let import2 = import(FmuKind::StickSlipBeam);
+    let import3 = import3(FmuKind::StickSlipBeam);
+    let vrs = BeamVrs::of(&import2);
+    let integers = [(vrs.fidelity, FidelityLevel::Modal.code())];
+    let two = Beam::start(&import2, "events-2", &integers).run_from_start(600);
+    let k = two
+        .iter()
+        .position(|o| o.transitions >= 1)
+        .expect("no transition within 0.6 s");
+
+    let mut inst = import3
+        .instantiate_cs("events-3", false, false, true, true, &[])
+        .expect("fmi3InstantiateCoSimulation with eventModeUsed and earlyReturnAllowed");
+    inst.enter_initialization_mode(None, 0.0, Some(STOP))
+        .expect("fmi3EnterInitializationMode");
+    inst.set_int32(&[vrs.fidelity], &[FidelityLevel::Modal.code()])
+        .expect("fmi3SetInt32");
+    inst.exit_initialization_mode()
+        .expect("fmi3ExitInitializationMode");
+    // In Event Mode: one update settles everything, no time event.
+    let settle = |inst: &mut InstanceCS3| {
+        let mut flags = fmi::EventFlags::default();
+        inst.update_discrete_states(&mut flags)
+            .expect("fmi3UpdateDiscreteStates");
+        assert_eq!(flags, fmi::EventFlags::default());
+        inst.enter_step_mode().expect("fmi3EnterStepMode");
+    };
+    settle(&mut inst);
+    let mut beam = Beam3 {
+        inst,
+        vr: vrs,
+        t: 0.0,
+    };
+    let h = 7.0 * H;
+    let (mut switches, mut early_returns) = (Vec::new(), 0);
+    let mut at_first_switch = None;
+    while beam.t < 0.6 {
+        let target = beam.t + h;
+        let (mut event, mut terminate, mut early, mut last) = (false, false, false, f64::NAN);
+        beam.inst
+            .do_step(
+                beam.t,
+                h,
+                true,
+                &mut event,
+                &mut terminate,
+                &mut early,
+                &mut last,
+            )
+            .unwrap_or_else(|e| panic!("fmi3DoStep at t = {} s: {e}", beam.t));
+        assert!(!terminate);
+        if early {
+            assert!(event, "an early return is an event with eventModeUsed");
+            assert!(
+                last > beam.t && last < target,
+                "{} < {last} < {target}",
+                beam.t
+            );
+            early_returns += 1;
+        } else {
+            assert_eq!(last, target);
+        }
+        beam.t = last;
+        if event {
+            switches.push(last);
+            if at_first_switch.is_none() {
+                at_first_switch = Some(beam.outputs());
+            }
+            beam.inst.enter_event_mode().expect("fmi3EnterEventMode");
+            settle(&mut beam.inst);
+        }
+    }
+    let first = switches.first().copied().expect("no switch within 0.6 s");
+    assert!(
+        (first - k as f64 * H).abs() < 1e-9,
+        "first switch at {first} s, FMI 2.0 records it at {} s",
+        k as f64 * H
+    );
+    assert_bitwise(
+        "outputs at the early return vs FMI 2.0 at the same time",
+        &[at_first_switch.unwrap()],
+        &two[k..=k],
+    );
+    assert!(early_returns >= 1 && switches.len() >= 2, "{switches:?}");
+}

@@ -291,6 +291,63 @@ pub struct StickSlipBeam {
 }
 
 impl StickSlipBeam {
+    /// fmi2DoStep / fmi3DoStep: advances the simulation to `to` (s, FMU clock), or,
+    /// with `stop_at_switch`, until the end of the internal step in which the contact
+    /// switched, returning that time (see `Simulator::advance_until_switch`). Every
+    /// transition made is listed in `events`.
+    fn advance(
+        &mut self,
+        _from: f64,
+        to: f64,
+        stop_at_switch: bool,
+        events: &mut Vec<String>,
+    ) -> Result<Option<f64>, String> {
+        let Some(running) = &mut self.running else {
+            return Err("the simulation was not initialised".into());
+        };
+        let before = running.simulator.state().transition_count;
+        let target = to - running.start_time;
+        let result = if stop_at_switch {
+            running.simulator.advance_until_switch(target)
+        } else {
+            running.simulator.advance_to(target).map(|()| None)
+        };
+        // The simulator keeps at least the last RECENT_TRANSITIONS transitions, so a step
+        // that made no more than that lists them all.
+        let made = running.simulator.state().transition_count - before;
+        let kept = running.simulator.transitions();
+        let listed = kept.len().min(usize::try_from(made).unwrap_or(usize::MAX));
+        if made > listed as u64 {
+            events.push(format!(
+                "{} transitions of this step before t = {:.6} s are not listed: the simulation keeps only its last {} to {} transitions",
+                made - listed as u64,
+                kept[kept.len() - listed].time + running.start_time,
+                RECENT_TRANSITIONS,
+                2 * RECENT_TRANSITIONS
+            ));
+        }
+        for t in &kept[kept.len() - listed..] {
+            let to_state = match t.to {
+                ContactState::Stick => "stick",
+                ContactState::Slip => "slip",
+            };
+            events.push(format!(
+                "t = {:.6} s: {to_state}",
+                t.time + running.start_time
+            ));
+        }
+        let switched = result.map_err(|e| e.to_string())?;
+        // The switch time on the FMU's clock; a switch in the step landing on `to` ends
+        // there exactly, as a step without one does.
+        Ok(switched.map(|at| {
+            if at == target {
+                to
+            } else {
+                at + running.start_time
+            }
+        }))
+    }
+
     /// How many networks this instance has read: zero unless a law needed one.
     pub fn networks_read(&self) -> usize {
         self.networks.read_count()
@@ -935,6 +992,7 @@ impl Model for StickSlipBeam {
         stop_time: 1.2,
         step_size: 1e-3,
         resources: WEIGHTS_RESOURCES,
+        returns_early_at_events: true,
     };
 
     fn variables() -> &'static [Variable<Self>] {
@@ -982,37 +1040,17 @@ impl Model for StickSlipBeam {
         Ok(())
     }
 
-    fn do_step(&mut self, _from: f64, to: f64, events: &mut Vec<String>) -> Result<(), String> {
-        let Some(running) = &mut self.running else {
-            return Err("the simulation was not initialised".into());
-        };
-        let before = running.simulator.state().transition_count;
-        let result = running.simulator.advance_to(to - running.start_time);
-        // The simulator keeps at least the last RECENT_TRANSITIONS transitions, so a step
-        // that made no more than that lists them all.
-        let made = running.simulator.state().transition_count - before;
-        let kept = running.simulator.transitions();
-        let listed = kept.len().min(usize::try_from(made).unwrap_or(usize::MAX));
-        if made > listed as u64 {
-            events.push(format!(
-                "{} transitions of this step before t = {:.6} s are not listed: the simulation keeps only its last {} to {} transitions",
-                made - listed as u64,
-                kept[kept.len() - listed].time + running.start_time,
-                RECENT_TRANSITIONS,
-                2 * RECENT_TRANSITIONS
-            ));
-        }
-        for t in &kept[kept.len() - listed..] {
-            let to_state = match t.to {
-                ContactState::Stick => "stick",
-                ContactState::Slip => "slip",
-            };
-            events.push(format!(
-                "t = {:.6} s: {to_state}",
-                t.time + running.start_time
-            ));
-        }
-        result.map_err(|e| e.to_string())
+    fn do_step(&mut self, from: f64, to: f64, events: &mut Vec<String>) -> Result<(), String> {
+        self.advance(from, to, false, events).map(|_| ())
+    }
+
+    fn do_step_until_event(
+        &mut self,
+        from: f64,
+        to: f64,
+        events: &mut Vec<String>,
+    ) -> Result<Option<f64>, String> {
+        self.advance(from, to, true, events)
     }
 
     fn take_notes(&mut self) -> Vec<String> {

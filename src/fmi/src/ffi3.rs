@@ -10,11 +10,16 @@
 //! fmi3GetFloat64 and fmi3SetFloat64 also serve `time` and array variables, whose
 //! values `values3` maps onto the same instance's FMI 2.0 accessors.
 //!
+//! Events (FMI 3.0 section 4.2): both FMUs have Event Mode (`hasEventMode = true`):
+//! with eventModeUsed, fmi3ExitInitializationMode enters it, and fmi3EnterEventMode,
+//! fmi3UpdateDiscreteStates and fmi3EnterStepMode drive it (`Instance`, `Mode::EventMode`).
+//! StickSlipBeam also returns early (`mightReturnEarlyFromDoStep = true`): with
+//! earlyReturnAllowed, fmi3DoStep ends at the end of the internal step in which the
+//! contact switched between stick and slip.
+//!
 //! What FMI 3.0 co-simulation offers beyond FMI 2.0 and these FMUs do not
 //! (modelDescription.xml says so with its capability flags), returns fmi3Error with
-//! the reason logged: event mode (`hasEventMode = false`; fmi3EnterEventMode,
-//! fmi3EnterStepMode, fmi3UpdateDiscreteStates), intermediate update and early return,
-//! clocks, configuration mode, directional and adjoint derivatives, output derivatives,
+//! the reason logged: intermediate update, clocks, configuration mode, directional and adjoint derivatives, output derivatives,
 //! per-element dependencies, and the Model Exchange and Scheduled Execution interfaces.
 //! Value types without variables (Float32, Int8, ..., Binary, Clock) accept empty
 //! requests and refuse any value reference.
@@ -25,7 +30,7 @@ use crate::ffi::{
     self, each, fail, new_component, null_argument, slice, slice_mut, status, text, unknown_guid,
     unsupported, with_component, Component,
 };
-use crate::instance::{Call, FmiVersion, Logger, Status};
+use crate::instance::{Call, EventOptions, FmiVersion, Logger, Status};
 use crate::values3;
 use crate::FmuKind;
 use libc::size_t;
@@ -209,7 +214,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     _visible: fmi3Boolean,
     loggingOn: fmi3Boolean,
     eventModeUsed: fmi3Boolean,
-    _earlyReturnAllowed: fmi3Boolean,
+    earlyReturnAllowed: fmi3Boolean,
     _requiredIntermediateVariables: *const fmi3ValueReference,
     nRequiredIntermediateVariables: size_t,
     instanceEnvironment: fmi3InstanceEnvironment,
@@ -225,14 +230,12 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
         if name.is_empty() {
             return refuse("instanceName must be a non-empty string".into());
         }
-        // earlyReturnAllowed needs no check: the FMU never returns early, which is
-        // always allowed.
-        if eventModeUsed {
-            return refuse(
-                "eventModeUsed = true, but this FMU has no event mode (hasEventMode = false)"
-                    .into(),
-            );
-        }
+        // Both FMUs have Event Mode, and an FMU that never returns early (NeuralFriction)
+        // honours earlyReturnAllowed trivially.
+        let events = EventOptions {
+            event_mode_used: eventModeUsed,
+            early_return_allowed: earlyReturnAllowed,
+        };
         if nRequiredIntermediateVariables != 0 {
             return refuse(format!(
                 "{nRequiredIntermediateVariables} intermediate variables requested, but this FMU provides no intermediate update (providesIntermediateUpdate = false)"
@@ -261,7 +264,8 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
             boxed_logger,
             FmiVersion::V3,
         )
-        .map_or(std::ptr::null_mut(), |c| {
+        .map_or(std::ptr::null_mut(), |mut c| {
+            each!(&mut c.instance, i => i.set_events(events));
             Box::into_raw(Box::new(c)) as fmi3Instance
         })
     }));
@@ -297,7 +301,7 @@ pub unsafe extern "C" fn fmi3EnterInitializationMode(
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi3ExitInitializationMode(instance: fmi3Instance) -> fmi3Status {
-    // Without event mode, co-simulation goes straight to Step Mode (FMI 3.0, 4.2).
+    // With eventModeUsed into Event Mode, otherwise straight to Step Mode (FMI 3.0, 4.2).
     unsafe { ffi::fmi2ExitInitializationMode(instance) }
 }
 
@@ -685,8 +689,11 @@ pub unsafe extern "C" fn fmi3DeserializeFMUState(
     }
 }
 
-/// fmi3DoStep without event mode or early return: the step ends at
-/// currentCommunicationPoint + communicationStepSize, exactly as fmi2DoStep's does.
+/// fmi3DoStep: without earlyReturnAllowed the step ends at currentCommunicationPoint +
+/// communicationStepSize, exactly as fmi2DoStep's does; with it StickSlipBeam ends at a
+/// stick/slip switch inside the step (earlyReturn, lastSuccessfulTime = the switch), and
+/// with eventModeUsed a step ending at a switch sets eventHandlingNeeded
+/// (`Instance::do_step3`).
 #[no_mangle]
 pub unsafe extern "C" fn fmi3DoStep(
     instance: fmi3Instance,
@@ -713,14 +720,15 @@ pub unsafe extern "C" fn fmi3DoStep(
                 );
             }
             let (result, time) = each!(&mut component.instance, i => {
-                let result = i.do_step(currentCommunicationPoint, communicationStepSize);
+                let result = i.do_step3(currentCommunicationPoint, communicationStepSize);
                 (result, i.time())
             });
-            *eventHandlingNeeded = false;
+            let outcome = result.ok();
+            *eventHandlingNeeded = outcome.is_some_and(|o| o.event_handling_needed);
             *terminateSimulation = false;
-            *earlyReturn = false;
-            *lastSuccessfulTime = time;
-            status(result)
+            *earlyReturn = outcome.is_some_and(|o| o.early_return);
+            *lastSuccessfulTime = outcome.map_or(time, |o| o.last_successful_time);
+            status(result.map(|_| ()))
         })
     }
 }
@@ -740,22 +748,66 @@ macro_rules! not_supported {
     };
 }
 
-not_supported!(fmi3EnterEventMode(), "hasEventMode is false");
-not_supported!(
-    fmi3EnterStepMode(),
-    "hasEventMode is false: fmi3ExitInitializationMode enters Step Mode directly"
-);
-not_supported!(
-    fmi3UpdateDiscreteStates(
-        *mut fmi3Boolean,
-        *mut fmi3Boolean,
-        *mut fmi3Boolean,
-        *mut fmi3Boolean,
-        *mut fmi3Boolean,
-        *mut fmi3Float64,
-    ),
-    "hasEventMode is false"
-);
+/// fmi3EnterEventMode: from Step Mode into Event Mode (only with eventModeUsed).
+#[no_mangle]
+pub unsafe extern "C" fn fmi3EnterEventMode(instance: fmi3Instance) -> fmi3Status {
+    unsafe {
+        with_component(
+            instance,
+            "fmi3EnterEventMode",
+            |component| each!(&mut component.instance, i => status(i.enter_event_mode())),
+        )
+    }
+}
+
+/// fmi3EnterStepMode: from Event Mode back into Step Mode.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3EnterStepMode(instance: fmi3Instance) -> fmi3Status {
+    unsafe {
+        with_component(
+            instance,
+            "fmi3EnterStepMode",
+            |component| each!(&mut component.instance, i => status(i.enter_step_mode())),
+        )
+    }
+}
+
+/// fmi3UpdateDiscreteStates: settles at once (no discrete state of these models depends
+/// on the inputs set in Event Mode), with no next time event.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3UpdateDiscreteStates(
+    instance: fmi3Instance,
+    discreteStatesNeedUpdate: *mut fmi3Boolean,
+    terminateSimulation: *mut fmi3Boolean,
+    nominalsOfContinuousStatesChanged: *mut fmi3Boolean,
+    valuesOfContinuousStatesChanged: *mut fmi3Boolean,
+    nextEventTimeDefined: *mut fmi3Boolean,
+    nextEventTime: *mut fmi3Float64,
+) -> fmi3Status {
+    const CALL: &str = "fmi3UpdateDiscreteStates";
+    unsafe {
+        with_component(instance, CALL, |component| {
+            if discreteStatesNeedUpdate.is_null()
+                || terminateSimulation.is_null()
+                || nominalsOfContinuousStatesChanged.is_null()
+                || valuesOfContinuousStatesChanged.is_null()
+                || nextEventTimeDefined.is_null()
+                || nextEventTime.is_null()
+            {
+                return null_argument(component, CALL, "an output argument");
+            }
+            let result = each!(&mut component.instance, i => i.update_discrete_states());
+            let update = result.unwrap_or_default();
+            *discreteStatesNeedUpdate = update.discrete_states_need_update;
+            *terminateSimulation = update.terminate_simulation;
+            *nominalsOfContinuousStatesChanged = update.nominals_of_continuous_states_changed;
+            *valuesOfContinuousStatesChanged = update.values_of_continuous_states_changed;
+            *nextEventTimeDefined = update.next_event_time.is_some();
+            *nextEventTime = update.next_event_time.unwrap_or(0.0);
+            status(result.map(|_| ()))
+        })
+    }
+}
 not_supported!(
     fmi3EvaluateDiscreteStates(),
     "providesEvaluateDiscreteStates is false"

@@ -477,6 +477,7 @@ impl Model for NeuralFriction {
         stop_time: 1.2,
         step_size: 1e-3,
         resources: WEIGHTS_RESOURCES,
+        returns_early_at_events: false,
     };
 
     fn variables() -> &'static [Variable<Self>] {

@@ -1,5 +1,6 @@
 //! One FMU instance: the FMI 2.0 co-simulation state machine (standard, section 4.2.4),
-//! logging, and FMU state, over a `Model`. Plain Rust, so that every rule can be tested
+//! with FMI 3.0's Event Mode and early return for FMI 3.0 instances (`EventOptions`,
+//! `Mode::EventMode`, `do_step3`), logging, and FMU state, over a `Model`. Plain Rust, so that every rule can be tested
 //! without a C importer; `ffi` only converts arguments.
 //!
 //! Decisions where the standard leaves room:
@@ -39,7 +40,9 @@ pub enum Status {
     Fatal = 4,
 }
 
-/// Where an instance is in the FMI 2.0 co-simulation state machine.
+/// Where an instance is in the co-simulation state machine: FMI 2.0's (section 4.2.4),
+/// which FMI 3.0 co-simulation shares with Step Mode as `StepComplete`, plus FMI 3.0's
+/// Event Mode (section 4.2, only for an instance instantiated with eventModeUsed).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Mode {
@@ -49,6 +52,9 @@ pub enum Mode {
     StepFailed,
     Terminated,
     Error,
+    /// FMI 3.0 Event Mode: entered from initialisation or by fmi3EnterEventMode, left by
+    /// fmi3EnterStepMode. Inputs can be set and outputs read; time does not advance.
+    EventMode,
 }
 
 /// The FMI calls the state machine tells apart.
@@ -66,6 +72,9 @@ pub enum Call {
     SerializeState,
     DoStep,
     GetStatus,
+    EnterEventMode,
+    UpdateDiscreteStates,
+    EnterStepMode,
 }
 
 impl Call {
@@ -83,24 +92,31 @@ impl Call {
             Call::SerializeState => "fmi2(De)SerializeFMUstate",
             Call::DoStep => "fmi2DoStep",
             Call::GetStatus => "fmi2Get*Status",
+            Call::EnterEventMode => "fmi3EnterEventMode",
+            Call::UpdateDiscreteStates => "fmi3UpdateDiscreteStates",
+            Call::EnterStepMode => "fmi3EnterStepMode",
         }
     }
 
-    /// The modes in which the call is legal.
+    /// The modes in which the call is legal. `EventMode` occurs only in FMI 3.0
+    /// instances that use event mode; there, as in Step Mode, inputs can be set, outputs
+    /// read, the FMU state saved and restored, and the instance terminated (FMI 3.0,
+    /// section 4.2: the co-simulation state machine). Time only advances in Step Mode.
     pub fn allowed_in(self) -> &'static [Mode] {
         use Mode::*;
         match self {
             Call::SetupExperiment | Call::EnterInitializationMode => &[Instantiated],
             Call::ExitInitializationMode => &[InitializationMode],
-            Call::Terminate => &[StepComplete, StepFailed],
+            Call::Terminate => &[StepComplete, StepFailed, EventMode],
             Call::Get => &[
                 InitializationMode,
                 StepComplete,
                 StepFailed,
                 Terminated,
                 Error,
+                EventMode,
             ],
-            Call::Set => &[Instantiated, InitializationMode, StepComplete],
+            Call::Set => &[Instantiated, InitializationMode, StepComplete, EventMode],
             Call::GetState | Call::SerializeState | Call::SetState | Call::FreeState => &[
                 Instantiated,
                 InitializationMode,
@@ -108,9 +124,12 @@ impl Call {
                 StepFailed,
                 Terminated,
                 Error,
+                EventMode,
             ],
             Call::DoStep => &[StepComplete],
             Call::GetStatus => &[StepComplete, StepFailed, Terminated],
+            Call::EnterEventMode => &[StepComplete],
+            Call::UpdateDiscreteStates | Call::EnterStepMode => &[EventMode],
         }
     }
 }
@@ -131,6 +150,10 @@ pub struct SavedState {
     pub start_time: f64,
     pub stop_time: Option<f64>,
     pub model: serde_json::Value,
+    /// FMI 3.0 with event mode: a step ended at an event that the importer has not yet
+    /// handled in Event Mode. Written only when true, so FMI 2.0 states are unchanged.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub event_pending: bool,
 }
 
 pub const STATE_FORMAT: &str = "stickslip-fmu-state";
@@ -228,6 +251,17 @@ pub enum StateError {
     NotAtStart { mode: Mode, time: f64, start: f64 },
 }
 
+/// fmi3UpdateDiscreteStates's output arguments.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DiscreteUpdate {
+    pub discrete_states_need_update: bool,
+    pub terminate_simulation: bool,
+    pub nominals_of_continuous_states_changed: bool,
+    pub values_of_continuous_states_changed: bool,
+    /// The next time event (s), if any.
+    pub next_event_time: Option<f64>,
+}
+
 /// Status kinds of fmi2Get*Status.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum StatusKind {
@@ -237,10 +271,37 @@ pub enum StatusKind {
     Terminated,
 }
 
+/// How an FMI 3.0 importer instantiated a co-simulation instance
+/// (fmi3InstantiateCoSimulation's eventModeUsed and earlyReturnAllowed). FMI 2.0
+/// instances use neither.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EventOptions {
+    /// The importer handles events in Event Mode: fmi3ExitInitializationMode enters Event
+    /// Mode, and a step that ends at an event asks for it (eventHandlingNeeded).
+    pub event_mode_used: bool,
+    /// The importer accepts a step that ends before its communication point: the model
+    /// then stops at its internal events (`Model::do_step_until_event`).
+    pub early_return_allowed: bool,
+}
+
+/// What an FMI 3.0 step did (fmi3DoStep's output arguments).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepOutcome {
+    /// The step ended before currentCommunicationPoint + communicationStepSize.
+    pub early_return: bool,
+    /// The step ended at an event and the importer uses event mode: it is asked to
+    /// enter Event Mode before the next step.
+    pub event_handling_needed: bool,
+    /// Where the step ended (s).
+    pub last_successful_time: f64,
+}
+
 /// An FMU instance of model `M`.
 pub struct Instance<M: Model> {
     name: String,
     version: FmiVersion,
+    events: EventOptions,
+    event_pending: bool,
     guid: String,
     model: M,
     mode: Mode,
@@ -281,6 +342,8 @@ impl<M: Model> Instance<M> {
         Ok(Self {
             name: name.to_owned(),
             version: FmiVersion::V2,
+            events: EventOptions::default(),
+            event_pending: false,
             guid: guid::<M>(),
             model,
             mode: Mode::Instantiated,
@@ -304,6 +367,26 @@ impl<M: Model> Instance<M> {
 
     pub fn version(&self) -> FmiVersion {
         self.version
+    }
+
+    /// The same instance with FMI 3.0's event options (fmi3InstantiateCoSimulation).
+    pub fn with_events(mut self, events: EventOptions) -> Self {
+        self.events = events;
+        self
+    }
+
+    /// Sets FMI 3.0's event options right after instantiation (the ffi layer).
+    pub fn set_events(&mut self, events: EventOptions) {
+        self.events = events;
+    }
+
+    pub fn events(&self) -> EventOptions {
+        self.events
+    }
+
+    /// A step ended at an event that has not been handled in Event Mode yet.
+    pub fn event_pending(&self) -> bool {
+        self.event_pending
     }
 
     pub fn mode(&self) -> Mode {
@@ -419,6 +502,43 @@ impl<M: Model> Instance<M> {
         if let Err(reason) = result {
             return Err(self.fail("fmi2ExitInitializationMode", &reason));
         }
+        // FMI 3.0 co-simulation with eventModeUsed enters Event Mode here, without it
+        // Step Mode (section 4.2).
+        self.mode = if self.events.event_mode_used {
+            Mode::EventMode
+        } else {
+            Mode::StepComplete
+        };
+        Ok(())
+    }
+
+    /// fmi3EnterEventMode (only with eventModeUsed): from Step Mode, at the current time;
+    /// clears the request of a step that ended at an event.
+    pub fn enter_event_mode(&mut self) -> CallResult<()> {
+        if !self.events.event_mode_used {
+            return Err(self.fail(
+                "fmi3EnterEventMode",
+                "the instance was instantiated with eventModeUsed = false",
+            ));
+        }
+        self.check(Call::EnterEventMode)?;
+        self.mode = Mode::EventMode;
+        self.event_pending = false;
+        Ok(())
+    }
+
+    /// fmi3UpdateDiscreteStates. The models have no discrete states that the inputs
+    /// set in Event Mode could change (the beam's stick/slip state is decided within its
+    /// steps), so one call settles everything: no further iteration, no time event, no
+    /// change of the continuous states.
+    pub fn update_discrete_states(&mut self) -> CallResult<DiscreteUpdate> {
+        self.check(Call::UpdateDiscreteStates)?;
+        Ok(DiscreteUpdate::default())
+    }
+
+    /// fmi3EnterStepMode: back to Step Mode at the current time.
+    pub fn enter_step_mode(&mut self) -> CallResult<()> {
+        self.check(Call::EnterStepMode)?;
         self.mode = Mode::StepComplete;
         Ok(())
     }
@@ -434,6 +554,7 @@ impl<M: Model> Instance<M> {
     pub fn reset(&mut self) {
         self.model.reset();
         self.mode = Mode::Instantiated;
+        self.event_pending = false;
         self.start_time = 0.0;
         self.stop_time = None;
         self.time = 0.0;
@@ -626,6 +747,38 @@ impl<M: Model> Instance<M> {
     /// fmi2DoStep: the communication point must match the instance's time (within 1e-9
     /// relative), h must be positive and finite, and the step must not pass stopTime.
     pub fn do_step(&mut self, current: f64, h: f64) -> CallResult<()> {
+        self.step(current, h, false).map(|_| ())
+    }
+
+    /// fmi3DoStep: fmi2DoStep's checks and step, except that with earlyReturnAllowed the
+    /// step ends at the model's first internal event (the beam: a stick/slip switch), and
+    /// with eventModeUsed a step that ends at an event asks for Event Mode; the next step
+    /// is refused until the importer has entered it. Without earlyReturnAllowed the step
+    /// always reaches its communication point (events inside it are the model's own
+    /// business), so the results are FMI 2.0's.
+    pub fn do_step3(&mut self, current: f64, h: f64) -> CallResult<StepOutcome> {
+        if self.event_pending {
+            self.check(Call::DoStep)?;
+            let reason = format!(
+                "illegal call sequence: the last step ended at an event at t = {} s (eventHandlingNeeded = true); call fmi3EnterEventMode, fmi3UpdateDiscreteStates and fmi3EnterStepMode first",
+                self.time
+            );
+            return Err(self.fail("fmi3DoStep", &reason));
+        }
+        let target = current + h;
+        let event = self.step(current, h, self.events.early_return_allowed)?;
+        let event_handling_needed = event.is_some() && self.events.event_mode_used;
+        self.event_pending = event_handling_needed;
+        Ok(StepOutcome {
+            early_return: self.time < target && event.is_some(),
+            event_handling_needed,
+            last_successful_time: self.time,
+        })
+    }
+
+    /// The step of fmi2DoStep and fmi3DoStep; `until_event`: end at the model's first
+    /// internal event and return its time.
+    fn step(&mut self, current: f64, h: f64, until_event: bool) -> CallResult<Option<f64>> {
         self.check(Call::DoStep)?;
         const CALL: &str = "fmi2DoStep";
         let tolerance = 1e-9 * self.time.abs().max(1.0);
@@ -654,14 +807,25 @@ impl<M: Model> Instance<M> {
             }
         }
         let mut events = Vec::new();
-        let result = self.model.do_step(self.time, target, &mut events);
+        let result = if until_event {
+            self.model
+                .do_step_until_event(self.time, target, &mut events)
+        } else {
+            self.model
+                .do_step(self.time, target, &mut events)
+                .map(|()| None)
+        };
         for event in &events {
             self.log(EVENTS, Status::Ok, event);
         }
         match result {
-            Ok(()) => {
+            Ok(None) => {
                 self.time = target;
-                Ok(())
+                Ok(None)
+            }
+            Ok(Some(at)) => {
+                self.time = at;
+                Ok(Some(at))
             }
             Err(reason) => Err(self.fail(CALL, &reason)),
         }
@@ -709,6 +873,7 @@ impl<M: Model> Instance<M> {
             start_time: self.start_time,
             stop_time: self.stop_time,
             model: self.model.save(),
+            event_pending: self.event_pending,
         })
     }
 
@@ -731,6 +896,12 @@ impl<M: Model> Instance<M> {
         if let Err(e) = state.check_clock() {
             return Err(self.fail(CALL, &e.to_string()));
         }
+        if (state.mode == Mode::EventMode || state.event_pending) && !self.events.event_mode_used {
+            return Err(self.fail(
+                CALL,
+                "the state was saved in or before Event Mode, but this instance was instantiated with eventModeUsed = false",
+            ));
+        }
         if let Err(reason) = self
             .model
             .restore(state.model.clone(), state.version, state.time)
@@ -738,6 +909,7 @@ impl<M: Model> Instance<M> {
             return Err(self.fail(CALL, &reason));
         }
         self.mode = state.mode;
+        self.event_pending = state.event_pending;
         self.time = state.time;
         self.start_time = state.start_time;
         self.stop_time = state.stop_time;

@@ -20,6 +20,9 @@ pub struct ModelInfo {
     /// folder. Names, not contents: fmu-build copies the files, so the library itself
     /// does not carry the networks it reads from `resources/` (1.3 MB).
     pub resources: &'static [&'static str],
+    /// The model has internal events at which an FMI 3.0 step can end early
+    /// (`Model::do_step_until_event`; modelDescription 3.0's mightReturnEarlyFromDoStep).
+    pub returns_early_at_events: bool,
 }
 
 /// A model behind an FMU. Plain Rust: no C types. The `instance` module drives it
@@ -60,6 +63,20 @@ pub trait Model: Send + Sized + 'static {
     /// Advances from `from` to `to` (s). `events` collects messages for the
     /// logEvents category.
     fn do_step(&mut self, from: f64, to: f64, events: &mut Vec<String>) -> Result<(), String>;
+
+    /// Advances from `from` towards `to` (s) as `do_step` does, but ends at an internal
+    /// event (for the beam: the end of the internal step in which the contact switched
+    /// between stick and slip) and returns its time (s), which is then where the model
+    /// is. `None`: no event, the model is at `to` exactly as after `do_step`. A model
+    /// without events (the default) never stops early.
+    fn do_step_until_event(
+        &mut self,
+        from: f64,
+        to: f64,
+        events: &mut Vec<String>,
+    ) -> Result<Option<f64>, String> {
+        self.do_step(from, to, events).map(|()| None)
+    }
 
     /// Messages for the `logEvents` category produced outside a step (for example the
     /// `fidelity = auto` choice at initialisation); taken once.

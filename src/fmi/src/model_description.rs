@@ -327,8 +327,9 @@ fn write_choices<M>(w: &mut String, variables: &[Variable<M>]) {
 
 /// The FMI 3.0 modelDescription.xml of the same table (FMI 3.0 standard, section 2.4):
 /// the same variables, units, categories and experiment as [`body`], with FMI 3.0's
-/// names (Float64, Int32, `instantiationToken`), a `<CoSimulation>` element that says no
-/// event mode and no early return, and ModelStructure by value reference. A choice is an
+/// names (Float64, Int32, `instantiationToken`), a `<CoSimulation>` element that says
+/// Event Mode for both models and early return where the model has internal events
+/// (`ModelInfo::returns_early_at_events`), and ModelStructure by value reference. A choice is an
 /// `<Int32 min="1" max="N">`, as in FMI 2.0, so the codes, the scripts that read them
 /// from the `stickslip` annotation, and the SSP parameter sets are the same for both
 /// versions; their words are in each choice's description. The instantiation token is the FMI 2.0 GUID: both descriptions come from
@@ -355,8 +356,8 @@ fn body3<M: Model>(token: &str) -> String {
     );
     let _ = writeln!(
         w,
-        r#"  <CoSimulation modelIdentifier="{}" needsExecutionTool="false" canBeInstantiatedOnlyOncePerProcess="false" canGetAndSetFMUState="true" canSerializeFMUState="true" providesDirectionalDerivatives="false" providesAdjointDerivatives="false" providesPerElementDependencies="false" canHandleVariableCommunicationStepSize="true" maxOutputDerivativeOrder="0" providesIntermediateUpdate="false" mightReturnEarlyFromDoStep="false" canReturnEarlyAfterIntermediateUpdate="false" hasEventMode="false" providesEvaluateDiscreteStates="false"/>"#,
-        info.model_identifier
+        r#"  <CoSimulation modelIdentifier="{}" needsExecutionTool="false" canBeInstantiatedOnlyOncePerProcess="false" canGetAndSetFMUState="true" canSerializeFMUState="true" providesDirectionalDerivatives="false" providesAdjointDerivatives="false" providesPerElementDependencies="false" canHandleVariableCommunicationStepSize="true" maxOutputDerivativeOrder="0" providesIntermediateUpdate="false" mightReturnEarlyFromDoStep="{}" canReturnEarlyAfterIntermediateUpdate="false" hasEventMode="true" providesEvaluateDiscreteStates="false"/>"#,
+        info.model_identifier, info.returns_early_at_events
     );
     write_units_categories_experiment(w, variables, FmiVersion::V3);
 

@@ -5,7 +5,8 @@
 /// The FMI version an instance was instantiated through. The state machine is shared:
 /// FMI 3.0 co-simulation without event mode has the same modes as FMI 2.0 (Step Mode is
 /// `StepComplete`; fmi3EnterInitializationMode does fmi2SetupExperiment's work), so only
-/// the function names in the log differ.
+/// the function names in the log differ. With eventModeUsed an FMI 3.0 instance also
+/// has Event Mode (`instance::Mode::EventMode`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FmiVersion {
     V2,

@@ -326,7 +326,7 @@ impl Simulator {
     /// beyond the reserved capacity (which stops growing at 2 [`RECENT_TRANSITIONS`]
     /// unless all transitions are kept).
     pub fn step(&mut self) -> Result<(), SimulationError> {
-        self.take_step(false)
+        self.take_step(false).map(|_| ())
     }
 
     /// Advances to `target` (s) and ends exactly there. Full steps, then, when `target`
@@ -336,6 +336,33 @@ impl Simulator {
     /// the tip velocity into a huge stick force.) A target within 1e-6 steps of the grid
     /// is reached by full steps alone. Refuses more than `MAX_STEPS` steps at once.
     pub fn advance_to(&mut self, target: f64) -> Result<(), SimulationError> {
+        self.advance(target, false).map(|_| ())
+    }
+
+    /// Advances towards `target` (s) as [`Self::advance_to`] does, but stops at the end
+    /// of the first step in which the contact switched between stick and slip, and
+    /// returns that time (s): the time of the transition just recorded
+    /// (`transitions().last()`), which is also the new `state().time`. (For a switch in
+    /// the step that lands on `target`, the simulation ends on `target` exactly, as
+    /// `advance_to` does, and returns `Some(target)`; the record is `target` to
+    /// rounding.) `None` when no
+    /// switch happened: the simulation is then at `target`, with the same steps and the
+    /// same numbers as `advance_to`.
+    ///
+    /// For a co-simulation master that wants to exchange values at the switch (FMI 3.0
+    /// early return): the step grid up to the switch is `advance_to`'s, so the switch
+    /// time is known to within one internal step; a stop inside a split landing (see
+    /// `advance_to`) leaves the simulation off the dt grid, and the next advance counts
+    /// its full steps from there.
+    pub fn advance_until_switch(&mut self, target: f64) -> Result<Option<f64>, SimulationError> {
+        self.advance(target, true)
+    }
+
+    fn advance(
+        &mut self,
+        target: f64,
+        stop_at_switch: bool,
+    ) -> Result<Option<f64>, SimulationError> {
         let dt = self.integrator.dt();
         let tolerance = SAME_TIME * dt;
         let invalid = SimulationError::InvalidTarget {
@@ -356,7 +383,15 @@ impl Simulator {
             full_steps -= 1;
         }
         for _ in 0..full_steps {
-            self.take_step(false)?;
+            if self.take_step(false)? && stop_at_switch {
+                if (target - self.state.time).abs() <= tolerance {
+                    // The last step, with nothing left to land: end on `target`, as
+                    // advance_to does.
+                    self.land_on(target);
+                    return Ok(Some(target));
+                }
+                return Ok(Some(self.state.time));
+            }
         }
         let landing_steps = if split { 2 } else { 1 };
         let remaining = target - self.state.time;
@@ -372,19 +407,32 @@ impl Simulator {
                     self.scene.damping.stiffness_proportional,
                 )?);
             }
-            for _ in 0..landing_steps {
-                self.take_step(true)?;
+            for k in 0..landing_steps {
+                let switched = self.take_step(true)?;
+                if switched && stop_at_switch && k + 1 < landing_steps {
+                    return Ok(Some(self.state.time));
+                }
+                if switched && stop_at_switch {
+                    self.land_on(target);
+                    return Ok(Some(target));
+                }
             }
         }
+        self.land_on(target);
+        Ok(None)
+    }
+
+    /// Ends an advance exactly on `target`: the landing steps reach it to rounding.
+    fn land_on(&mut self, target: f64) {
         if self.state.time != target {
             self.state.time = target;
             self.state.anchor_time = target;
             self.state.steps_since_anchor = 0;
         }
-        Ok(())
     }
 
-    fn take_step(&mut self, landing: bool) -> Result<(), SimulationError> {
+    /// Takes one step; true when the contact switched between stick and slip in it.
+    fn take_step(&mut self, landing: bool) -> Result<bool, SimulationError> {
         let static_limit = self.static_limit();
         let kinetic = match self.external {
             Some(ExternalFriction {
@@ -468,8 +516,9 @@ impl Simulator {
                 to: resolution.state,
             });
         }
+        let switched = resolution.state != state.contact;
         state.contact = resolution.state;
-        Ok(())
+        Ok(switched)
     }
 
     /// Runs to the scene's end time, recording a sample every `every` steps (and the
