@@ -232,7 +232,8 @@ pub fn lanczos_modes(model: &StructuralModel, count: usize) -> Result<Modes, Mod
         }
         let b = model.mass.bilinear(&w, &w, &mut scratch).sqrt();
         let steps = basis.len();
-        let exhausted = steps == n || !(b > 1e-14 * alpha[0].abs());
+        // A NaN b (a broken factor) counts as exhausted too.
+        let exhausted = steps == n || b.is_nan() || b <= 1e-14 * alpha[0].abs();
         if steps >= count {
             let t = DMatrix::from_fn(steps, steps, |r, c| {
                 if r == c {
@@ -259,7 +260,7 @@ pub fn lanczos_modes(model: &StructuralModel, count: usize) -> Result<Modes, Mod
                 let mut vectors = Vec::with_capacity(count);
                 for &i in &order[..count] {
                     let theta = eig.eigenvalues[i];
-                    if !(theta > 0.0) {
+                    if theta.is_nan() || theta <= 0.0 {
                         return Err(ModelError::NoConvergence { iterations: steps });
                     }
                     let mut x = vec![0.0; n];

@@ -286,7 +286,9 @@ pub enum MeasureError {
 #[derive(Debug, thiserror::Error)]
 #[error("{configuration}: {reason}")]
 pub struct Failed {
-    pub configuration: Configuration,
+    /// Boxed so that the error stays small (clippy's result_large_err: it travels in
+    /// `auto::AutoError` through every `Result` of the selection).
+    pub configuration: Box<Configuration>,
     #[source]
     pub reason: MeasureError,
 }
@@ -294,7 +296,7 @@ pub struct Failed {
 /// Runs `configuration` on `scene` (checked), timing it.
 pub fn measure(scene: &Scene, configuration: Configuration) -> Result<Measured, Failed> {
     let failed = |reason: MeasureError| Failed {
-        configuration,
+        configuration: Box::new(configuration),
         reason,
     };
     let checked: CheckedScene = configuration
