@@ -8,14 +8,48 @@
 //! (`auto::first_cycle_deviation`), absolute (um) and relative to the scene's
 //! Euler-Bernoulli quasi-static breakaway deflection mu_s F_n / k (the sawtooth's scale).
 
-use stickslip::auto::{first_cycle_deviation, verification_scenes};
+use std::time::Instant;
+use stickslip::auto::{first_cycle_deviation, paper_front, verification_scenes};
 use stickslip::modal::modes_of;
 use stickslip::scene::Scheme;
 use stickslip::stability::cantilever_omega;
 use stickslip::structure::StructuralModel;
 use stickslip::study::{measure, Configuration, Resolution};
+use stickslip::transfer::front_for_scene;
 
 fn main() {
+    // What `transfer` makes of the shipped front on each verification scene, and what
+    // the mapping costs (first call: the spectra; second: the cache).
+    let front = paper_front().expect("the shipped front");
+    for (name, scene) in verification_scenes() {
+        let started = Instant::now();
+        let mapped = front_for_scene(&scene, &front);
+        let first = started.elapsed().as_secs_f64();
+        let started = Instant::now();
+        front_for_scene(&scene, &front);
+        let again = started.elapsed().as_secs_f64();
+        let changes: Vec<String> = front
+            .iter()
+            .zip(&mapped)
+            .filter(|(a, b)| a.configuration != b.configuration)
+            .map(|(a, b)| {
+                format!(
+                    "{} -> {}",
+                    a.configuration.resolution, b.configuration.resolution
+                )
+            })
+            .collect();
+        println!(
+            "{name}: mapping {:.1} ms (again {:.2} ms); {}",
+            first * 1e3,
+            again * 1e3,
+            if changes.is_empty() {
+                "every point kept".to_string()
+            } else {
+                changes.join("; ")
+            }
+        );
+    }
     let modes = [2, 3, 4, 5, 6, 7, 8, 10, 12, 15, 20];
     let scheme = Scheme::GeneralizedAlpha;
     let at = |resolution, dt| Configuration {
