@@ -31,11 +31,14 @@ def label(row):
 
     This re-spells the Display of stickslip::study::Configuration because study.csv has
     no label column, only its fields (level, modes, beam_elements, element_size_m, dt_s,
-    integrator, inference); the time step is written with :g where the Rust uses {:e}.
+    integrator, inference; level plane-stress-modal is the modal level on the mesh);
+    the time step is written with :g where the Rust uses {:e}.
     The inference is empty unless the study had a friction-law axis (--inferences)."""
     level = row["level"]
     if level == "modal":
         resolution = f"modal {row['modes']} modes"
+    elif level == "plane-stress-modal":
+        resolution = f"modal {row['modes']} modes of plane stress {row['element_size_m']} m"
     elif level == "beam":
         resolution = f"beam {row['beam_elements']} el."
     else:

@@ -68,3 +68,14 @@ def test_study_plot_checks_the_pareto_column_and_returns_a_status(tmp_path, caps
     write_rows(tmp_path / "study.csv", STUDY_COLUMNS, study_rows("0"))
     assert study_plot.main([str(tmp_path)]) == 1
     assert "pareto column disagrees" in capsys.readouterr().err
+
+
+def test_a_modal_row_of_the_mesh_is_labelled_apart_from_the_beam_modal_row():
+    # Same modes, step and integrator: only the level and the element size tell the
+    # beam's modal model from the mesh's, and the front check compares these labels.
+    common = {"modes": "10", "beam_elements": "", "dt_s": "1e-4",
+              "integrator": "generalized-alpha", "inference": ""}
+    beam = study_plot.label({**common, "level": "modal", "element_size_m": ""})
+    mesh = study_plot.label({**common, "level": "plane-stress-modal", "element_size_m": "0.02"})
+    assert beam == "modal 10 modes, dt 0.0001 s, generalized-alpha"
+    assert mesh == "modal 10 modes of plane stress 0.02 m, dt 0.0001 s, generalized-alpha"

@@ -1,6 +1,7 @@
 //! Physics: statics and frequencies against beam theory, dynamics (orbits, energy,
-//! convergence), the extremes, scene validation, the choice enums, fidelity = auto, the
-//! error messages, and the layering of the crates.
+//! convergence), the modal model of the plane-stress mesh, the extremes, scene
+//! validation, the choice enums, fidelity = auto, the error messages, and the layering
+//! of the crates.
 
 mod auto;
 mod choices;
@@ -9,6 +10,7 @@ mod dynamics;
 mod errors;
 mod extremes;
 mod layering;
+mod mesh_modes;
 mod scene_validation;
 mod slip_solve;
 mod statics;

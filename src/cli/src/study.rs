@@ -28,6 +28,10 @@ pub struct StudyArgs {
     /// Plane-stress levels: element sizes (m).
     #[arg(long, value_delimiter = ',', num_args = 0..)]
     pub element_sizes: Option<Vec<f64>>,
+    /// Modal reductions of the plane-stress mesh: SIZE:MODES pairs, element size (m)
+    /// and number of modes, e.g. 0.02:5,0.005:20 (empty for none).
+    #[arg(long, value_parser = size_and_modes, value_delimiter = ',', num_args = 0..)]
+    pub plane_stress_modal: Option<Vec<(f64, usize)>>,
     /// Time steps (s); each must divide 1 ms.
     #[arg(long, value_delimiter = ',')]
     pub dts: Option<Vec<f64>>,
@@ -57,6 +61,19 @@ pub struct StudyArgs {
     pub auto_scenes: Option<Vec<String>>,
 }
 
+/// One SIZE:MODES pair of `--plane-stress-modal`.
+fn size_and_modes(text: &str) -> Result<(f64, usize), String> {
+    let usage = || {
+        format!(
+            "'{text}': expected SIZE:MODES, an element size (m) and a number of modes, e.g. 0.02:5"
+        )
+    };
+    let (size, modes) = text.split_once(':').ok_or_else(usage)?;
+    let size: f64 = size.trim().parse().map_err(|_| usage())?;
+    let modes: usize = modes.trim().parse().map_err(|_| usage())?;
+    Ok((size, modes))
+}
+
 /// `stickslip study`: the grid, the reference, the CSV and the front.
 pub fn study(args: &StudyArgs) -> Result<(), CliError> {
     use stickslip::study::{
@@ -74,6 +91,10 @@ pub fn study(args: &StudyArgs) -> Result<(), CliError> {
         modes: args.modes.clone().unwrap_or(full.modes),
         beam_elements: args.elements.clone().unwrap_or(full.beam_elements),
         element_sizes: args.element_sizes.clone().unwrap_or(full.element_sizes),
+        plane_stress_modal: args
+            .plane_stress_modal
+            .clone()
+            .unwrap_or(full.plane_stress_modal),
         time_steps: args.dts.clone().unwrap_or(full.time_steps),
         schemes: match &args.integrators {
             Some(list) => list.clone(),

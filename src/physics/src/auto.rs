@@ -35,6 +35,8 @@
 //!    well it carries over.)
 //! 2. Points are tried cheapest first; the first whose estimate is <= the tolerance is
 //!    chosen. Each run is done once and reused.
+//! 3. A modal point keeps, on the scene, every mode of its basis up to the paper
+//!    point's cut-off omega_N / omega_1 (`transfer::front_for_scene`, measured there).
 //!
 //! A scene asks for this with `fidelity.level = auto` and `fidelity.tolerance`
 //! ([`DEFAULT_TOLERANCE`] when absent, on the command line and in the FMU alike);
@@ -205,6 +207,8 @@ pub fn choose(
     }
     check_front(front)?;
     let started = Instant::now();
+    // The front's mode counts as this scene's spectrum asks for them (`transfer`).
+    let front = &crate::transfer::front_for_scene(scene, front);
     let mut runs: Vec<Option<Measured>> = vec![None; front.len()];
     let mut count = 0;
     let mut run = |k: usize, count: &mut usize| -> Result<Measured, AutoError> {
@@ -400,6 +404,7 @@ pub fn verify(
     reference: &Measured,
 ) -> Result<Verification, AutoError> {
     let choice = choose(scene, tolerance, front, &mut |_| {})?;
+    let front = &crate::transfer::front_for_scene(scene, front);
     let error_of = |configuration: Configuration| -> Result<f64, AutoError> {
         let run = measure(scene, configuration).map_err(|f| AutoError::Verification(f.reason))?;
         Ok(first_cycle_deviation(&run.tip, reference))

@@ -8,7 +8,8 @@
 //! a `friction` law (analytical, or a trained network from `neural`, inference only).
 //! `simulation` ties these together step by step; `run` runs a scene to its end;
 //! `metrics` reads breakaway, slips and period off a run; `study` measures speed against
-//! accuracy and `auto` picks the cheapest fidelity that meets a tolerance. Beside the
+//! accuracy, `transfer` carries a front point's mode count to another scene, and `auto`
+//! picks the cheapest fidelity that meets a tolerance. Beside the
 //! dynamics: `statics`, the paper's static tip-load case and its mesh convergence
 //! (Sec. 2.1); `stability`, closed-form cantilever frequencies, Rayleigh damping at two
 //! modes and the belt speed above which steady sliding is stable. `choice` is the
@@ -36,3 +37,4 @@ pub mod stability;
 pub mod statics;
 pub mod structure;
 pub mod study;
+pub mod transfer;

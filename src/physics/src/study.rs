@@ -22,7 +22,7 @@
 use crate::choice::Choice;
 use crate::metrics::Summary;
 use crate::run::{run_scene, RunError};
-use crate::scene::{CheckedScene, FidelityLevel, Inference, Scene, SceneError, Scheme};
+use crate::scene::{CheckedScene, FidelityLevel, Inference, ModalBasis, Scene, SceneError, Scheme};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -33,13 +33,18 @@ pub const COMPARISON_INTERVAL: f64 = 1e-3;
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case", tag = "level")]
 pub enum Resolution {
-    /// Modal reduction of the 100-element beam with this many modes (plus the static
-    /// correction).
+    /// Modal reduction of the scene's beam (100 elements unless the scene says
+    /// otherwise) with this many modes (plus the static correction).
     Modal { modes: usize },
     /// Euler-Bernoulli beam with this many elements.
     Beam { elements: usize },
     /// Plane-stress Q8 mesh with this target element size (m).
     PlaneStress { element_size: f64 },
+    /// Modal reduction of the plane-stress mesh of this element size (m) with this many
+    /// modes (plus the static correction): the scene's `fidelity.level = modal` with
+    /// `fidelity.modal_basis = plane-stress`. Its modes come from shift-invert Lanczos
+    /// (`modal::lanczos_modes`).
+    PlaneStressModal { element_size: f64, modes: usize },
 }
 
 impl Resolution {
@@ -48,6 +53,16 @@ impl Resolution {
             Resolution::Modal { .. } => FidelityLevel::Modal,
             Resolution::Beam { .. } => FidelityLevel::Beam,
             Resolution::PlaneStress { .. } => FidelityLevel::PlaneStress,
+            Resolution::PlaneStressModal { .. } => FidelityLevel::Modal,
+        }
+    }
+
+    /// The resolution's kind as study.csv's `level` column writes it: the fidelity
+    /// level's name, except `plane-stress-modal` for the modal level on the mesh.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Resolution::PlaneStressModal { .. } => "plane-stress-modal",
+            other => other.level().name(),
         }
     }
 }
@@ -60,6 +75,10 @@ impl fmt::Display for Resolution {
             Resolution::PlaneStress { element_size } => {
                 write!(f, "plane stress {element_size} m")
             }
+            Resolution::PlaneStressModal {
+                element_size,
+                modes,
+            } => write!(f, "modal {modes} modes of plane stress {element_size} m"),
         }
     }
 }
@@ -86,9 +105,20 @@ impl Configuration {
         let mut scene = scene.clone();
         scene.fidelity.level = self.resolution.level();
         match self.resolution {
-            Resolution::Modal { modes } => scene.fidelity.modes = modes,
+            Resolution::Modal { modes } => {
+                scene.fidelity.modes = modes;
+                scene.fidelity.modal_basis = ModalBasis::Beam;
+            }
             Resolution::Beam { elements } => scene.fidelity.beam_elements = elements,
             Resolution::PlaneStress { element_size } => scene.fidelity.element_size = element_size,
+            Resolution::PlaneStressModal {
+                element_size,
+                modes,
+            } => {
+                scene.fidelity.modes = modes;
+                scene.fidelity.element_size = element_size;
+                scene.fidelity.modal_basis = ModalBasis::PlaneStress;
+            }
         }
         scene.time.step = self.dt;
         scene.integrator.scheme = self.scheme;
@@ -125,6 +155,8 @@ pub struct Grid {
     pub modes: Vec<usize>,
     pub beam_elements: Vec<usize>,
     pub element_sizes: Vec<f64>,
+    /// Modal reductions of the plane-stress mesh: (element size (m), modes) pairs.
+    pub plane_stress_modal: Vec<(f64, usize)>,
     pub time_steps: Vec<f64>,
     pub schemes: Vec<Scheme>,
     /// Evaluations of a neural law; empty: the scene's own.
@@ -133,12 +165,15 @@ pub struct Grid {
 
 impl Grid {
     /// The issue's grid: modal 1..20 modes, beam 5..200 elements, plane stress
-    /// 0.08..0.005 m, time steps 1e-3..1e-5 s, both integrators.
+    /// 0.08..0.005 m, time steps 1e-3..1e-5 s, both integrators; and (issue 17) the
+    /// modal bases of the mesh that reached the front (docs/speed-accuracy.md): 5 and 10
+    /// modes of the 0.02 m mesh, 10 of the 0.01 m one, 10 and 20 of the 0.005 m one.
     pub fn full() -> Self {
         Self {
             modes: vec![1, 2, 3, 5, 10, 20],
             beam_elements: vec![5, 10, 20, 50, 100, 200],
             element_sizes: vec![0.08, 0.04, 0.02, 0.01, 0.005],
+            plane_stress_modal: vec![(0.02, 5), (0.02, 10), (0.01, 10), (0.005, 10), (0.005, 20)],
             time_steps: vec![1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5],
             schemes: vec![Scheme::GeneralizedAlpha, Scheme::MoreauJean],
             inferences: Vec::new(),
@@ -155,6 +190,14 @@ impl Grid {
                 self.beam_elements
                     .iter()
                     .map(|&elements| Resolution::Beam { elements }),
+            )
+            .chain(
+                self.plane_stress_modal
+                    .iter()
+                    .map(|&(element_size, modes)| Resolution::PlaneStressModal {
+                        element_size,
+                        modes,
+                    }),
             )
             .chain(
                 self.element_sizes
@@ -238,7 +281,9 @@ pub enum MeasureError {
 #[derive(Debug, thiserror::Error)]
 #[error("{configuration}: {reason}")]
 pub struct Failed {
-    pub configuration: Configuration,
+    /// Boxed so that the error stays small (clippy's result_large_err: it travels in
+    /// `auto::AutoError` through every `Result` of the selection).
+    pub configuration: Box<Configuration>,
     #[source]
     pub reason: MeasureError,
 }
@@ -246,7 +291,7 @@ pub struct Failed {
 /// Runs `configuration` on `scene` (checked), timing it.
 pub fn measure(scene: &Scene, configuration: Configuration) -> Result<Measured, Failed> {
     let failed = |reason: MeasureError| Failed {
-        configuration,
+        configuration: Box::new(configuration),
         reason,
     };
     let checked: CheckedScene = configuration
@@ -367,13 +412,17 @@ pub const CSV_HEADER: &str = "level,modes,beam_elements,element_size_m,dt_s,inte
 /// One CSV line of a row; missing values are empty fields.
 pub fn csv_line(row: &Row, end_time: f64) -> String {
     let c = &row.measured.configuration;
-    let level = c.resolution.level().name();
+    let level = c.resolution.kind();
     let (modes, elements, size) = match c.resolution {
         Resolution::Modal { modes } => (modes.to_string(), String::new(), String::new()),
         Resolution::Beam { elements } => (String::new(), elements.to_string(), String::new()),
         Resolution::PlaneStress { element_size } => {
             (String::new(), String::new(), element_size.to_string())
         }
+        Resolution::PlaneStressModal {
+            element_size,
+            modes,
+        } => (modes.to_string(), String::new(), element_size.to_string()),
     };
     let opt = |v: Option<f64>| v.map(|v| format!("{v:.6e}")).unwrap_or_default();
     let e = &row.errors;
@@ -460,7 +509,7 @@ mod tests {
     #[test]
     fn the_full_grid_is_the_issues_grid_and_its_reference_is_the_finest_run() {
         let grid = Grid::full();
-        assert_eq!(grid.configurations().len(), (6 + 6 + 5) * 7 * 2);
+        assert_eq!(grid.configurations().len(), (6 + 6 + 5 + 5) * 7 * 2);
         let finest = grid.finest().unwrap();
         assert_eq!(
             finest.resolution,
