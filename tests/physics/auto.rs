@@ -118,7 +118,11 @@ fn auto_chooses_the_cheapest_point_that_meets_the_tolerance_on_three_scenes() {
 /// that runs for 1.2 s, and a scene shorter than that calibrates over its whole run.
 #[test]
 fn the_calibration_horizon_follows_the_first_cycle_not_the_end_time() {
-    let pilot = configuration(Resolution::Modal { modes: 1 }, 1e-3, Scheme::GeneralizedAlpha);
+    let pilot = configuration(
+        Resolution::Modal { modes: 1 },
+        1e-3,
+        Scheme::GeneralizedAlpha,
+    );
     let mut lines = Vec::new();
     let mut horizon_at = |end: f64| {
         let mut scene = Scene::default();
@@ -136,7 +140,10 @@ fn the_calibration_horizon_follows_the_first_cycle_not_the_end_time() {
     let expected = (1.5 * second / 1e-3).ceil() * 1e-3;
     assert!((paper - expected).abs() < 1e-12, "{paper} {expected}");
     assert_eq!(long, paper);
-    assert!(paper < 1.2, "the first cycle ends before the paper run does: {paper}");
+    assert!(
+        paper < 1.2,
+        "the first cycle ends before the paper run does: {paper}"
+    );
     assert_eq!(short, 0.5);
     // One progress line per pilot run, each naming its horizon.
     assert!(lines.iter().all(|l| l.contains("the pilot")), "{lines:?}");
@@ -156,13 +163,29 @@ fn the_chain_bounds_the_error_where_the_first_partner_is_as_wrong() {
     stubby.material.youngs_modulus = 40e6;
     let coarse = configuration(Resolution::Modal { modes: 1 }, 1e-3, Scheme::MoreauJean);
     let partner = configuration(Resolution::Beam { elements: 5 }, 1e-3, Scheme::MoreauJean);
-    let fine = configuration(Resolution::Modal { modes: 5 }, 1e-4, Scheme::GeneralizedAlpha);
+    let fine = configuration(
+        Resolution::Modal { modes: 5 },
+        1e-4,
+        Scheme::GeneralizedAlpha,
+    );
     // Paper-scene errors that make `partner` the partner of `coarse`, and `fine` that of
     // `partner` (each at least 5x smaller); costs rising.
     let front = [
-        FrontPoint { configuration: coarse, seconds: 1e-4, rms_error: 2e-4 },
-        FrontPoint { configuration: partner, seconds: 2e-4, rms_error: 3e-5 },
-        FrontPoint { configuration: fine, seconds: 3e-4, rms_error: 5e-7 },
+        FrontPoint {
+            configuration: coarse,
+            seconds: 1e-4,
+            rms_error: 2e-4,
+        },
+        FrontPoint {
+            configuration: partner,
+            seconds: 2e-4,
+            rms_error: 3e-5,
+        },
+        FrontPoint {
+            configuration: fine,
+            seconds: 3e-4,
+            rms_error: 5e-7,
+        },
     ];
     let choice = choose(&stubby, 1.0, &front, &mut |_| {}).unwrap();
     let tried = &choice.tried[0];

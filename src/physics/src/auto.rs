@@ -374,7 +374,9 @@ pub fn choose(
     };
     let mut tried = Vec::new();
     for k in 0..front.len() {
-        let Some(first) = partner(front, k) else { break };
+        let Some(first) = partner(front, k) else {
+            break;
+        };
         let candidate = run(k, &mut count)?;
         let mut before = candidate.clone();
         let mut chain: Vec<(Configuration, f64)> = Vec::new();
