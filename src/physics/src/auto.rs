@@ -241,6 +241,16 @@ pub fn partner(front: &[FrontPoint], k: usize) -> Option<usize> {
     )
 }
 
+/// The model-refinement partner of front point `k`: the first later plane-stress point
+/// at least [`PARTNER_ACCURACY_RATIO`] times more accurate on the paper scene.
+pub fn refinement(front: &[FrontPoint], k: usize) -> Option<usize> {
+    let target = front[k].rms_error / PARTNER_ACCURACY_RATIO;
+    (k + 1..front.len()).find(|&j| {
+        front[j].configuration.resolution.level() == FidelityLevel::PlaneStress
+            && front[j].rms_error <= target
+    })
+}
+
 /// One front point tried on the scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Candidate {
@@ -252,7 +262,9 @@ pub struct Candidate {
     /// The first partner (the first link of the chain).
     pub partner: Configuration,
     /// The chain: each partner run and the first-cycle deviation d (m) of the run before
-    /// it from it, first partner first.
+    /// it from it, first partner first; for a beam or modal candidate whose chain has no
+    /// plane stress, last the model-refinement point ([`refinement`]) and the
+    /// candidate's deviation from it.
     pub chain: Vec<(Configuration, f64)>,
 }
 
@@ -406,7 +418,22 @@ pub fn choose(
             }
         }
         let last = chain.last().map_or(f64::NAN, |(_, d)| *d);
-        let estimated_error = SAFETY_FACTOR * (direct + TAIL_FACTOR * last);
+        let mut bound = direct + TAIL_FACTOR * last;
+        // Model refinement: beam and modal points can share a model error (shear on a
+        // stubby beam) that no chain among them sees. A chain without plane stress is
+        // checked against the cheapest plane-stress point 5x more accurate on the paper
+        // scene, if any. With rho the paper-scene error ratio of k to m (>= 5) and
+        // e_m <= e_k / rho: e_k <= d(k, m) rho / (rho - 1).
+        let refined = |c: &Configuration| c.resolution.level() == FidelityLevel::PlaneStress;
+        if !refined(&front[k].configuration) && !chain.iter().any(|(c, _)| refined(c)) {
+            if let Some(m) = refinement(front, k) {
+                let d = first_cycle_deviation(&candidate.tip, &run(m, &mut count)?);
+                chain.push((front[m].configuration, d));
+                let rho = front[k].rms_error / front[m].rms_error;
+                bound = bound.max(d * rho / (rho - 1.0));
+            }
+        }
+        let estimated_error = SAFETY_FACTOR * bound;
         tried.push(Candidate {
             configuration: front[k].configuration,
             estimated_error,
@@ -640,6 +667,30 @@ mod tests {
         // None is five times better than 0.3: the last point.
         assert_eq!(partner(&front, 2), Some(4));
         assert_eq!(partner(&front, 4), None);
+    }
+
+    #[test]
+    fn the_refinement_is_the_first_plane_stress_point_five_times_more_accurate() {
+        let plane_stress = |seconds: f64, rms_error: f64| FrontPoint {
+            configuration: Configuration {
+                resolution: Resolution::PlaneStress { element_size: 0.02 },
+                ..point(1, seconds, rms_error).configuration
+            },
+            seconds,
+            rms_error,
+        };
+        let front = [
+            point(1, 1.0, 1.0),
+            point(2, 2.0, 0.1),
+            plane_stress(3.0, 0.3),
+            plane_stress(4.0, 0.15),
+            plane_stress(5.0, 0.05),
+        ];
+        // The beam at 0.1 is 5x better than 1.0 but is no refinement; 0.15 is the
+        // first plane-stress point at or below 0.2.
+        assert_eq!(refinement(&front, 0), Some(3));
+        assert_eq!(refinement(&front, 1), None);
+        assert_eq!(refinement(&front, 2), Some(4));
     }
 
     #[test]
