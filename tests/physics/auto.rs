@@ -112,3 +112,97 @@ fn auto_chooses_the_cheapest_point_that_meets_the_tolerance_on_three_scenes() {
     }
     assert_eq!(checked, 3);
 }
+
+/// The calibration runs stop at 1.5x the pilot's second major-slip onset, whatever the
+/// scene's end: a scene that runs for 100 s calibrates over the same horizon as one
+/// that runs for 1.2 s, and a scene shorter than that calibrates over its whole run.
+#[test]
+fn the_calibration_horizon_follows_the_first_cycle_not_the_end_time() {
+    let pilot = configuration(
+        Resolution::Modal { modes: 1 },
+        1e-3,
+        Scheme::GeneralizedAlpha,
+    );
+    let mut lines = Vec::new();
+    let mut horizon_at = |end: f64| {
+        let mut scene = Scene::default();
+        scene.time.end = end;
+        stickslip::auto::calibration_horizon(&scene, pilot, &mut |l| lines.push(l.to_string()))
+            .unwrap()
+    };
+    let paper = horizon_at(1.2);
+    let long = horizon_at(100.0);
+    let short = horizon_at(0.5);
+    // The pilot's second onset on the paper scene, over 1 s and over 2 s of run.
+    let mut scene = Scene::default();
+    scene.time.end = 1.0;
+    let second = measure(&scene, pilot).unwrap().summary.major_slips[1].onset;
+    let expected = (1.5 * second / 1e-3).ceil() * 1e-3;
+    assert!((paper - expected).abs() < 1e-12, "{paper} {expected}");
+    assert_eq!(long, paper);
+    assert!(
+        paper < 1.2,
+        "the first cycle ends before the paper run does: {paper}"
+    );
+    assert_eq!(short, 0.5);
+    // One progress line per pilot run, each naming its horizon.
+    assert!(lines.iter().all(|l| l.contains("the pilot")), "{lines:?}");
+}
+
+/// The chain of partners catches a partner that is itself wrong on the scene. On the
+/// stubby beam (0.2 m x 0.02 m, E = 40 MPa) the 1-mode model and the 5-element beam, both
+/// at dt = 1e-3 s, agree closely with each other and far less with an accurate run: the
+/// old estimate, 1.25 x their deviation, fell below the true error. The chain goes on to
+/// the partner's partner (5 modes at 1e-4 s), finds that the first partner is not 5x more
+/// accurate there, and bounds the error by the deviation from the deepest partner.
+#[test]
+fn the_chain_bounds_the_error_where_the_first_partner_is_as_wrong() {
+    let mut stubby = short(Scene::default());
+    stubby.geometry.length = 0.2;
+    stubby.geometry.height = 0.02;
+    stubby.material.youngs_modulus = 40e6;
+    let coarse = configuration(Resolution::Modal { modes: 1 }, 1e-3, Scheme::MoreauJean);
+    let partner = configuration(Resolution::Beam { elements: 5 }, 1e-3, Scheme::MoreauJean);
+    let fine = configuration(
+        Resolution::Modal { modes: 5 },
+        1e-4,
+        Scheme::GeneralizedAlpha,
+    );
+    // Paper-scene errors that make `partner` the partner of `coarse`, and `fine` that of
+    // `partner` (each at least 5x smaller); costs rising.
+    let front = [
+        FrontPoint {
+            configuration: coarse,
+            seconds: 1e-4,
+            rms_error: 2e-4,
+        },
+        FrontPoint {
+            configuration: partner,
+            seconds: 2e-4,
+            rms_error: 3e-5,
+        },
+        FrontPoint {
+            configuration: fine,
+            seconds: 3e-4,
+            rms_error: 5e-7,
+        },
+    ];
+    let choice = choose(&stubby, 1.0, &front, &mut |_| {}).unwrap();
+    let tried = &choice.tried[0];
+    assert_eq!(tried.configuration, coarse);
+    assert_eq!(tried.chain.len(), 2, "{tried:?}");
+    let first_link = tried.chain[0].1;
+    let truth = {
+        let reference = reference(&stubby);
+        let run = measure(&stubby, coarse).unwrap();
+        first_cycle_deviation(&run.tip, &reference)
+    };
+    println!(
+        "stubby: single-link {:.3e} m, chain {:.3e} m, true {truth:.3e} m",
+        1.25 * first_link,
+        tried.estimated_error
+    );
+    // The single link would have underestimated; the chain does not.
+    assert!(1.25 * first_link < truth, "{first_link} {truth}");
+    assert!(tried.estimated_error >= truth, "{tried:?} {truth}");
+}

@@ -254,10 +254,10 @@ fn verify_auto(
     println!();
     println!("The error is the largest tip deviation over the first stick-slip cycle (stickslip::auto::first_cycle_deviation).");
     println!();
-    println!("| scene | tolerance (um) | choice | estimated (um) | true (um) | next cheaper | its true error (um) | calibration (s) | holds |");
-    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    println!("| scene | tolerance (um) | choice | estimated (um) | true (um) | next cheaper | its true error (um) | calibration (s) | runs to t (s) | holds |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     let mut csv = String::from(
-        "scene,tolerance_m,choice,estimated_m,true_m,cheaper,cheaper_true_m,calibration_s,holds\n",
+        "scene,tolerance_m,choice,estimated_m,true_m,cheaper,cheaper_true_m,calibration_s,calibration_runs,calibration_horizon_s,holds\n",
     );
     let mut failures = 0;
     let cases = tolerances.len() * scenes.len();
@@ -280,32 +280,36 @@ fn verify_auto(
                         None => ("(none: the cheapest point)".into(), "-".into()),
                     };
                     println!(
-                        "| {name} | {:.3} | {} | {:.3} | {:.3} | {cheaper} | {cheaper_error} | {:.2} | {} |",
+                        "| {name} | {:.3} | {} | {:.3} | {:.3} | {cheaper} | {cheaper_error} | {:.2} | {} to {} | {} |",
                         tolerance * 1e6,
                         v.choice.configuration,
                         v.choice.estimated_error * 1e6,
                         v.true_error * 1e6,
                         v.choice.calibration_seconds,
+                        v.choice.runs,
+                        v.choice.horizon,
                         if holds { "yes" } else { "NO" }
                     );
                     csv += &format!(
-                        "{name},{tolerance:e},{},{:e},{:e},{},{},{:.3},{}\n",
+                        "{name},{tolerance:e},{},{:e},{:e},{},{},{:.3},{},{},{}\n",
                         csv_field(&v.choice.configuration.to_string()),
                         v.choice.estimated_error,
                         v.true_error,
                         csv_field(&cheaper),
                         v.cheaper.map_or(String::new(), |(_, e)| format!("{e:e}")),
                         v.choice.calibration_seconds,
+                        v.choice.runs,
+                        v.choice.horizon,
                         holds as u8
                     );
                 }
                 Err(reason) => {
                     failures += 1;
                     println!(
-                        "| {name} | {:.3} | refused: {reason} | | | | | | NO |",
+                        "| {name} | {:.3} | refused: {reason} | | | | | | | NO |",
                         tolerance * 1e6
                     );
-                    csv += &format!("{name},{tolerance:e},refused,,,,,,0\n");
+                    csv += &format!("{name},{tolerance:e},refused,,,,,,,,0\n");
                 }
             }
         }

@@ -57,6 +57,16 @@ impl Resolution {
         }
     }
 
+    /// Whether the model is the plane-stress continuum (the full mesh or a modal basis
+    /// of it) rather than Euler-Bernoulli beam theory: only the continuum has shear and
+    /// the clamp's elasticity, the model error that beam-theory points share.
+    pub fn is_continuum(&self) -> bool {
+        matches!(
+            self,
+            Resolution::PlaneStress { .. } | Resolution::PlaneStressModal { .. }
+        )
+    }
+
     /// The resolution's kind as study.csv's `level` column writes it: the fidelity
     /// level's name, except `plane-stress-modal` for the modal level on the mesh.
     pub fn kind(&self) -> &'static str {
