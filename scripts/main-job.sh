@@ -65,6 +65,6 @@ echo
 echo "== Stick-slip map: Dask sweep of StickSlipBeam.fmu over belt speed (LocalCluster, 2 workers)"
 "$python" -m stickslip_checks.sweep --out "$out"
 echo
-echo "== Speed against accuracy: the study grid, its Pareto front and fidelity = auto on four scenes"
+echo "== Speed against accuracy: the study grid, its Pareto front and fidelity = auto on ten scenes"
 "$bin" study --out "$out/study" --verify-auto 1e-4,1e-5,1e-6
 "$python" -m stickslip_checks.study_plot "$out/study"

@@ -78,9 +78,11 @@
 //! A cautious choice (a cheaper point would also have met the tolerance) costs speed;
 //! an underestimate costs trust. The chain stops where the next partner costs more
 //! than [`CHAIN_COST_RATIO`] times the first one: then the partner's accuracy is
-//! assumed from the paper scene, as before. That keeps the 1 um calibration on the
-//! paper scene at the cost of its partner (plane stress 0.01 m at 5e-5 s, about 2 s)
-//! rather than the 20 s of the finest front point.
+//! assumed from the paper scene, as before. With a front of full plane-stress runs
+//! this kept the 1 um calibration on the paper scene at about 2 s rather than 20 s;
+//! with the modal bases of the mesh at the front's upper end (every point at most 21
+//! dofs) the chains rarely stop early, and a whole calibration took 0.01-0.55 s on
+//! every verification case (docs/speed-accuracy.md).
 //!
 //! A scene asks for this with `fidelity.level = auto` and `fidelity.tolerance`
 //! ([`DEFAULT_TOLERANCE`] when absent, on the command line and in the FMU alike);
