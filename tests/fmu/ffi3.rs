@@ -20,9 +20,9 @@ use stickslip_tests::vr;
 const OK: fmi3Status = 0;
 const ERROR: fmi3Status = 3;
 
-type Messages = Mutex<Vec<(fmi3Status, String)>>;
+pub(crate) type Messages = Mutex<Vec<(fmi3Status, String)>>;
 
-unsafe extern "C" fn log3(
+pub(crate) unsafe extern "C" fn log3(
     environment: fmi3InstanceEnvironment,
     status: fmi3Status,
     _category: fmi3String,
@@ -40,25 +40,7 @@ unsafe extern "C" fn log3(
 }
 
 unsafe fn instantiate(kind: FmuKind, name: &str, messages: &Messages) -> fmi3Instance {
-    let name = CString::new(name).unwrap();
-    let token = CString::new(kind.guid()).unwrap();
-    let resources = CString::new(format!("{}/", stickslip_tests::weights_dir().display())).unwrap();
-    unsafe {
-        fmi3InstantiateCoSimulation(
-            name.as_ptr(),
-            token.as_ptr(),
-            resources.as_ptr(),
-            false,
-            false,
-            false,
-            false,
-            null(),
-            0,
-            messages as *const Messages as *mut c_void,
-            Some(log3),
-            None,
-        )
-    }
+    unsafe { instantiate_with(kind, name, messages, false, false) }
 }
 
 /// The output value references of `M` by type: (Float64, Int32, Boolean).
@@ -342,6 +324,28 @@ unsafe fn instantiate_with(
     event_mode_used: bool,
     early_return_allowed: bool,
 ) -> fmi3Instance {
+    unsafe {
+        instantiate_logging(
+            kind,
+            name,
+            messages,
+            false,
+            event_mode_used,
+            early_return_allowed,
+        )
+    }
+}
+
+/// An FMI 3.0 co-simulation instance of `kind` (resources: the workspace's `weights/`)
+/// whose log lands in `messages`; shared with the other FMI 3.0 test modules.
+pub(crate) unsafe fn instantiate_logging(
+    kind: FmuKind,
+    name: &str,
+    messages: &Messages,
+    logging_on: bool,
+    event_mode_used: bool,
+    early_return_allowed: bool,
+) -> fmi3Instance {
     let name = CString::new(name).unwrap();
     let token = CString::new(kind.guid()).unwrap();
     let resources = CString::new(format!("{}/", stickslip_tests::weights_dir().display())).unwrap();
@@ -351,7 +355,7 @@ unsafe fn instantiate_with(
             token.as_ptr(),
             resources.as_ptr(),
             false,
-            false,
+            logging_on,
             event_mode_used,
             early_return_allowed,
             null(),
@@ -364,7 +368,7 @@ unsafe fn instantiate_with(
 }
 
 /// fmi3DoStep's result: (status, eventHandlingNeeded, earlyReturn, lastSuccessfulTime).
-unsafe fn do_step3(c: fmi3Instance, t: f64, h: f64) -> (fmi3Status, bool, bool, f64) {
+pub(crate) unsafe fn do_step3(c: fmi3Instance, t: f64, h: f64) -> (fmi3Status, bool, bool, f64) {
     let (mut event, mut terminate, mut early, mut last) = (false, true, false, f64::NAN);
     let status = unsafe {
         fmi3DoStep(

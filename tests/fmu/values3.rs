@@ -8,9 +8,8 @@
 //! gives with the same four values set through the scalars `extra_feature[1..4]`, and
 //! other values give other outputs.
 
-use std::ffi::{c_void, CStr, CString};
-use std::ptr::null;
-use std::sync::Mutex;
+use super::ffi3::{do_step3, instantiate_logging, Messages};
+use std::ffi::CString;
 use stickslip::choice::Choice;
 use stickslip::friction::LawChoice;
 use stickslip_fmi::ffi3::*;
@@ -24,46 +23,9 @@ use stickslip_tests::vr;
 const OK: fmi3Status = 0;
 const ERROR: fmi3Status = 3;
 
-type Messages = Mutex<Vec<String>>;
-
-unsafe extern "C" fn log3(
-    environment: fmi3InstanceEnvironment,
-    _status: fmi3Status,
-    _category: fmi3String,
-    message: fmi3String,
-) {
-    // SAFETY: the environment is the &Messages passed at instantiation; the FMU passes
-    // NUL-terminated strings.
-    let messages = unsafe { &*(environment as *const Messages) };
-    let text = unsafe { CStr::from_ptr(message) }
-        .to_string_lossy()
-        .into_owned();
-    if let Ok(mut m) = messages.lock() {
-        m.push(text);
-    }
-}
-
-/// An FMI 3.0 instance of `kind` (resources: the workspace's `weights/`).
+/// An FMI 3.0 instance of `kind` with logging on (resources: the workspace's `weights/`).
 fn instantiate(kind: FmuKind, name: &str, messages: &Messages) -> fmi3Instance {
-    let name = CString::new(name).unwrap();
-    let token = CString::new(kind.guid()).unwrap();
-    let resources = CString::new(format!("{}/", stickslip_tests::weights_dir().display())).unwrap();
-    let instance = unsafe {
-        fmi3InstantiateCoSimulation(
-            name.as_ptr(),
-            token.as_ptr(),
-            resources.as_ptr(),
-            false,
-            true,
-            false,
-            false,
-            null(),
-            0,
-            messages as *const Messages as *mut c_void,
-            Some(log3),
-            None,
-        )
-    };
+    let instance = unsafe { instantiate_logging(kind, name, messages, true, false, false) };
     assert!(!instance.is_null());
     instance
 }
@@ -86,7 +48,12 @@ fn enter_initialization(c: fmi3Instance, start: f64) {
 }
 
 fn last_message(messages: &Messages) -> String {
-    messages.lock().unwrap().last().cloned().unwrap_or_default()
+    messages
+        .lock()
+        .unwrap()
+        .last()
+        .map(|(_, m)| m.clone())
+        .unwrap_or_default()
 }
 
 /// The outputs that a law's inputs reach (force, magnitude, coefficient, slope).
@@ -263,19 +230,7 @@ fn time_reads_as_the_instances_clock_and_cannot_be_set() {
     let h = 1e-3;
     let mut t = start;
     for _ in 0..3 {
-        let (mut event, mut terminate, mut early, mut last) = (false, false, false, 0.0);
-        let status = unsafe {
-            fmi3DoStep(
-                c,
-                t,
-                h,
-                false,
-                &mut event,
-                &mut terminate,
-                &mut early,
-                &mut last,
-            )
-        };
+        let (status, _, _, last) = unsafe { do_step3(c, t, h) };
         assert_eq!(status, OK);
         t = last;
         // The time, with an output in the same request.

@@ -74,8 +74,12 @@ fn combine(x: &[Vec<f64>], q: &DMatrix<f64>, columns: usize) -> Vec<Vec<f64>> {
 /// round-off stalls it near 1e-13, and 1e-10 on omega^2 is 5e-11 on frequency.
 const EIGENVALUE_TOLERANCE: f64 = 1e-10;
 
-/// The lowest `count` eigenpairs of (K, M) by subspace iteration.
-pub fn lowest_modes(model: &StructuralModel, count: usize) -> Result<Modes, ModelError> {
+/// The number of dofs and the factor of K, for a request of `count` modes: between 1
+/// and the number of dofs.
+fn checked_count(
+    model: &StructuralModel,
+    count: usize,
+) -> Result<(usize, crate::banded::BandCholesky), ModelError> {
     let n = model.dofs();
     if count == 0 || count > n {
         return Err(ModelError::TooManyModes {
@@ -83,7 +87,12 @@ pub fn lowest_modes(model: &StructuralModel, count: usize) -> Result<Modes, Mode
             available: n,
         });
     }
-    let factor = model.stiffness_factor()?;
+    Ok((n, model.stiffness_factor()?))
+}
+
+/// The lowest `count` eigenpairs of (K, M) by subspace iteration.
+pub fn lowest_modes(model: &StructuralModel, count: usize) -> Result<Modes, ModelError> {
+    let (n, factor) = checked_count(model, count)?;
     // Bathe's subspace size: p = min(2q, q + 8), at most n.
     let p = (2 * count).min(count + 8).max(count).min(n);
     // Deterministic start: M's diagonal plus smooth oscillating patterns, so that results
@@ -194,14 +203,7 @@ fn start_vector(n: usize) -> Vec<f64> {
 /// closely spaced bending and axial modes make the ratio omega_q^2 / omega_(p+1)^2 that
 /// sets its rate close to 1 (measured in `reduce`'s doc).
 pub fn lanczos_modes(model: &StructuralModel, count: usize) -> Result<Modes, ModelError> {
-    let n = model.dofs();
-    if count == 0 || count > n {
-        return Err(ModelError::TooManyModes {
-            asked: count,
-            available: n,
-        });
-    }
-    let factor = model.stiffness_factor()?;
+    let (n, factor) = checked_count(model, count)?;
     let mut scratch = vec![0.0; n];
     let mut q = start_vector(n);
     let norm = model.mass.bilinear(&q, &q, &mut scratch).sqrt();
