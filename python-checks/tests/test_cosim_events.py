@@ -3,8 +3,9 @@ returning early at a stick/slip switch, with and without Event Mode, coupled to
 NeuralFriction 3.0 with the plain network and the signed coupling, against the FMI 2.0
 Gauss-Seidel master at the same h and against the monolithic FMU.
 
-What was measured (README, "FMI 3.0 (issue 15)"): the masters that use the switches are
-closer to the monolithic run over the whole 1.2 s at every h above the internal step
+What was measured (docs/cosimulation.md, "Coupling error with events"): the masters
+that use the switches are closer to the monolithic run over the whole 1.2 s at every h
+above the internal step
 (ratios 0.84, 0.68, 0.79, 0.30, 0.77 and 0.41 at h = 1e-2 .. 2e-4 s); at h = 1e-4 s,
 the internal step, every switch ends a step anyway, so nothing changes. Over the first
 slip cycle alone the hold of the tangent during slip dominates and the gain is smaller

@@ -10,7 +10,7 @@ users drive it (stickslip_checks.masters). For each master:
 - the coupled system (StickSlipCoupled) equals our Jacobi or Gauss-Seidel master bit
   for bit, whichever scheme the master runs;
 - an FMU error at initialisation (a negative Young's modulus) reaches the user, or we
-  record exactly what the user sees (README, "Co-simulation masters").
+  record exactly what the user sees (docs/cosimulation.md, "Masters tested").
 
 Runs at h = 1e-3 s to 0.7 s (breakaway at 0.4 s, then the first slip, where the schemes
 part). Needs the FMUs and system files of `cargo run --release -p fmu-build`, and the
@@ -256,7 +256,7 @@ def test_fmpy_ssp_starts_the_connected_inputs_at_zero(built):
     without an exchange before the first step. Every connector starts at 0, so over the
     first step the beam's static limit is 0 N: it slips at once (one transition), where
     our masters keep it stuck until breakaway at 0.4 s. Its coupled run therefore leaves
-    ours from the first step on (README: fmpy.ssp)."""
+    ours from the first step on (docs/cosimulation.md, note 5)."""
     fmus = need(built)
     ssp = masters.ssp_path(COUPLED)
     transitions = ("beam", "transitions")

@@ -153,7 +153,7 @@ const STANDARD: [(&str, &str); 34] = [
     ("fmi2GetStringStatus", "..xxx."),
 ];
 
-/// Our decision (README, "Behaviour"): a function whose capability flag in
+/// Our decision (docs/fmu-reference.md, "Behaviour"): a function whose capability flag in
 /// modelDescription.xml is false returns fmi2Error in every state and logs the flag.
 /// The standard forbids the importer to call these functions at all when the flag is
 /// false, so where its table allows them (marked * in the printed matrix) this is a

@@ -53,8 +53,9 @@ fn the_reduced_mesh_keeps_the_meshs_lowest_frequencies() {
 fn mesh_frequencies_converge_and_stay_near_beam_theory_on_the_slender_beam() {
     // L/h = 200: Timoshenko's shear and rotary inertia lower mode n by about
     // (beta_n h)^2 (1 + E / (kappa G)) / 24, 1.5e-5 for mode 1 and 2.6e-4 for mode 3, so
-    // the mesh must converge to within a few 1e-4 of Euler-Bernoulli (README,
-    // "Measured": +0.06 % at 0.02 m), with the change from mesh to mesh shrinking.
+    // the mesh must converge to within a few 1e-4 of Euler-Bernoulli
+    // (docs/measurements.md, "Statics and frequencies": +0.06 % at 0.02 m), with the
+    // change from mesh to mesh shrinking.
     let scene = CheckedScene::paper();
     let eb: Vec<f64> = (1..=3)
         .map(|n| cantilever_omega(&scene, n).unwrap() / (2.0 * std::f64::consts::PI))

@@ -9,13 +9,15 @@
 //! Why our own rather than a crate's:
 //! - Measured (`cargo bench -p stickslip-tests --bench paper_scene`, banded against
 //!   nalgebra's dense Cholesky on the same plane-stress effective matrix, 1002 dofs,
-//!   b = 15, in one run): 332x faster to factorise and 12x faster per solve (README,
-//!   "Solver"); the ratio grows with the length, O(n b^2) against O(n^3).
+//!   b = 15, in one run): 332x faster to factorise and 12x faster per solve
+//!   (docs/decisions.md, "Solver"); the ratio grows with the length, O(n b^2) against
+//!   O(n^3).
 //! - The step loop's results are shipped and tested bit for bit. The contiguous row and
 //!   column sweeps of [`BandCholesky`] and the fused band product ([`BandPairProduct`])
 //!   keep the textbook operation order, which fixes those bits; a library
 //!   factorisation with its own blocking or summation order would change the last bits,
-//!   which grow after breakaway (1e-8 to 1e-5 relative, README "Measured").
+//!   which grow after breakaway (1e-8 to 1e-5 relative, docs/measurements.md, "Wall
+//!   time").
 //! - None offers this kind: nalgebra has dense `Cholesky` and, in nalgebra-sparse, a CSC
 //!   `CscCholesky` without fill-reducing ordering that its docs do not recommend for
 //!   serious use; faer has dense `Llt` and sparse (CSC) simplicial and supernodal LL^T

@@ -10,7 +10,7 @@
 //!
 //! Measured (`cargo run --release -p stickslip --example mode_cutoff`: the modal model
 //! against the full model it reduces, same step and integrator, largest tip deviation
-//! over the first stick-slip cycle; README "Measured", docs/speed-accuracy.md):
+//! over the first stick-slip cycle; docs/measurements.md, docs/speed-accuracy.md):
 //! - The truncation error follows the cut-off relative to omega_1, not the absolute one.
 //!   With the paper's 5 modes (324.6 Hz) the error is 0.142 um on the paper scene and
 //!   0.002 to 0.023 um on the 1.5 m and 2.5 m beams and on aluminium, whose 5th modes
