@@ -20,9 +20,9 @@ import numpy as np
 import pytest
 from conftest import need
 
-from stickslip_checks import cosim_events as ce
+from stickslip_checks import events as ce
 from stickslip_checks.artifacts import fmu3_paths
-from stickslip_checks.cosim_convergence import INTERNAL_STEP, STEPS, T_FIRST_CYCLE
+from stickslip_checks.convergence import INTERNAL_STEP, STEPS, T_FIRST_CYCLE
 
 
 @pytest.fixture(scope="module")
