@@ -18,6 +18,7 @@ from . import plots
 
 if TYPE_CHECKING:
     import pandas as pd
+    import xarray as xr
 
 
 def read_rows(path: Path) -> list[dict[str, str]]:
@@ -34,19 +35,22 @@ def label(row: dict[str, str]) -> str:
     integrator, inference; level plane-stress-modal is the modal level on the mesh);
     the time step is written with :g where the Rust uses {:e}.
     The inference is empty unless the study had a friction-law axis (--inferences)."""
-    level = row["level"]
-    if level == "modal":
-        resolution = f"modal {row['modes']} modes"
-    elif level == "plane-stress-modal":
-        resolution = f"modal {row['modes']} modes of plane stress {row['element_size_m']} m"
-    elif level == "beam":
-        resolution = f"beam {row['beam_elements']} el."
-    else:
-        resolution = f"plane stress {row['element_size_m']} m"
-    text = f"{resolution}, dt {float(row['dt_s']):g} s, {row['integrator']}"
+    text = f"{resolution(row)}, dt {float(row['dt_s']):g} s, {row['integrator']}"
     if row.get("inference"):
         text += f", {row['inference']} inference"
     return text
+
+
+def resolution(row: dict[str, str]) -> str:
+    """The structural model of a study.csv row, as label() spells it."""
+    level = row["level"]
+    if level == "modal":
+        return f"modal {row['modes']} modes"
+    if level == "plane-stress-modal":
+        return f"modal {row['modes']} modes of plane stress {row['element_size_m']} m"
+    if level == "beam":
+        return f"beam {row['beam_elements']} el."
+    return f"plane stress {row['element_size_m']} m"
 
 
 def pareto(rows: list[dict[str, str]]) -> list[dict[str, str]]:
@@ -75,11 +79,21 @@ def plot(rows: list[dict[str, str]], front: list[dict[str, str]], path: Path) ->
     plots.pareto(rows, front, [label(r) for r in front], path)
 
 
+GRID = ["resolution", "dt_s", "integrator", "inference"]  # what label() spells out
+
+
 def to_frame(path: Path) -> pd.DataFrame:
-    """study.csv as a DataFrame indexed by the configuration's fields (level, modes,
-    beam_elements, element_size_m, dt_s, integrator), for .to_xarray() over the grid."""
+    """study.csv as a DataFrame indexed by GRID (resolution: the structural model as
+    label() spells it, e.g. "beam 10 el.")."""
     import pandas as pd
 
-    table = pd.read_csv(path)
-    keys = ["level", "modes", "beam_elements", "element_size_m", "dt_s", "integrator"]
-    return table.set_index([k for k in keys if k in table.columns])
+    rows = read_rows(path)
+    table = pd.read_csv(path).drop(columns="inference", errors="ignore")
+    table["resolution"] = [resolution(r) for r in rows]
+    table["inference"] = [r.get("inference", "") for r in rows]
+    return table.set_index(GRID)
+
+
+def to_dataset(path: Path) -> xr.Dataset:
+    """study.csv over its grid: the dimensions GRID, missing where the grid has no run."""
+    return to_frame(path).to_xarray()
