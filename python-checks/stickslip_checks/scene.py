@@ -351,7 +351,7 @@ def slip_rows(runs: list[Run]) -> list[list]:
     return rows
 
 
-def frames(runs: list[Run]) -> tuple[pd.DataFrame, pd.DataFrame]:
+def to_frames(runs: list[Run]) -> tuple[pd.DataFrame, pd.DataFrame]:
     """(the runs, their major slips) as DataFrames: the rows of fmu_validation.csv and
     fmu_slips.csv."""
     return frame(HEADERS, csv_rows(runs)), frame(SLIP_HEADERS, slip_rows(runs))

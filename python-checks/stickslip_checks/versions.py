@@ -67,6 +67,17 @@ def _difference(r2, r3) -> tuple[float, bool]:
     return worst, identical
 
 
+def _both_versions(paths: dict, name: str, **settings) -> tuple[list, list[float]]:
+    """fmpy's simulate_fmu of FMU `name` with `settings` through FMI 2.0, then 3.0: the
+    results and the wall times (s)."""
+    results, walls = [], []
+    for version in ("2.0", "3.0"):
+        began = time.perf_counter()
+        results.append(simulate_fmu(str(paths[version][name]), **settings))
+        walls.append(time.perf_counter() - began)
+    return results, walls
+
+
 def beam_row(paths: dict, fidelity: str, law: str, t_end: float = T_END) -> Row:
     """StickSlipBeam on the paper scene at `fidelity` with `law`, through both versions."""
     model = Model.read(paths["2.0"][BEAM])
@@ -74,19 +85,9 @@ def beam_row(paths: dict, fidelity: str, law: str, t_end: float = T_END) -> Row:
         "fidelity.level": model.code("fidelity.level", fidelity),
         "friction.law": model.code("friction.law", law),
     }
-    results, walls = [], []
-    for version in ("2.0", "3.0"):
-        began = time.perf_counter()
-        results.append(
-            simulate_fmu(
-                str(paths[version][BEAM]),
-                stop_time=t_end,
-                output_interval=DT,
-                start_values=start,
-                output=BEAM_OUTPUTS,
-            )
-        )
-        walls.append(time.perf_counter() - began)
+    results, walls = _both_versions(
+        paths, BEAM, stop_time=t_end, output_interval=DT, start_values=start, output=BEAM_OUTPUTS
+    )
     r2, r3 = results
     worst, identical = _difference(r2, r3)
 
@@ -114,19 +115,10 @@ def friction_row(paths: dict, law: str) -> Row:
         list(zip(t, np.linspace(-0.35, 0.35, t.size), np.full(t.size, 100.0))),
         dtype=[("time", float), ("sliding_velocity", float), ("normal_force", float)],
     )
-    results, walls = [], []
-    for version in ("2.0", "3.0"):
-        began = time.perf_counter()
-        results.append(
-            simulate_fmu(
-                str(paths[version][FRICTION]),
-                stop_time=float(t[-1]),
-                output_interval=DT,
-                input=inputs,
-                start_values={"law": model.code("law", law)},
-            )
-        )
-        walls.append(time.perf_counter() - began)
+    results, walls = _both_versions(
+        paths, FRICTION, stop_time=float(t[-1]), output_interval=DT, input=inputs,
+        start_values={"law": model.code("law", law)},
+    )
     worst, identical = _difference(*results)
     return Row(
         name=f"NeuralFriction {law}, v swept",

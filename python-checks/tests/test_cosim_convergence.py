@@ -93,3 +93,12 @@ def test_the_signed_coupling_is_within_the_exponential_laws_error_at_every_asymp
     error = {(r.scheme, r.h): r.error_first_cycle for r in rows}
     for h in cc.ASYMPTOTIC:
         assert error[cc.SIGNED, h] <= error[cc.BASELINE, h], (h, error[cc.SIGNED, h])
+
+
+def test_the_frame_holds_the_csv_files_values(main_job_study):
+    """convergence.to_frame: one row per run, the errors in mm, as cosim_convergence.csv."""
+    _, rows = need(main_job_study)
+    frame = cc.to_frame(rows)
+    assert len(frame) == len(rows) == len(cc.STEPS) * len(cc.SCHEMES)
+    assert frame["scheme"].tolist() == [r.scheme for r in rows]
+    assert frame[cc.HEADERS[2]].tolist() == [1e3 * r.error_first_cycle for r in rows]

@@ -413,3 +413,5 @@ def test_every_run_of_the_main_jobs_table_is_equal_bit_for_bit(paths):
     assert len(rows) >= 8
     for row in rows:
         assert row.identical and row.max_difference == 0.0, (row.name, row.max_difference)
+    frame = versions.to_frame(rows)
+    assert frame["identical"].all() and frame["run"].tolist() == [r.name for r in rows]

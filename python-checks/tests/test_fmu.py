@@ -101,18 +101,32 @@ def test_validate_fmu_finds_no_problem(built, name):
     assert validate_fmu(str(fmus.paths[name])) == []
 
 
-def test_every_run_of_the_scene_breaks_away_at_0_4_s_and_agrees_before(built):
+@pytest.fixture(scope="module")
+def scene_runs(built):
+    """fmu_scene's runs, or the error that says how to build the FMUs."""
+    return built if isinstance(built, Exception) else scene.run_all(built)
+
+
+def test_every_run_of_the_scene_breaks_away_at_0_4_s_and_agrees_before(scene_runs):
     """fmu_scene's runs (every structural model; exponential law, both networks embedded,
     both couplings): breakaway within 1 ms of 0.400 s, and in stick the kinetic law is
     never evaluated, so every law gives the exponential run's curve up to its breakaway
     (1e-12 m leaves room for rounding only)."""
-    runs = scene.run_all(need(built))
+    runs = need(scene_runs)
     assert len(runs) == 15
     for r in runs:
         b = r.metrics["breakaway"]
         assert b is not None and abs(b - scene.BREAKAWAY_EXPECTED) <= scene.BREAKAWAY_TOLERANCE + 1e-12, (r.name, b)
         pre = r.metrics["dev_before_breakaway"]
         assert pre is not None and pre <= scene.PRE_SLIP_TOLERANCE, (r.name, pre)
+
+
+def test_the_frames_hold_the_csv_files_rows(scene_runs):
+    runs = need(scene_runs)
+    table, slips = scene.to_frames(runs)
+    assert table["run"].tolist() == [r.name for r in runs]
+    assert table["breakaway [s]"].astype(float).tolist() == [r.metrics["breakaway"] for r in runs]
+    assert len(slips) == sum(r.metrics["major_slips"] for r in runs)
 
 
 def test_beam_fidelity_reproduces_the_stick_slip_curve(built):
