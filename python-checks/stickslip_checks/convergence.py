@@ -303,7 +303,9 @@ def run_study(fmus: Fmus, steps=STEPS, schemes=SCHEMES, t_end: float = T_END):
     """(references, rows): the monolithic run of each law the schemes use, at the
     internal step, by law, and one row per run against its law's reference."""
     laws = {MASTER[s].law for s in schemes}
-    references = {law: run_monolithic(fmus, INTERNAL_STEP, t_end, law) for law in LAWS if law in laws}
+    references = {
+        law: run_monolithic(fmus, INTERNAL_STEP, t_end, law) for law in LAWS if law in laws
+    }
     rows = [
         evaluate(run_cosim(fmus, s, h, t_end), references[MASTER[s].law])
         for h in steps

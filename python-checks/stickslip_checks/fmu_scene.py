@@ -47,7 +47,10 @@ def main(argv: list[str] | None = None) -> int:
     print(f"== NeuralFriction.fmu, friction force at F_n = {normal_force:g} N, -0.35 .. 0.35 m/s")
     print("\n".join(scene.law_lines(result)))
     print()
-    print("== Coupling error: coupled (Gauss-Seidel, 1 ms) minus embedded run, same law and fidelity")
+    print(
+        "== Coupling error: coupled (Gauss-Seidel, 1 ms) minus embedded run, same law and "
+        "fidelity"
+    )
     print("\n".join(scene.coupling_lines(result.runs)))
     written = scene.write_outputs(result, out)
     print()

@@ -302,9 +302,10 @@ def table(runs: list[Run]) -> str:
         for i in keep:
             _, key, fmt, scale = COLUMNS[i]
             value = _value(run, key)
-            if value is not None and scale is not None:
-                value = value * scale
-            cells.append("-" if value is None else value if isinstance(value, str) else fmt.format(value))
+            if value is None or isinstance(value, str):
+                cells.append("-" if value is None else value)
+            else:
+                cells.append(fmt.format(value * scale if scale is not None else value))
         rows.append(cells)
     return format_table([names, units], rows) + (
         "\ndev, shift: tip deflection against the analytical (exponential) embedded run at the "

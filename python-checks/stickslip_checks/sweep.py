@@ -13,8 +13,9 @@ follows the paper's start disappears.
 
 This entry point parses the options and prints; the sweep is sweep_study's (the runs:
 sweep_engine, Dask, one FMU load per worker; the parameters: parameters; the per-run
-metrics, the map's cases and where stick-slip stops: stick_slip_map). The FMUs are found by artifacts (the 2.0/ folder of
-$STICKSLIP_FMU_DIR, else of $CARGO_TARGET_DIR/fmu, else of <repo>/target/fmu).
+metrics, the map's cases and where stick-slip stops: stick_slip_map). The FMUs are
+found by artifacts (the 2.0/ folder of $STICKSLIP_FMU_DIR, else of
+$CARGO_TARGET_DIR/fmu, else of <repo>/target/fmu).
 
 Usage:
   python -m stickslip_checks.sweep (or stickslip-sweep)

@@ -169,7 +169,10 @@ def table(sweep: Sweep) -> str:
     return format_table(headers, lines, left=None) + "".join(errors)
 
 
-def by_series(sweep: Sweep) -> dict[str, tuple[list[dict], tuple[float, float] | None, float | None]]:
+Series = tuple[list[dict], tuple[float, float] | None, float | None]
+
+
+def by_series(sweep: Sweep) -> dict[str, Series]:
     """Per series (a case and the values of the swept parameters but the first): its
     rows, where stick-slip stops along the first swept parameter, and for a sweep over
     belt speed alone the speed above which steady sliding is linearly stable."""
@@ -264,7 +267,9 @@ def csv_rows(sweep: Sweep) -> list[list]:
         cells += [r["fidelity"], r["t_end_s"]]
         for _, key in CSV_COLUMNS:
             value = r.get(key)
-            cells.append("" if value is None else repr(value) if isinstance(value, float) else value)
+            cells.append(
+                "" if value is None else repr(value) if isinstance(value, float) else value
+            )
         rows.append(cells)
     return rows
 

@@ -46,4 +46,5 @@ def test_every_script_is_an_entry_module():
     """`python -m stickslip_checks.<module>` runs the same main as the console script."""
     for target in SCRIPTS.values():
         module = importlib.import_module(target.split(":")[0])
-        assert target.endswith(":main") and "__name__ == \"__main__\"" in Path(module.__file__).read_text()
+        assert target.endswith(":main")
+        assert 'if __name__ == "__main__":' in Path(module.__file__).read_text(), target

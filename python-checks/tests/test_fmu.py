@@ -116,7 +116,8 @@ def test_every_run_of_the_scene_breaks_away_at_0_4_s_and_agrees_before(scene_run
     assert len(runs) == 15
     for r in runs:
         b = r.metrics["breakaway"]
-        assert b is not None and abs(b - scene.BREAKAWAY_EXPECTED) <= scene.BREAKAWAY_TOLERANCE + 1e-12, (r.name, b)
+        assert b is not None, r.name
+        assert abs(b - scene.BREAKAWAY_EXPECTED) <= scene.BREAKAWAY_TOLERANCE + 1e-12, (r.name, b)
         pre = r.metrics["dev_before_breakaway"]
         assert pre is not None and pre <= scene.PRE_SLIP_TOLERANCE, (r.name, pre)
 
