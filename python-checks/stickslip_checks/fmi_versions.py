@@ -1,184 +1,25 @@
-"""The paper scene through the FMI 2.0 and the FMI 3.0 FMUs side by side (issue 15).
+"""The paper scene through the FMI 2.0 and the FMI 3.0 FMUs side by side (see versions):
+StickSlipBeam at every structural model with the exponential law and the plain network,
+NeuralFriction over a velocity sweep with both laws. Prints one row per run with both
+versions' breakaway, transitions and peak, and the largest difference between them.
 
-Both versions are the same library over the same variable tables, so at the same
-settings every output must be equal bit for bit. This runs StickSlipBeam on the paper
-scene (0 .. 1.2 s, 1 ms output, fmpy's simulate_fmu) at every structural model (modal,
-beam, plane-stress) with the exponential law and the plain network, through <fmu root>/2.0/StickSlipBeam.fmu and
-<fmu root>/3.0/StickSlipBeam.fmu, and NeuralFriction over a velocity sweep with both
-laws, and prints one row per run with both versions' breakaway, transitions and largest
-tip deflection next to each other and the largest difference between them. About 7 s
-here (2 shared cores), most of it plane stress.
-
-Exits with status 1 if any output differs between the versions.
-
-Usage: python -m stickslip_checks.fmi_versions
+Usage: python -m stickslip_checks.fmi_versions   (or stickslip-fmi-versions). Exits 2 if
+the FMUs are missing; that both versions agree bit for bit is pytest's check
+(tests/test_fmi3.py).
 """
 
 from __future__ import annotations
 
 import sys
 import time
-from dataclasses import dataclass
 
-import numpy as np
-from fmpy import simulate_fmu
-
-from . import slip_metrics
-from .artifacts import BEAM, FRICTION, Model, fidelities, fmu3_paths, fmu_paths
-from .runner import report_failures
-
-T_END = 1.2  # s: the paper scene
-DT = 1e-3  # s: communication step and output interval
-LAWS = ("exponential", "neural")
-BEAM_OUTPUTS = [
-    "tip_deflection",
-    "tip_velocity",
-    "relative_velocity",
-    "friction_force",
-    "holding_force",
-    "stick",
-    "transitions",
-]
-
-
-@dataclass
-class Row:
-    """One run through both versions."""
-
-    name: str
-    breakaway: tuple[float | None, float | None]  # s, FMI 2.0 and 3.0
-    transitions: tuple[int, int]
-    peak: tuple[float, float]  # largest |tip deflection| or |friction force|
-    peak_unit: str
-    max_difference: float  # largest |3.0 - 2.0| over every output and sample
-    identical: bool  # every output equal bit for bit
-    wall: tuple[float, float]  # s
-
-
-def _difference(r2, r3) -> tuple[float, bool]:
-    worst, identical = 0.0, r2.dtype.names == r3.dtype.names
-    for column in r2.dtype.names:
-        a, b = np.asarray(r2[column], float), np.asarray(r3[column], float)
-        identical = identical and np.array_equal(r2[column], r3[column])
-        worst = max(worst, float(np.max(np.abs(a - b))))
-    return worst, identical
-
-
-def beam_row(paths: dict, fidelity: str, law: str, t_end: float = T_END) -> Row:
-    """StickSlipBeam on the paper scene at `fidelity` with `law`, through both versions."""
-    model = Model.read(paths["2.0"][BEAM])
-    start = {
-        "fidelity.level": model.code("fidelity.level", fidelity),
-        "friction.law": model.code("friction.law", law),
-    }
-    results, walls = [], []
-    for version in ("2.0", "3.0"):
-        began = time.perf_counter()
-        results.append(
-            simulate_fmu(
-                str(paths[version][BEAM]),
-                stop_time=t_end,
-                output_interval=DT,
-                start_values=start,
-                output=BEAM_OUTPUTS,
-            )
-        )
-        walls.append(time.perf_counter() - began)
-    r2, r3 = results
-    worst, identical = _difference(r2, r3)
-
-    def breakaway(r):
-        return slip_metrics.breakaway(np.asarray(r["time"]), np.asarray(r["stick"], bool))
-
-    return Row(
-        name=f"StickSlipBeam {fidelity} / {law}",
-        breakaway=(breakaway(r2), breakaway(r3)),
-        transitions=(int(r2["transitions"][-1]), int(r3["transitions"][-1])),
-        peak=tuple(float(np.max(np.abs(r["tip_deflection"]))) * 1e3 for r in results),
-        peak_unit="mm",
-        max_difference=worst,
-        identical=identical,
-        wall=(walls[0], walls[1]),
-    )
-
-
-def friction_row(paths: dict, law: str) -> Row:
-    """NeuralFriction with `law`, its velocity input swept over -0.35 .. 0.35 m/s (one
-    value per 1 ms step) at 100 N, through both versions."""
-    model = Model.read(paths["2.0"][FRICTION])
-    t = np.arange(0, 701) * DT
-    inputs = np.array(
-        list(zip(t, np.linspace(-0.35, 0.35, t.size), np.full(t.size, 100.0))),
-        dtype=[("time", float), ("sliding_velocity", float), ("normal_force", float)],
-    )
-    results, walls = [], []
-    for version in ("2.0", "3.0"):
-        began = time.perf_counter()
-        results.append(
-            simulate_fmu(
-                str(paths[version][FRICTION]),
-                stop_time=float(t[-1]),
-                output_interval=DT,
-                input=inputs,
-                start_values={"law": model.code("law", law)},
-            )
-        )
-        walls.append(time.perf_counter() - began)
-    worst, identical = _difference(*results)
-    return Row(
-        name=f"NeuralFriction {law}, v swept",
-        breakaway=(None, None),
-        transitions=(0, 0),
-        peak=tuple(float(np.max(np.abs(r["friction_force"]))) for r in results),
-        peak_unit="N",
-        max_difference=worst,
-        identical=identical,
-        wall=(walls[0], walls[1]),
-    )
-
-
-def print_table(rows: list[Row]) -> None:
-    def seconds(v):
-        return "-" if v is None else f"{v:.3f}"
-
-    headers = [
-        "run", "breakaway 2.0 [s]", "3.0 [s]", "transitions 2.0", "3.0", "peak 2.0", "3.0",
-        "max |3.0 - 2.0|", "bits", "wall 2.0 [s]", "3.0 [s]",
-    ]
-    table = [
-        [
-            r.name,
-            seconds(r.breakaway[0]),
-            seconds(r.breakaway[1]),
-            str(r.transitions[0]) if r.peak_unit == "mm" else "-",
-            str(r.transitions[1]) if r.peak_unit == "mm" else "-",
-            f"{r.peak[0]:.4f} {r.peak_unit}",
-            f"{r.peak[1]:.4f} {r.peak_unit}",
-            f"{r.max_difference:.1e}",
-            "equal" if r.identical else "DIFFER",
-            f"{r.wall[0]:.2f}",
-            f"{r.wall[1]:.2f}",
-        ]
-        for r in rows
-    ]
-    widths = [max(len(h), *(len(row[i]) for row in table)) for i, h in enumerate(headers)]
-
-    def line(values):
-        return "  ".join(
-            v.ljust(w) if i == 0 else v.rjust(w) for i, (v, w) in enumerate(zip(values, widths))
-        ).rstrip()
-
-    print(line(headers))
-    print("  ".join("-" * w for w in widths))
-    for row in table:
-        print(line(row))
-    print(
-        "peak: largest |tip deflection| (StickSlipBeam) or |friction_force| (NeuralFriction); "
-        "max |3.0 - 2.0|: over every output at every sample"
-    )
+from . import versions
+from .artifacts import fmu3_paths, fmu_paths
+from .runner import parser
 
 
 def main(argv: list[str] | None = None) -> int:
+    parser("stickslip-fmi-versions", __doc__, out=None).parse_args(argv)
     began = time.perf_counter()
     try:
         paths = {"2.0": fmu_paths(), "3.0": fmu3_paths()}
@@ -187,18 +28,9 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     print(f"FMI 2.0: {', '.join(str(p) for p in paths['2.0'].values())}")
     print(f"FMI 3.0: {', '.join(str(p) for p in paths['3.0'].values())}")
-    structural = fidelities(Model.read(paths["2.0"][BEAM]))
-    rows = [beam_row(paths, fidelity, law) for fidelity in structural for law in LAWS]
-    rows += [friction_row(paths, law) for law in LAWS]
-    print_table(rows)
+    print(versions.table(versions.compare_all(paths)))
     print(f"total wall time {time.perf_counter() - began:.1f} s")
-    return report_failures(
-        [
-            f"{r.name}: FMI 3.0 differs from FMI 2.0 by {r.max_difference:g}"
-            for r in rows
-            if not r.identical
-        ]
-    )
+    return 0
 
 
 if __name__ == "__main__":

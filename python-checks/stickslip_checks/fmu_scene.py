@@ -1,528 +1,63 @@
-"""The FMUs through fmpy alone: validation, the paper's scene and the coupled system.
-
-1. Validates StickSlipBeam.fmu and NeuralFriction.fmu with fmpy.validation.validate_fmu
-   (every problem is printed; there must be none).
-2. Runs the paper's scene (0 .. 1.2 s, output every 1 ms) through StickSlipBeam.fmu with
-   simulate_fmu, at every structural fidelity (fidelity.level's items but auto, read from
-   the model description by artifacts.fidelities) and with the analytical exponential
-   law and the neural law (friction.weights = paper-plain.json and paper-signed.json).
-3. Couples StickSlipBeam (friction.law = external) with NeuralFriction.fmu (law neural
-   with paper-plain.json, and law exponential) with the Gauss-Seidel master (master.run,
-   beam first; cosim_convergence compares with Jacobi) over FMU2Slave at 1 ms: beam
-   relative_velocity -> friction sliding_velocity; friction friction_force_magnitude ->
-   beam external.kinetic_force and static_limit -> beam external.static_limit. The plain
-   network, a smooth signed law, goes through the signed coupling (external.coupling =
-   signed, master.COUPLINGS): friction friction_force, friction_force_slope and
-   evaluated_velocity -> beam external.friction_force, external.friction_slope and
-   external.sliding_velocity, the law's tangent. Inputs are held over each step
-   (zero-order hold). The beam steps from t to t + 1 ms with the
-   force exchanged at t; the friction FMU then gets the beam's v_rel(t + 1 ms), and its
-   force goes back to the beam. NeuralFriction has direct feedthrough (no state), so the
-   force handed to the beam at t is the law at v_rel(t).
-4. For every run: breakaway (first sample with stick false), number of stick/slip
-   transitions at 1.2 s, the tip-deflection corridor after breakaway, the sawtooth period
-   (mean spacing of major-slip onsets, the idea of src/physics/src/metrics.rs on the 1 ms
-   samples) and the RMS and largest deviation of the tip deflection from the
-   analytical-law run at the same fidelity.
-5. Prints the table, writes it to out/fmu_validation.csv, and plots
-   out/fmu_tip_deflection.png and out/fmu_friction_law.png (NeuralFriction.fmu stepped
-   with its velocity input swept from -0.35 to 0.35 m/s at its start normal force,
-   100 N), and compares its exponential law with paper Eq. 6 (exponential_law).
-
-Exits with status 1 if validation reports a problem or if a run's breakaway is not within
-1 ms of 0.400 s.
-
-The FMUs are read from the 2.0/ folder of $STICKSLIP_FMU_DIR, else of
-$CARGO_TARGET_DIR/fmu, else of <repo>/target/fmu (where
-`cargo run --release -p fmu-build` writes them; see artifacts).
-The coupled runs and the law sweeps go through the co-simulation master (master.run);
-the embedded runs through fmpy's simulate_fmu.
+"""The paper scene through the FMUs with fmpy: validation, every structural fidelity with
+both friction laws, embedded and coupled (see scene). Prints the validation problems,
+the run table, the major slips, the friction laws and the coupling error; writes
+fmu_validation.csv, fmu_slips.csv and three figures to OUT_DIR.
 
 Usage: python -m stickslip_checks.fmu_scene [OUT_DIR]   (or stickslip-fmu-scene;
-default: <repo>/out)
+default <repo>/out). Exits 2 if the FMUs are missing; the checks are pytest's.
 """
 
 from __future__ import annotations
 
-import csv
 import sys
 import time
-from dataclasses import dataclass, field
-from pathlib import Path
 
-import numpy as np
-from fmpy import simulate_fmu
-from fmpy.validation import validate_fmu
-
-from . import master, plots, slip_metrics
-from .artifacts import BEAM, FRICTION, Fmus, Model, fidelities
-from .runner import find_fmus, out_dir, report_failures
-
-T_END = 1.2
-DT = 1e-3  # communication step and output interval (s)
-BREAKAWAY_EXPECTED = 0.400  # s: mu_s F_n = 50 N reached at 8 mm = v_b * 0.4 s
-BREAKAWAY_TOLERANCE = 1e-3  # s
-PRE_SLIP_TOLERANCE = 1e-12  # m
-PLOT_FIDELITY = "plane-stress"  # the paper's mesh
-WEIGHTS = ("paper-plain.json", "paper-signed.json")
-
-
-# ----------------------------------------------------------------------------- metrics
-
-
-@dataclass
-class Run:
-    """One simulation, sampled every DT: time (s), tip deflection (m), force of the belt
-    on the tip (N; holding force in stick, friction force in slip), stick, transitions."""
-
-    name: str
-    fidelity: str
-    friction: str
-    coupling: str  # "embedded" (one FMU) or "Gauss-Seidel" (two FMUs)
-    time: np.ndarray
-    tip_deflection: np.ndarray
-    friction_force: np.ndarray
-    stick: np.ndarray
-    transitions: np.ndarray
-    wall: float
-    metrics: dict = field(default_factory=dict)
-
-
-def summarise(run: Run, reference: Run | None) -> dict:
-    """Breakaway, transitions, corridor, major slips, period, and against `reference`:
-    deviation before its breakaway, RMS and largest deviation, phase shift at the end."""
-    t, u, stick = run.time, run.tip_deflection, run.stick.astype(bool)
-    slips = slip_metrics.major_slips(t, u, stick)
-    m: dict = {
-        "breakaway": slip_metrics.breakaway(t, stick),
-        "transitions": int(run.transitions[-1]),
-        "corridor_min": None,
-        "corridor_max": None,
-        "slips": slips,
-        "major_slips": len(slips),
-        "first_slip": slips[0].duration if slips else None,
-        "period": slip_metrics.period(slips),
-        "dev_before_breakaway": None,
-        "rms_dev": None,
-        "max_dev": None,
-        "phase_shift": None,
-        "phase_shift_deg": None,
-    }
-    if m["breakaway"] is not None:
-        after = t >= m["breakaway"]
-        m["corridor_min"], m["corridor_max"] = float(u[after].min()), float(u[after].max())
-    if reference is not None:
-        if len(reference.time) != len(t) or np.max(np.abs(reference.time - t)) > 1e-9:
-            raise ValueError(f"{run.name}: time grid differs from {reference.name}")
-        d = u - reference.tip_deflection
-        m["rms_dev"] = float(np.sqrt(np.mean(d**2)))
-        m["max_dev"] = float(np.max(np.abs(d)))
-        ref = reference.metrics or summarise(reference, None)
-        if ref["breakaway"] is not None:
-            m["dev_before_breakaway"] = float(np.max(np.abs(d[t < ref["breakaway"] - 1e-12])))
-        if ref["period"] is not None:
-            tau = slip_metrics.phase_shift(t, u, reference.tip_deflection, ref["period"])
-            m["phase_shift"] = tau
-            m["phase_shift_deg"] = 360.0 * tau / ref["period"]
-    return m
-
-
-# ----------------------------------------------------------------------------- runs
-
-
-def _label(law: str, weights: str | None) -> str:
-    return "exponential" if law == "exponential" else f"neural {Path(weights or '').stem}"
-
-
-def run_embedded(fmus: Fmus, fidelity: str, law: str, weights: str | None = None) -> Run:
-    """The paper scene through StickSlipBeam.fmu alone (simulate_fmu)."""
-    beam = fmus.models[BEAM]
-    start = {
-        "fidelity.level": beam.code("fidelity.level", fidelity),
-        "friction.law": beam.code("friction.law", law),
-    }
-    if weights is not None:
-        start["friction.weights"] = weights
-    began = time.perf_counter()
-    result = simulate_fmu(
-        str(fmus.dirs[BEAM]),
-        model_description=fmus.descriptions[BEAM],
-        start_time=0.0,
-        stop_time=T_END,
-        output_interval=DT,
-        start_values=start,
-        output=["tip_deflection", "friction_force", "stick", "transitions"],
-    )
-    wall = time.perf_counter() - began
-    label = _label(law, weights)
-    return Run(
-        name=f"{fidelity} / {label}",
-        fidelity=fidelity,
-        friction=label,
-        coupling="embedded",
-        time=np.asarray(result["time"], float),
-        tip_deflection=np.asarray(result["tip_deflection"], float),
-        friction_force=np.asarray(result["friction_force"], float),
-        stick=np.asarray(result["stick"], bool),
-        transitions=np.asarray(result["transitions"], int),
-        wall=wall,
-    )
-
-
-def run_coupled(
-    fmus: Fmus, fidelity: str, law: str, weights: str = WEIGHTS[0], coupling: str = "magnitude"
-) -> Run:
-    """StickSlipBeam (friction.law = external, external.coupling = `coupling`) +
-    NeuralFriction, Gauss-Seidel at DT. The normal force of both is the paper's 100 N
-    (start values)."""
-    friction = {"law": law}
-    if law == "neural":
-        friction["weights"] = weights
-    began = time.perf_counter()
-    trace = master.run_coupled(
-        fmus,
-        DT,
-        T_END,
-        beam={"fidelity.level": fidelity},
-        friction=friction,
-        record={BEAM: ["tip_deflection", "friction_force", "stick", "transitions"]},
-        coupling=coupling,
-    )
-    wall = time.perf_counter() - began
-    label = _label(law, weights)
-    return Run(
-        name=f"{fidelity} / coupled {label} ({coupling})",
-        fidelity=fidelity,
-        friction=f"NeuralFriction.fmu {label}",
-        coupling="Gauss-Seidel",
-        time=trace.time,
-        tip_deflection=trace[BEAM, "tip_deflection"],
-        friction_force=trace[BEAM, "friction_force"],
-        stick=trace[BEAM, "stick"],
-        transitions=trace[BEAM, "transitions"],
-        wall=wall,
-    )
-
-
-def drive_friction(
-    fmus: Fmus, law: str, weights: str | None, inputs: dict[str, np.ndarray], instance: str
-) -> np.ndarray:
-    """NeuralFriction.fmu stepped at DT with its inputs set to inputs[name][k] before step
-    k; the signed friction_force after each step (the FMU has no state, so each force is
-    the law at that step's inputs)."""
-    parameters = {"law": law}
-    if weights is not None:
-        parameters["weights"] = weights
-    steps = len(next(iter(inputs.values())))
-    trace = master.run_alone(
-        fmus,
-        FRICTION,
-        instance,
-        DT,
-        steps * DT,
-        parameters={FRICTION: parameters},
-        signals={FRICTION: inputs},
-        record={FRICTION: ["friction_force"]},
-        stop_time=False,
-    )
-    return trace[FRICTION, "friction_force"][1:]
-
-
-def friction_sweep(
-    fmus: Fmus, law: str, weights: str | None = None, normal_force=None, velocities=None
-):
-    """NeuralFriction.fmu stepped at DT with sliding_velocity swept (default -0.35 .. 0.35
-    m/s in steps of 1 mm/s) at `normal_force` (N; default: the start value of its
-    normal_force input); returns (velocities, signed friction_force)."""
-    if velocities is None:
-        velocities = np.linspace(-0.35, 0.35, 701)
-    if normal_force is None:
-        normal_force = fmus.models[FRICTION].real_start("normal_force")
-    inputs = {
-        "normal_force": np.full(len(velocities), float(normal_force)),
-        "sliding_velocity": velocities,
-    }
-    return velocities, drive_friction(fmus, law, weights, inputs, "sweep")
-
-
-def exponential_law(v, friction: Model):
-    """Paper Eq. 6, signed with the sliding velocity (N):
-    F(v) = sign(v) F_n (mu_k + (mu_s - mu_k) exp(-alpha |v|)).
-
-    An independent oracle of the FMU's exponential law (main prints the largest
-    difference): only the formula is written here. Its coefficients are the start values
-    of NeuralFriction's model description (`friction`): static_coefficient (mu_s),
-    kinetic_coefficient (mu_k), decay (alpha, s/m) and the normal_force input (F_n, N),
-    the values friction_sweep runs the FMU at."""
-    mu_s, mu_k, decay, normal_force = (
-        friction.real_start(name)
-        for name in ("static_coefficient", "kinetic_coefficient", "decay", "normal_force")
-    )
-    return np.sign(v) * normal_force * (mu_k + (mu_s - mu_k) * np.exp(-decay * np.abs(v)))
-
-
-# ----------------------------------------------------------------------------- output
-
-COLUMNS = [
-    # (csv/table header, metric key or callable, format, scale)
-    ("run", "name", "{}", None),
-    ("coupling", "coupling", "{}", None),
-    ("breakaway [s]", "breakaway", "{:.3f}", 1.0),
-    ("transitions [-]", "transitions", "{:d}", None),
-    ("corridor min [mm]", "corridor_min", "{:.3f}", 1e3),
-    ("corridor max [mm]", "corridor_max", "{:.3f}", 1e3),
-    ("major slips [-]", "major_slips", "{:d}", None),
-    ("1st slip [s]", "first_slip", "{:.3f}", 1.0),
-    ("period [s]", "period", "{:.4f}", 1.0),
-    ("pre-slip [mm]", "dev_before_breakaway", "{:.1e}", 1e3),
-    ("RMS dev [mm]", "rms_dev", "{:.4f}", 1e3),
-    ("max dev [mm]", "max_dev", "{:.4f}", 1e3),
-    ("shift@1.2s [ms]", "phase_shift", "{:+.0f}", 1e3),
-    ("shift@1.2s [deg]", "phase_shift_deg", "{:+.0f}", 1.0),
-    ("wall [s]", "wall", "{:.2f}", 1.0),
-]
-
-
-def cell(run: Run, key: str, fmt: str, scale) -> str:
-    if key in ("name", "coupling"):
-        return getattr(run, key)
-    value = run.wall if key == "wall" else run.metrics.get(key)
-    if value is None:
-        return "-"
-    if scale is not None:
-        value = value * scale
-    return fmt.format(value)
-
-
-def table_rows(runs: list[Run]) -> list[list[str]]:
-    return [[cell(r, key, fmt, scale) for _, key, fmt, scale in COLUMNS] for r in runs]
-
-
-def print_table(runs: list[Run]) -> None:
-    # The coupling is in the run's name; the CSV keeps it as a column of its own.
-    keep = [i for i, (h, *_) in enumerate(COLUMNS) if h != "coupling"]
-    names = [COLUMNS[i][0].split(" [")[0] for i in keep]
-    units = [("[" + COLUMNS[i][0].split(" [")[1]) if " [" in COLUMNS[i][0] else "" for i in keep]
-    rows = [[row[i] for i in keep] for row in table_rows(runs)]
-    widths = [
-        max(len(n), len(u), *(len(r[i]) for r in rows)) for i, (n, u) in enumerate(zip(names, units))
-    ]
-
-    def line(values):
-        parts = [
-            v.ljust(w) if i == 0 else v.rjust(w) for i, (v, w) in enumerate(zip(values, widths))
-        ]
-        return "  ".join(parts).rstrip()
-
-    print(line(names))
-    print(line(units))
-    print("  ".join("-" * w for w in widths))
-    for row in rows:
-        print(line(row))
-    print(
-        "dev, shift: tip deflection against the analytical (exponential) embedded run at the "
-        "same fidelity, over 0 .. 1.2 s at 1 ms;\n"
-        "pre-slip dev: largest deviation before that run's breakaway; shift@1.2s: lag that "
-        "best aligns the last reference period (positive = behind), in ms and in degrees of "
-        "the reference period"
-    )
-
-
-SLIP_HEADERS = [
-    "run", "coupling", "slip", "onset [s]", "duration [s]", "cycle min [mm]",
-    "cycle max [mm]", "cycle complete",
-]
-
-
-def slip_rows(runs: list[Run]) -> list[list]:
-    """One row per major slip of every run (full precision)."""
-    rows = []
-    for r in runs:
-        for i, slip in enumerate(r.metrics["slips"], start=1):
-            rows.append([
-                r.name, r.coupling, i, slip.onset, slip.duration, 1e3 * slip.cycle_min,
-                1e3 * slip.cycle_max, slip.cycle_complete,
-            ])
-    return rows
-
-
-def print_slips(runs: list[Run], fidelity: str) -> None:
-    """Each major slip of the embedded runs at one fidelity, laws side by side."""
-    chosen = [r for r in runs if r.fidelity == fidelity and r.coupling == "embedded"]
-    count = max(len(r.metrics["slips"]) for r in chosen)
-    labels = [r.friction for r in chosen]
-    width = max(26, *(len(label) + 2 for label in labels))
-    print(f"{'':28}" + "".join(label.rjust(width) for label in labels))
-    for i in range(count):
-        for title, text in (
-            ("onset [s]", lambda s: f"{s.onset:.3f}"),
-            ("duration [s]", lambda s: "-" if s.duration is None else f"{s.duration:.3f}"),
-            ("cycle min .. max [mm]", lambda s: f"{1e3 * s.cycle_min:.2f} .. "
-             f"{1e3 * s.cycle_max:.2f}" + ("" if s.cycle_complete else " (to 1.2 s)")),
-        ):
-            cells = []
-            for r in chosen:
-                slips = r.metrics["slips"]
-                cells.append(text(slips[i]) if i < len(slips) else "-")
-            print(f"  slip {i + 1}, {title:20}" + "".join(c.rjust(width) for c in cells))
-
-
-def write_csv(runs: list[Run], path: Path) -> None:
-    """The table with the printed columns and units, at full precision."""
-    with path.open("w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow([h for h, *_ in COLUMNS])
-        for run in runs:
-            row = []
-            for _, key, _fmt, scale in COLUMNS:
-                if key in ("name", "coupling"):
-                    row.append(getattr(run, key))
-                    continue
-                value = run.wall if key == "wall" else run.metrics.get(key)
-                if value is None:
-                    row.append("")
-                elif isinstance(value, (int, np.integer)) and scale is None:
-                    row.append(str(int(value)))
-                else:
-                    row.append(repr(float(value) * (scale or 1.0)))
-            writer.writerow(row)
-
-
-def write_slips_csv(runs: list[Run], path: Path) -> None:
-    with path.open("w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(SLIP_HEADERS)
-        for row in slip_rows(runs):
-            writer.writerow(["" if v is None else v for v in row])
-
-
-# ----------------------------------------------------------------------------- main
-
-
-def validate(paths: dict[str, Path]) -> dict[str, list[str]]:
-    return {name: [str(p) for p in validate_fmu(str(path))] for name, path in paths.items()}
-
-
-def run_all(fmus: Fmus) -> list[Run]:
-    runs: list[Run] = []
-    for fidelity in fidelities(fmus.models[BEAM]):
-        reference = run_embedded(fmus, fidelity, "exponential")
-        batch = [reference]
-        for weights in WEIGHTS:
-            batch.append(run_embedded(fmus, fidelity, "neural", weights))
-        # paper-plain.json: a smooth signed law, coupled by its tangent.
-        batch.append(run_coupled(fmus, fidelity, "neural", WEIGHTS[0], coupling="signed"))
-        batch.append(run_coupled(fmus, fidelity, "exponential"))
-        for r in batch:
-            r.metrics = summarise(r, reference)
-        runs += batch
-    return runs
+from . import scene
+from .artifacts import Fmus
+from .runner import find_fmus, parser
 
 
 def main(argv: list[str] | None = None) -> int:
-    out = out_dir(argv)
+    out = parser("stickslip-fmu-scene", __doc__).parse_args(argv).out
     began = time.perf_counter()
     paths = find_fmus("fmu_scene")
     if paths is None:
         return 2
+    out.mkdir(parents=True, exist_ok=True)
     print(f"FMUs: {', '.join(str(p) for p in paths.values())}")
-
-    failures: list[str] = []
     print("== fmpy.validation.validate_fmu")
-    for name, problems in validate(paths).items():
+    for name, problems in scene.validate(paths).items():
         print(f"  {name}.fmu: {len(problems)} problem(s)")
         for p in problems:
             print(f"    {p}")
-        if problems:
-            failures.append(f"{name}.fmu: {len(problems)} validation problem(s)")
 
     fmus = Fmus(paths)
-    friction_model = fmus.models[FRICTION]
     try:
-        runs = run_all(fmus)
-        laws = {
-            "neural, paper-plain.json": ("neural", WEIGHTS[0]),
-            "neural, paper-signed.json": ("neural", WEIGHTS[1]),
-            "exponential (paper Eq. 6)": ("exponential", None),
-        }
-        sweeps = {label: friction_sweep(fmus, *law) for label, law in laws.items()}
-        fine = np.linspace(-0.01, 0.01, 401)
-        zooms = {
-            label: friction_sweep(fmus, *law, velocities=fine) for label, law in laws.items()
-        }
+        result = scene.run_scene(fmus)
     finally:
         fmus.close()
-
     print()
     print("== Paper scene through the FMUs (0 .. 1.2 s, 1 ms output)")
-    print_table(runs)
-    for r in runs:
-        b = r.metrics["breakaway"]
-        if b is None or abs(b - BREAKAWAY_EXPECTED) > BREAKAWAY_TOLERANCE + 1e-12:
-            failures.append(
-                f"{r.name} ({r.coupling}): breakaway {b} s, expected "
-                f"{BREAKAWAY_EXPECTED:.3f} +- {BREAKAWAY_TOLERANCE:g} s"
-            )
-        # In stick the kinetic law is never evaluated, so every law must give the same
-        # curve up to the first slip; 1e-12 m leaves room for rounding only.
-        pre = r.metrics["dev_before_breakaway"]
-        if pre is None or pre > PRE_SLIP_TOLERANCE:
-            failures.append(f"{r.name} ({r.coupling}): deviates {pre} m before breakaway")
+    print(scene.table(result.runs))
     print()
-    print(f"== Major slips, {PLOT_FIDELITY} fidelity (the paper's mesh), both laws")
-    print_slips(runs, PLOT_FIDELITY)
-
+    print(f"== Major slips, {scene.PLOT_FIDELITY} fidelity (the paper's mesh), both laws")
+    print(scene.slips_text(result.runs, scene.PLOT_FIDELITY))
     print()
-    normal_force = friction_model.real_start("normal_force")
+    normal_force = result.friction.real_start("normal_force")
+    print(f"== NeuralFriction.fmu, friction force at F_n = {normal_force:g} N, -0.35 .. 0.35 m/s")
+    print("\n".join(scene.law_lines(result)))
+    print()
     print(
-        f"== NeuralFriction.fmu, friction force at F_n = {normal_force:g} N, -0.35 .. 0.35 m/s"
+        "== Coupling error: coupled (Gauss-Seidel, 1 ms) minus embedded run, same law and "
+        "fidelity"
     )
-    v, f_exp = sweeps["exponential (paper Eq. 6)"]
-    law_error = float(np.max(np.abs(f_exp - exponential_law(v, friction_model))))
-    print(f"  law exponential vs paper Eq. 6: max |difference| {law_error:.2e} N")
-    away = np.abs(v) >= 0.01  # Eq. 6 jumps by 2 mu_s F_n = 100 N at v = 0
-    for label in ("neural, paper-plain.json", "neural, paper-signed.json"):
-        _, f = sweeps[label]
-        # Against the FMU's exponential law, which equals Eq. 6 (checked just above).
-        d = np.abs(f - f_exp)[away]
-        zv, zf = zooms[label]
-        print(
-            f"  law {label} vs paper Eq. 6 for |v| >= 0.01 m/s: max |difference| "
-            f"{d.max():.2f} N (at {v[away][np.argmax(d)]:+.3f} m/s), RMS "
-            f"{np.sqrt(np.mean(d**2)):.2f} N; for |v| < 0.01 m/s: force "
-            f"{zf.min():+.1f} .. {zf.max():+.1f} N, at v = 0: {zf[len(zf) // 2]:+.2f} N"
-        )
-
-    print()
-    print("== Coupling error: coupled (Gauss-Seidel, 1 ms) minus embedded run, same law and fidelity")
-    for r in runs:
-        if r.coupling != "Gauss-Seidel":
-            continue
-        law = "exponential" if r.friction.endswith("exponential") else "neural paper-plain"
-        twin = next(
-            e for e in runs if e.coupling == "embedded" and e.fidelity == r.fidelity
-            and e.friction == law
-        )
-        d = r.tip_deflection - twin.tip_deflection
-        print(
-            f"  {r.fidelity:13} {law:19} RMS {1e3 * np.sqrt(np.mean(d**2)):.4f} mm, "
-            f"max {1e3 * np.max(np.abs(d)):.4f} mm"
-        )
-
-    written = [out / name for name in (
-        "fmu_validation.csv", "fmu_slips.csv", "fmu_tip_deflection.png",
-        "fmu_friction_force.png", "fmu_friction_law.png",
-    )]
-    write_csv(runs, written[0])
-    write_slips_csv(runs, written[1])
-    plots.tip_deflection(runs, PLOT_FIDELITY, BREAKAWAY_EXPECTED, written[2])
-    plots.friction_force(runs, PLOT_FIDELITY, written[3])
-    plots.friction_law(sweeps, zooms, written[4])
+    print("\n".join(scene.coupling_lines(result.runs)))
+    written = scene.write_outputs(result, out)
     print()
     for p in written:
         print(f"wrote {p}")
     print(f"total wall time {time.perf_counter() - began:.1f} s")
-    return report_failures(failures)
+    return 0
 
 
 if __name__ == "__main__":

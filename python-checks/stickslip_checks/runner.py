@@ -1,22 +1,29 @@
-"""What the entry points share around their work: the output folder from the command
-line, the FMUs (or the message that says how to build them) and the failure report."""
+"""What the entry points share: their argument parser (help from the entry point's
+docstring, OUT_DIR, refusal of unknown arguments), the FMUs or the message that says
+how to build them, and progress lines on stderr."""
 
 from __future__ import annotations
 
+import argparse
 import sys
 from pathlib import Path
 
 from .artifacts import DEFAULT_OUT, fmu_paths
 
 
-def out_dir(argv: list[str] | None, create: bool = True, default: Path = DEFAULT_OUT) -> Path:
-    """OUT_DIR, the first argument (sys.argv[1:] when `argv` is None), else `default`
-    (<repo>/out)."""
-    argv = sys.argv[1:] if argv is None else argv
-    out = Path(argv[0]) if argv else default
-    if create:
-        out.mkdir(parents=True, exist_ok=True)
-    return out
+def parser(prog: str, doc: str, out: Path | None = DEFAULT_OUT) -> argparse.ArgumentParser:
+    """The parser of entry point `prog` (its console script name) described by its module
+    docstring `doc`; with the optional positional OUT_DIR (default `out`) unless `out` is
+    None."""
+    p = argparse.ArgumentParser(
+        prog=prog, description=doc, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    if out is not None:
+        p.add_argument(
+            "out", nargs="?", type=Path, default=out, metavar="OUT_DIR",
+            help=f"output folder (default {out})",
+        )
+    return p
 
 
 def find_fmus(script: str) -> dict[str, Path] | None:
@@ -28,11 +35,6 @@ def find_fmus(script: str) -> dict[str, Path] | None:
         return None
 
 
-def report_failures(failures: list[str]) -> int:
-    """Prints the failed checks to stderr; the script's exit status (1 if any)."""
-    if not failures:
-        return 0
-    print("\nFAILED:", file=sys.stderr)
-    for f in failures:
-        print(f"  {f}", file=sys.stderr)
-    return 1
+def progress(text: str) -> None:
+    """One line of progress of a long run, on stderr (stdout keeps the tables)."""
+    print(text, file=sys.stderr, flush=True)

@@ -36,6 +36,7 @@ from sklearn.neural_network import MLPRegressor
 from sklearn.preprocessing import StandardScaler
 
 from .artifacts import find_binary, shipped_training
+from .tables import format_table
 
 
 def shipped_settings() -> tuple[int, int, float]:
@@ -131,7 +132,7 @@ def fit_sklearn(split_dir: Path, iterations: int, seed: int, lam: float) -> dict
 
 
 def side_by_side(ours: dict, peer: dict, iterations: int, lam: float) -> dict:
-    """Our training report and the peer's fit as one result (print_table, JSON)."""
+    """Our training report and the peer's fit as one result (table, JSON)."""
     peer = dict(peer)
     return {
         "columns": peer.pop("columns"),
@@ -159,32 +160,37 @@ def run(iterations: int, seed: int, lam: float, binary: Path, workdir: Path) -> 
     return side_by_side(ours, peer, iterations, lam)
 
 
-def print_table(result: dict) -> None:
+def table(result: dict) -> str:
+    """Both fits side by side, under the set-up and over the training-time ratio."""
     ours, peer = result["ours"], result["sklearn"]
-    print(
+    rows = [
+        [label, fmt.format(ours[key]), fmt.format(peer[key])]
+        for key, label, fmt in [
+            ("mse_train", "MSE train [N^2]", "{:.4f}"),
+            ("mse_test", "MSE test [N^2]", "{:.4f}"),
+            ("r2_train", "R2 train", "{:.5f}"),
+            ("r2_test", "R2 test", "{:.5f}"),
+            ("iterations", "iterations", "{}"),
+            ("seconds", "training [s]", "{:.2f}"),
+        ]
+    ]
+    return "\n".join([
         f"paper data, {result['train_samples']}/{result['test_samples']} split, "
         f"(100,100,100) tanh L-BFGS, max {result['iterations_limit']} iterations, "
-        f"lambda {result['lambda']} = sklearn alpha {result['alpha']:g}"
-    )
-    print(f"  {'':16}{'stickslip (Rust)':>18}{'scikit-learn':>16}")
-    for key, label, fmt in [
-        ("mse_train", "MSE train [N^2]", "{:.4f}"),
-        ("mse_test", "MSE test [N^2]", "{:.4f}"),
-        ("r2_train", "R2 train", "{:.5f}"),
-        ("r2_test", "R2 test", "{:.5f}"),
-        ("iterations", "iterations", "{}"),
-        ("seconds", "training [s]", "{:.2f}"),
-    ]:
-        print(f"  {label:16}{fmt.format(ours[key]):>18}{fmt.format(peer[key]):>16}")
-    print(
-        f"  scikit-learn / stickslip training time: "
-        f"{result['time_ratio_sklearn_over_ours']:.1f}x"
-    )
+        f"lambda {result['lambda']} = sklearn alpha {result['alpha']:g}",
+        format_table(["", "stickslip (Rust)", "scikit-learn"], rows),
+        f"scikit-learn / stickslip training time: {result['time_ratio_sklearn_over_ours']:.1f}x",
+    ])
 
 
-def main(argv: list[str] | None = None) -> dict:
+def main(argv: list[str] | None = None) -> int:
+    """Entry point: parses the options, runs both fits in a temporary folder, prints
+    the table."""
     iterations, seed, lam = shipped_settings()
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser = argparse.ArgumentParser(
+        prog="stickslip-sklearn-peer", description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     parser.add_argument("--iterations", type=int, default=iterations)
     parser.add_argument("--seed", type=int, default=seed)
     parser.add_argument("--lambda", dest="lam", type=float, default=lam)
@@ -194,17 +200,11 @@ def main(argv: list[str] | None = None) -> dict:
     binary = args.binary or find_binary()
     with tempfile.TemporaryDirectory(prefix="sklearn-peer-") as workdir:
         result = run(args.iterations, args.seed, args.lam, binary, Path(workdir))
-    print_table(result)
+    print(table(result))
     if args.json:
         args.json.write_text(json.dumps(result, indent=2) + "\n")
-    return result
-
-
-def cli() -> int:
-    """Console script `stickslip-sklearn-peer` (main returns the result, not a status)."""
-    main(sys.argv[1:])
     return 0
 
 
 if __name__ == "__main__":
-    cli()
+    sys.exit(main())

@@ -21,9 +21,11 @@ from __future__ import annotations
 import hashlib
 import importlib.util
 import math
+import os
 import tempfile
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 from distributed.diagnostics.plugin import WorkerPlugin
@@ -35,7 +37,15 @@ from .stick_slip_map import DEFAULT_WINDOW, FAILED, run_metrics
 
 DEFAULT_T_END = 20.0  # s: the slowest map speed breaks away at 1.6 s; see MAP_SPEEDS
 DEFAULT_STEP = 1e-3  # s: communication step and sampling interval of the outputs
-DEFAULT_WORKERS = 2  # this machine has two cores
+
+
+def default_workers() -> int:
+    """One worker per core this process may run on (its CPU affinity where the OS has
+    one, else the machine's cores)."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0))
+    return os.cpu_count() or 1
+
 
 # ----------------------------------------------------------------------------- FMU on a worker
 
@@ -212,6 +222,10 @@ def _worker_loads(plugin_name: str, dask_worker=None) -> int:
 # ----------------------------------------------------------------------------- running
 
 
+# Called after each finished run: (runs done, runs in all, the run's row).
+Progress = Callable[[int, int, dict], None]
+
+
 class SweepResults(list):
     """The rows of a sweep, in the order of the parameter sets, plus the FMU loads.
 
@@ -262,6 +276,7 @@ def run_serial(
     step: float = DEFAULT_STEP,
     window: float = DEFAULT_WINDOW,
     fmu: Path | None = None,
+    progress: Progress | None = None,
 ) -> SweepResults:
     """The same runs in this process, one after the other, on one FMU instance."""
     fmu = beam_fmu(fmu)
@@ -269,7 +284,11 @@ def run_serial(
     plugin = FmuWorkerPlugin(fmu)
     plugin.setup()
     try:
-        results = SweepResults(plugin.simulate(p, fidelity, t_end, step, window) for p in sets)
+        results = SweepResults()
+        for done, params in enumerate(sets, start=1):
+            results.append(plugin.simulate(params, fidelity, t_end, step, window))
+            if progress is not None:
+                progress(done, len(sets), results[-1])
     finally:
         plugin.teardown()
     results.loads = {"in-process": plugin.loads}
@@ -281,24 +300,27 @@ def run_sweep(
     fidelity: str = "modal",
     t_end: float = DEFAULT_T_END,
     scheduler: str | None = None,
-    workers: int = DEFAULT_WORKERS,
+    workers: int | None = None,
     step: float = DEFAULT_STEP,
     window: float = DEFAULT_WINDOW,
     fmu: Path | None = None,
+    progress: Progress | None = None,
 ) -> SweepResults:
     """Runs StickSlipBeam.fmu once per parameter set on Dask; the rows in input order.
 
     param_sets: list of {parameter name: value} (names and enumeration words as in the
     model description; loading.belt_speed / loading.normal_force are accepted aliases).
     scheduler: address of an existing Dask scheduler; None starts a LocalCluster of
-    `workers` single-threaded worker processes on 127.0.0.1 (no dashboard), closed after.
+    `workers` (default: default_workers()) single-threaded worker processes on 127.0.0.1
+    (no dashboard), closed after. `progress` is called as each run finishes.
     """
     fmu = beam_fmu(fmu)
     sets = _check_sets(param_sets, fidelity, t_end, step, window, fmu)
-    from distributed import Client, LocalCluster
+    from distributed import Client, LocalCluster, as_completed
 
     cluster = None
     if scheduler is None:
+        workers = default_workers() if workers is None else workers
         if workers < 1:
             raise SweepError("--workers must be >= 1 (or 0 for in-process runs without Dask)")
         # Processes, not threads: each worker is its own process with its own FMU instance,
@@ -332,6 +354,9 @@ def run_sweep(
             [window] * len(sets),
             pure=False,
         )
+        if progress is not None:
+            for done, future in enumerate(as_completed(futures), start=1):
+                progress(done, len(futures), future.result())
         results = SweepResults(client.gather(futures))
         results.loads = client.run(_worker_loads, plugin.name)
         # Free the instances on the workers of an existing cluster (a LocalCluster goes anyway).

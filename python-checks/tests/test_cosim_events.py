@@ -21,9 +21,9 @@ import numpy as np
 import pytest
 from conftest import need
 
-from stickslip_checks import cosim_events as ce
+from stickslip_checks import events as ce
 from stickslip_checks.artifacts import fmu3_paths
-from stickslip_checks.cosim_convergence import INTERNAL_STEP, STEPS, T_FIRST_CYCLE
+from stickslip_checks.convergence import INTERNAL_STEP, STEPS, T_FIRST_CYCLE
 
 
 @pytest.fixture(scope="module")
@@ -96,3 +96,12 @@ def test_the_reported_switches_are_the_monolithic_fmus_transitions(study):
                 assert abs(got - want) <= tolerance, (h, got, want)
         # Early return reports the switches inside steps: at most the event count.
         assert len(runs[ce.EARLY_RETURN, h].switches) <= len(runs[ce.EVENT_MODE, h].switches)
+
+
+def test_the_frame_holds_the_csv_files_values(study):
+    """events.to_frame: one row per master and h, as cosim_events.csv."""
+    _, rows, _ = need(study)
+    frame = ce.to_frame(list(rows.values()))
+    assert len(frame) == len(ce.MASTERS) * len(STEPS)
+    assert frame["switches"].tolist() == [r.switches for r in rows.values()]
+    assert frame[ce.HEADERS[2]].tolist() == [1e3 * r.error_first_cycle for r in rows.values()]

@@ -394,11 +394,24 @@ def test_time_reads_as_the_instance_clock(paths, unzipped):
 
 
 def test_the_side_by_side_table_sees_equal_runs(paths):
-    """stickslip_checks.fmi_versions (the main job's table) on a short run: both
+    """stickslip_checks.versions (the main job's table) on a short run: both
     versions' columns filled, equal bit for bit, the breakaway at 0.4 s in each."""
-    from stickslip_checks import fmi_versions
+    from stickslip_checks import versions
 
-    row = fmi_versions.beam_row(paths, "modal", "exponential", t_end=0.5)
+    row = versions.beam_row(paths, "modal", "exponential", t_end=0.5)
     assert row.identical and row.max_difference == 0.0
     assert row.breakaway[0] == row.breakaway[1] == pytest.approx(0.4, abs=1e-3)
     assert row.transitions[0] == row.transitions[1] >= 1
+
+
+def test_every_run_of_the_main_jobs_table_is_equal_bit_for_bit(paths):
+    """The whole fmi_versions table (every structural model with both laws over the
+    paper scene, NeuralFriction with both laws): every output of every sample equal."""
+    from stickslip_checks import versions
+
+    rows = versions.compare_all(paths)
+    assert len(rows) >= 8
+    for row in rows:
+        assert row.identical and row.max_difference == 0.0, (row.name, row.max_difference)
+    frame = versions.to_frame(rows)
+    assert frame["identical"].all() and frame["run"].tolist() == [r.name for r in rows]

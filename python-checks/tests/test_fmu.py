@@ -24,7 +24,8 @@ from fmpy.fmi1 import FMICallException
 from fmpy.validation import validate_fmu
 
 from stickslip_checks.artifacts import BEAM, FRICTION, Fmus, find_binary, fmu_paths
-from stickslip_checks.fmu_scene import exponential_law, friction_sweep
+from stickslip_checks import scene
+from stickslip_checks.scene import exponential_law, friction_sweep
 
 FMI2_ERROR = 3
 BELT_SPEED = 0.02  # m/s
@@ -98,6 +99,35 @@ def test_fmus_left_at_the_old_top_level_paths_are_not_used(tmp_path, monkeypatch
 def test_validate_fmu_finds_no_problem(built, name):
     fmus = need(built)
     assert validate_fmu(str(fmus.paths[name])) == []
+
+
+@pytest.fixture(scope="module")
+def scene_runs(built):
+    """fmu_scene's runs, or the error that says how to build the FMUs."""
+    return built if isinstance(built, Exception) else scene.run_all(built)
+
+
+def test_every_run_of_the_scene_breaks_away_at_0_4_s_and_agrees_before(scene_runs):
+    """fmu_scene's runs (every structural model; exponential law, both networks embedded,
+    both couplings): breakaway within 1 ms of 0.400 s, and in stick the kinetic law is
+    never evaluated, so every law gives the exponential run's curve up to its breakaway
+    (1e-12 m leaves room for rounding only)."""
+    runs = need(scene_runs)
+    assert len(runs) == 15
+    for r in runs:
+        b = r.metrics["breakaway"]
+        assert b is not None, r.name
+        assert abs(b - scene.BREAKAWAY_EXPECTED) <= scene.BREAKAWAY_TOLERANCE + 1e-12, (r.name, b)
+        pre = r.metrics["dev_before_breakaway"]
+        assert pre is not None and pre <= scene.PRE_SLIP_TOLERANCE, (r.name, pre)
+
+
+def test_the_frames_hold_the_csv_files_rows(scene_runs):
+    runs = need(scene_runs)
+    table, slips = scene.to_frames(runs)
+    assert table["run"].tolist() == [r.name for r in runs]
+    assert table["breakaway [s]"].astype(float).tolist() == [r.metrics["breakaway"] for r in runs]
+    assert len(slips) == sum(r.metrics["major_slips"] for r in runs)
 
 
 def test_beam_fidelity_reproduces_the_stick_slip_curve(built):
@@ -238,7 +268,7 @@ def test_fixed_parameter_after_initialisation_raises(built):
 
 
 def test_exponential_law_is_paper_eq6_at_the_start_values(built):
-    """NeuralFriction's exponential law against the oracle fmu_scene.exponential_law
+    """NeuralFriction's exponential law against the oracle scene.exponential_law
     (Eq. 6 written out in Python, coefficients from the model description's start
     values): the same formula, so only rounding may differ. Also on both sides of the
     jump at v = 0, where the sign of v decides."""

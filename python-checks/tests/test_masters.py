@@ -1,6 +1,6 @@
 """Our FMUs and SSP systems in the co-simulation masters users run them in: libcosim,
 Ecos, fmucontainer (its container run by fmpy) and fmpy's SSP runner, each driven as its
-users drive it (stickslip_checks.masters). For each master:
+users drive it (stickslip_checks.other_masters). For each master:
 
 - it loads the systems, with every variable of the FMUs (choices included: they are
   Integers, which every master here supports, unlike FMI Enumerations);
@@ -14,7 +14,7 @@ users drive it (stickslip_checks.masters). For each master:
 
 Runs at h = 1e-3 s to 0.7 s (breakaway at 0.4 s, then the first slip, where the schemes
 part). Needs the FMUs and system files of `cargo run --release -p fmu-build`, and the
-masters of python-checks/requirements-masters.txt (scripts/python-env.sh installs them).
+masters of python-checks/requirements-other_masters.txt (scripts/python-env.sh installs them).
 """
 
 from __future__ import annotations
@@ -31,10 +31,10 @@ from conftest import need
 from fmpy.ssp.ssd import read_ssd
 from fmpy.validation import validate_fmu
 
-from stickslip_checks import masters
+from stickslip_checks import other_masters
 from stickslip_checks.artifacts import BEAM, FRICTION, fmu_paths
 from stickslip_checks.master import COUPLINGS, GAUSS_SEIDEL, JACOBI, run_coupled
-from stickslip_checks.masters import COUPLED, MONOLITHIC, H, T_END
+from stickslip_checks.other_masters import COUPLED, MONOLITHIC, H, T_END
 
 N = round(T_END / H)
 TIP = ("beam", "tip_deflection")
@@ -50,14 +50,14 @@ def reference(fmus, key):
     StickSlipMonolithic.ssp), or a coupling scheme."""
     if key not in _references:
         if key in (JACOBI, GAUSS_SEIDEL):
-            _references[key] = masters.reference_coupled(fmus, key)
+            _references[key] = other_masters.reference_coupled(fmus, key)
         else:
             parameters = {
                 "defaults": {},
                 "non-default": NON_DEFAULT,
                 "monolithic": {"friction.law": "neural"},
             }[key]
-            _references[key] = masters.reference_beam(fmus, parameters)
+            _references[key] = other_masters.reference_beam(fmus, parameters)
     return _references[key]
 
 
@@ -70,7 +70,7 @@ def codes(fmus, values: dict) -> dict:
     }
 
 
-def assert_bit_identical(series: masters.Series, name, expected: np.ndarray, what: str):
+def assert_bit_identical(series: other_masters.Series, name, expected: np.ndarray, what: str):
     got = series.at_grid(name, N)
     recorded = ~np.isnan(got)
     # Every master records the whole grid, fmpy's SSP runner all but t = 0.
@@ -78,7 +78,7 @@ def assert_bit_identical(series: masters.Series, name, expected: np.ndarray, wha
     same = got[recorded] == expected[recorded]
     assert same.all(), (
         f"{what}: differs from our master from t = {np.argmin(same) * H:.3f} s on, by up to "
-        f"{masters.deviation(got, expected):.3g} m"
+        f"{other_masters.deviation(got, expected):.3g} m"
     )
 
 
@@ -86,7 +86,7 @@ def single_beam_csv(start: dict) -> str:
     """fmucontainer's link list for StickSlipBeam alone: its inputs and tip deflection
     exposed, and `start` as START rules (choices as codes)."""
     lines = ["rule;from_fmu;from_port;to_fmu;to_port", "FMU;StickSlipBeam.fmu;;;"]
-    for line in masters.csv_path(MONOLITHIC).read_text().splitlines():
+    for line in other_masters.csv_path(MONOLITHIC).read_text().splitlines():
         if line.startswith("INPUT;"):
             lines.append(line)
     lines.append("OUTPUT;StickSlipBeam.fmu;tip_deflection;;beam.tip_deflection")
@@ -95,8 +95,8 @@ def single_beam_csv(start: dict) -> str:
 
 
 def container_run(csv_text: str, tmp_path: Path, name: str, *, sequential=False):
-    container, _ = masters.build_container(csv_text, tmp_path / name, name, sequential=sequential)
-    return masters.run_fmpy_fmu(container, ("beam.tip_deflection",))
+    container, _ = other_masters.build_container(csv_text, tmp_path / name, name, sequential=sequential)
+    return other_masters.run_fmpy_fmu(container, ("beam.tip_deflection",))
 
 
 # ----------------------------------------------------------------------------- loads
@@ -106,7 +106,7 @@ def test_the_system_files_are_valid_ssp(built):
     """fmpy reads both SSD files against the SSP 1.0 schema (read_ssd validates), with
     the components and connections fmu-build wrote."""
     need(built)
-    coupled = read_ssd(str(masters.ssp_path(COUPLED)))
+    coupled = read_ssd(str(other_masters.ssp_path(COUPLED)))
     assert [c.name for c in coupled.system.elements] == ["beam", "friction"]
     links = {
         (c.startElement, c.startConnector, c.endElement, c.endConnector)
@@ -119,7 +119,7 @@ def test_the_system_files_are_valid_ssp(built):
         for link in COUPLINGS["signed"]
     }
     assert ("friction", "friction_force_slope", "beam", "external.friction_slope") in links
-    monolithic = read_ssd(str(masters.ssp_path(MONOLITHIC)))
+    monolithic = read_ssd(str(other_masters.ssp_path(MONOLITHIC)))
     assert [c.name for c in monolithic.system.elements] == ["beam"]
 
 
@@ -129,8 +129,8 @@ def test_libcosim_loads_every_variable_of_both_fmus(built):
     fmus = need(built)
     from libcosimpy.CosimEnums import CosimVariableType
 
-    seen = masters.libcosim_variables(masters.ssp_path(COUPLED))
-    for fmu, instance in masters.INSTANCES.items():
+    seen = other_masters.libcosim_variables(other_masters.ssp_path(COUPLED))
+    for fmu, instance in other_masters.INSTANCES.items():
         model = fmus.models[fmu]
         assert set(seen[instance]) == set(model.variables), instance
         for name in model.choices:
@@ -141,8 +141,8 @@ def test_ecos_reads_every_choice_as_an_integer(built):
     """Ecos reported "No variable named 'fidelity.level' of type int" for Enumerations;
     now every choice reads as an Integer with the value the SSD's parameter set gives."""
     fmus = need(built)
-    names = {masters.INSTANCES[f]: list(fmus.models[f].choices) for f in (BEAM, FRICTION)}
-    values = masters.ecos_integers(masters.ssp_path(COUPLED), names)
+    names = {other_masters.INSTANCES[f]: list(fmus.models[f].choices) for f in (BEAM, FRICTION)}
+    values = other_masters.ecos_integers(other_masters.ssp_path(COUPLED), names)
     beam = fmus.models[BEAM]
     assert values["beam", "friction.law"] == beam.code("friction.law", "external")
     assert values["beam", "fidelity.level"] == int(beam.variables["fidelity.level"].start)
@@ -152,8 +152,8 @@ def test_ecos_reads_every_choice_as_an_integer(built):
 
 def test_fmucontainer_builds_a_valid_container_of_the_coupled_system(built, tmp_path):
     need(built)
-    container, log = masters.build_container(
-        masters.csv_path(COUPLED).read_text(), tmp_path, COUPLED, sequential=False
+    container, log = other_masters.build_container(
+        other_masters.csv_path(COUPLED).read_text(), tmp_path, COUPLED, sequential=False
     )
     assert "ERROR" not in log, log
     assert validate_fmu(str(container)) == []
@@ -169,11 +169,11 @@ def test_defaults_equal_our_master_in_every_master(built, tmp_path):
     fmus = need(built)
     expected = reference(fmus, "defaults")
     beam = fmu_paths()[BEAM]
-    assert_bit_identical(masters.run_libcosim(fmu=beam), TIP, expected, "libcosim")
-    assert_bit_identical(masters.run_ecos(fmu=beam), TIP, expected, "Ecos")
+    assert_bit_identical(other_masters.run_libcosim(fmu=beam), TIP, expected, "libcosim")
+    assert_bit_identical(other_masters.run_ecos(fmu=beam), TIP, expected, "Ecos")
     container = container_run(single_beam_csv({}), tmp_path, "defaults")
     assert_bit_identical(container, ("", "beam.tip_deflection"), expected, "fmucontainer")
-    fmpy_ssp = masters.run_fmpy_ssp(masters.ssp_path(MONOLITHIC))
+    fmpy_ssp = other_masters.run_fmpy_ssp(other_masters.ssp_path(MONOLITHIC))
     assert_bit_identical(fmpy_ssp, TIP, expected, "fmpy.ssp")
 
 
@@ -187,15 +187,15 @@ def test_non_default_choices_set_in_every_master_act_as_in_fmpy(built, tmp_path)
     fmus = need(built)
     expected = reference(fmus, "non-default")
     defaults = reference(fmus, "defaults")
-    assert masters.deviation(expected, defaults) > 1e-4, "the settings change nothing"
+    assert other_masters.deviation(expected, defaults) > 1e-4, "the settings change nothing"
     beam = fmu_paths()[BEAM]
     settings = codes(fmus, NON_DEFAULT)
     runs = {
-        "libcosim": masters.run_libcosim(fmu=beam, parameters={"beam": settings}),
-        "Ecos": masters.run_ecos(fmu=beam, parameters={"beam": settings}),
-        "fmpy.ssp": masters.run_fmpy_ssp(
-            masters.ssp_path(MONOLITHIC),
-            parameters=masters.ssd_parameter_set(masters.ssp_path(MONOLITHIC), {"beam": settings}),
+        "libcosim": other_masters.run_libcosim(fmu=beam, parameters={"beam": settings}),
+        "Ecos": other_masters.run_ecos(fmu=beam, parameters={"beam": settings}),
+        "fmpy.ssp": other_masters.run_fmpy_ssp(
+            other_masters.ssp_path(MONOLITHIC),
+            parameters=other_masters.ssd_parameter_set(other_masters.ssp_path(MONOLITHIC), {"beam": settings}),
         ),
     }
     for label, series in runs.items():
@@ -211,13 +211,13 @@ def test_the_monolithic_system_runs_its_parameter_set_in_every_master(built, tmp
     list. All equal fmpy with friction.law = neural, which is not the default."""
     fmus = need(built)
     expected = reference(fmus, "monolithic")
-    assert masters.deviation(expected, reference(fmus, "defaults")) > 1e-4
-    ssp = masters.ssp_path(MONOLITHIC)
-    assert_bit_identical(masters.run_libcosim(ssp=ssp), TIP, expected, "libcosim")
-    assert_bit_identical(masters.run_ecos(ssp=ssp), TIP, expected, "Ecos")
-    fmpy_ssp = masters.run_fmpy_ssp(ssp, parameters=masters.ssd_parameter_set(ssp))
+    assert other_masters.deviation(expected, reference(fmus, "defaults")) > 1e-4
+    ssp = other_masters.ssp_path(MONOLITHIC)
+    assert_bit_identical(other_masters.run_libcosim(ssp=ssp), TIP, expected, "libcosim")
+    assert_bit_identical(other_masters.run_ecos(ssp=ssp), TIP, expected, "Ecos")
+    fmpy_ssp = other_masters.run_fmpy_ssp(ssp, parameters=other_masters.ssd_parameter_set(ssp))
     assert_bit_identical(fmpy_ssp, TIP, expected, "fmpy.ssp")
-    container = container_run(masters.csv_path(MONOLITHIC).read_text(), tmp_path, MONOLITHIC)
+    container = container_run(other_masters.csv_path(MONOLITHIC).read_text(), tmp_path, MONOLITHIC)
     assert_bit_identical(container, ("", "beam.tip_deflection"), expected, "fmucontainer")
 
 
@@ -225,7 +225,7 @@ def test_ecos_applies_no_parameter_set_unless_it_is_named(built):
     """What an Ecos user must know: without init(parameter_set="initialValues") Ecos
     silently runs the FMU's defaults, not the SSD's values."""
     fmus = need(built)
-    unnamed = masters.run_ecos(ssp=masters.ssp_path(MONOLITHIC), parameter_set=None)
+    unnamed = other_masters.run_ecos(ssp=other_masters.ssp_path(MONOLITHIC), parameter_set=None)
     assert_bit_identical(unnamed, TIP, reference(fmus, "defaults"), "Ecos without a set")
 
 
@@ -240,11 +240,11 @@ def test_the_coupled_system_equals_our_masters_scheme_for_scheme(built, tmp_path
     fmus = need(built)
     jacobi, gauss_seidel = reference(fmus, JACOBI), reference(fmus, GAUSS_SEIDEL)
     # The schemes part after breakaway, so matching one is not matching both.
-    assert masters.deviation(jacobi, gauss_seidel) > 1e-5
-    ssp = masters.ssp_path(COUPLED)
-    assert_bit_identical(masters.run_libcosim(ssp=ssp), TIP, jacobi, "libcosim")
-    assert_bit_identical(masters.run_ecos(ssp=ssp), TIP, jacobi, "Ecos")
-    csv = masters.csv_path(COUPLED).read_text()
+    assert other_masters.deviation(jacobi, gauss_seidel) > 1e-5
+    ssp = other_masters.ssp_path(COUPLED)
+    assert_bit_identical(other_masters.run_libcosim(ssp=ssp), TIP, jacobi, "libcosim")
+    assert_bit_identical(other_masters.run_ecos(ssp=ssp), TIP, jacobi, "Ecos")
+    csv = other_masters.csv_path(COUPLED).read_text()
     parallel = container_run(csv, tmp_path, "parallel")
     assert_bit_identical(parallel, ("", "beam.tip_deflection"), jacobi, "fmucontainer")
     sequential = container_run(csv, tmp_path, "sequential", sequential=True)
@@ -258,10 +258,10 @@ def test_fmpy_ssp_starts_the_connected_inputs_at_zero(built):
     our masters keep it stuck until breakaway at 0.4 s. Its coupled run therefore leaves
     ours from the first step on (docs/cosimulation.md, note 5)."""
     fmus = need(built)
-    ssp = masters.ssp_path(COUPLED)
+    ssp = other_masters.ssp_path(COUPLED)
     transitions = ("beam", "transitions")
-    series = masters.run_fmpy_ssp(
-        ssp, parameters=masters.ssd_parameter_set(ssp), record=(TIP, transitions), t_end=0.01
+    series = other_masters.run_fmpy_ssp(
+        ssp, parameters=other_masters.ssd_parameter_set(ssp), record=(TIP, transitions), t_end=0.01
     )
     assert series.at_grid(transitions, 10)[1] == 1
     jacobi = reference(fmus, JACOBI)
@@ -311,8 +311,8 @@ def test_libcosim_shows_the_reason_then_aborts_the_process(built, tmp_path):
     need(built)
     done = run_script(
         f"""
-        from stickslip_checks import masters
-        masters.run_libcosim(fmu={str(fmu_paths()[BEAM])!r},
+        from stickslip_checks import other_masters
+        other_masters.run_libcosim(fmu={str(fmu_paths()[BEAM])!r},
                              parameters={{"beam": {{"material.youngs_modulus": -1.0}}}})
         print("still running")
         """,
@@ -332,9 +332,9 @@ def test_ecos_hides_the_error_unless_its_log_level_is_debug(built):
     need(built)
     script = """
         import numpy as np
-        from stickslip_checks import masters
+        from stickslip_checks import other_masters
         bad = {{"beam": {{"material.youngs_modulus": -1.0}}}}
-        series = masters.run_ecos(fmu={fmu!r}, parameters=bad, t_end=0.01, log_level={level!r})
+        series = other_masters.run_ecos(fmu={fmu!r}, parameters=bad, t_end=0.01, log_level={level!r})
         print("outputs", np.unique(series.values[("beam", "tip_deflection")]))
         """
     fmu = str(fmu_paths()[BEAM])
@@ -351,14 +351,14 @@ def test_fmucontainer_passes_the_error_and_the_reason_on(built, tmp_path):
     """The container returns the embedded FMU's fmi2Error from
     fmi2ExitInitializationMode and logs its reason with the FMU's name; fmpy shows both."""
     need(built)
-    container, _ = masters.build_container(
+    container, _ = other_masters.build_container(
         single_beam_csv({"material.youngs_modulus": -1.0}), tmp_path, "error", sequential=False
     )
     done = run_script(
         f"""
-        from stickslip_checks import masters
+        from stickslip_checks import other_masters
         try:
-            masters.run_fmpy_fmu({str(container)!r}, ("beam.tip_deflection",), t_end=0.01)
+            other_masters.run_fmpy_fmu({str(container)!r}, ("beam.tip_deflection",), t_end=0.01)
         except Exception as error:
             print("raised", type(error).__name__, error)
         """
@@ -369,13 +369,13 @@ def test_fmucontainer_passes_the_error_and_the_reason_on(built, tmp_path):
 
 def test_fmpy_ssp_shows_the_reason_and_raises(built):
     need(built)
-    ssp = str(masters.ssp_path(MONOLITHIC))
+    ssp = str(other_masters.ssp_path(MONOLITHIC))
     done = run_script(
         f"""
-        from stickslip_checks import masters
-        p = masters.ssd_parameter_set({ssp!r}, {{"beam": {{"material.youngs_modulus": -1.0}}}})
+        from stickslip_checks import other_masters
+        p = other_masters.ssd_parameter_set({ssp!r}, {{"beam": {{"material.youngs_modulus": -1.0}}}})
         try:
-            masters.run_fmpy_ssp({ssp!r}, parameters=p, t_end=0.01)
+            other_masters.run_fmpy_ssp({ssp!r}, parameters=p, t_end=0.01)
         except Exception as error:
             print("raised", type(error).__name__, error)
         """

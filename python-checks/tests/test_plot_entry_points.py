@@ -11,7 +11,7 @@ import csv
 
 import pytest
 
-from stickslip_checks import plot_cli, study_plot
+from stickslip_checks import plot_cli, study, study_plot
 
 # matplotlib 3.10 calls pyparsing names that pyparsing 3.3 deprecates (fonts, mathtext of
 # the log axes); that is between those two packages, not a finding of these tests.
@@ -75,7 +75,7 @@ def test_a_modal_row_of_the_mesh_is_labelled_apart_from_the_beam_modal_row():
     # beam's modal model from the mesh's, and the front check compares these labels.
     common = {"modes": "10", "beam_elements": "", "dt_s": "1e-4",
               "integrator": "generalized-alpha", "inference": ""}
-    beam = study_plot.label({**common, "level": "modal", "element_size_m": ""})
-    mesh = study_plot.label({**common, "level": "plane-stress-modal", "element_size_m": "0.02"})
+    beam = study.label({**common, "level": "modal", "element_size_m": ""})
+    mesh = study.label({**common, "level": "plane-stress-modal", "element_size_m": "0.02"})
     assert beam == "modal 10 modes, dt 0.0001 s, generalized-alpha"
     assert mesh == "modal 10 modes of plane stress 0.02 m, dt 0.0001 s, generalized-alpha"

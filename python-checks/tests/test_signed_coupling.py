@@ -22,7 +22,8 @@ from __future__ import annotations
 import pytest
 from conftest import need
 
-from stickslip_checks import cosim_convergence as cc
+from stickslip_checks import convergence as cc
+from stickslip_checks.scene import BREAKAWAY_EXPECTED
 
 H = 1e-3
 STEPS = [2e-3, H, 5e-4]
@@ -65,4 +66,4 @@ def test_the_signed_coupling_error_shrinks_with_h_and_stays_within_the_bound(row
 def test_breakaway_of_the_coupled_plain_network_within_h(rows):
     for (scheme, h), r in need(rows).items():
         assert r.breakaway is not None, (scheme, h)
-        assert abs(r.breakaway - cc.BREAKAWAY_EXPECTED) <= h + 1e-12, (scheme, h, r.breakaway)
+        assert abs(r.breakaway - BREAKAWAY_EXPECTED) <= h + 1e-12, (scheme, h, r.breakaway)

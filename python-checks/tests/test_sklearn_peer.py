@@ -6,10 +6,12 @@ Runs in about 6 s once the binary exists.
 """
 
 from stickslip_checks import sklearn_peer
+from stickslip_checks.artifacts import find_binary
 
 
-def test_rust_and_sklearn_fit_the_same_split(capsys):
-    result = sklearn_peer.main(["--iterations", "60"])
+def test_rust_and_sklearn_fit_the_same_split(tmp_path):
+    _, seed, lam = sklearn_peer.shipped_settings()
+    result = sklearn_peer.run(60, seed, lam, find_binary(), tmp_path)
     assert result["train_samples"] == 3500 and result["test_samples"] == 1500
     assert result["alpha"] == 7.0
     for name in ("ours", "sklearn"):
@@ -18,5 +20,5 @@ def test_rust_and_sklearn_fit_the_same_split(capsys):
         assert 0 < fit["iterations"] <= 60, (name, fit)
         assert fit["seconds"] > 0
     assert result["time_ratio_sklearn_over_ours"] > 0
-    printed = capsys.readouterr().out
+    printed = sklearn_peer.table(result)
     assert "stickslip (Rust)" in printed and "scikit-learn" in printed

@@ -14,7 +14,7 @@ import math
 import pytest
 from conftest import need
 
-from stickslip_checks import sweep
+from stickslip_checks import sweep, sweep_study
 from stickslip_checks.artifacts import AUTO, BEAM
 from stickslip_checks.parameters import Catalogue, SweepError
 from stickslip_checks.stick_slip_map import (
@@ -34,6 +34,7 @@ PLACE = {"wall_s", "worker", "worker_loads", "process_loads"}
 # A small sweep that covers both regimes and both dampings: stick-slip at 0.02 and
 # 0.3 m/s, steady sliding at 8 m/s (2 % Rayleigh) and an Integer parameter.
 RAYLEIGH = {"damping.mass_proportional": 1.3577, "damping.stiffness_proportional": 6.0097e-5}
+RAYLEIGH_CASE = ",".join(f"{name}={value}" for name, value in RAYLEIGH.items())
 SMALL = [
     {"belt_speed": 0.02},
     {"loading.belt_speed": 0.3, "friction.static_coefficient": 0.6},
@@ -206,3 +207,30 @@ def test_fidelity_choices_are_the_model_descriptions_levels_without_auto(built, 
     assert all(f"'{level}'" in refusal for level in levels), refusal
     with pytest.raises(SweepError, match=f"unknown fidelity '{AUTO}'"):
         run_serial([{"belt_speed": 0.02}], fidelity=AUTO, t_end=0.003)
+
+
+def test_a_grid_sweep_as_a_dataset_with_progress(built):
+    """Two cases over two belt speeds, in process, 1 s each: progress once per run, and
+    the Dataset over (case, belt speed) holds the CSV's metrics where the runs put them."""
+    need(built)
+    catalogue = Catalogue(beam_fmu())
+    runs, swept, log_x, default_map = sweep_study.build_runs(
+        catalogue, [], ["belt_speed=0.3,8"], ["default:", f"rayleigh:{RAYLEIGH_CASE}"]
+    )
+    seen = []
+    results = run_serial(
+        [p for _, p in runs], fidelity="modal", t_end=1.0,
+        progress=lambda done, total, row: seen.append((done, total, row["regime"])),
+    )
+    assert [(d, t) for d, t, _ in seen] == [(k, 4) for k in range(1, 5)]
+    result = sweep_study.Sweep(
+        catalogue, runs, swept, log_x, default_map, "modal", 1.0, 1 / 3, results
+    )
+    frame = sweep_study.to_frame(result)
+    assert len(frame) == 4 and frame.columns[1] == "belt_speed [m/s]"
+    data = sweep_study.to_dataset(result)
+    assert dict(data.sizes) == {"case": 2, "belt_speed [m/s]": 2}
+    p2p = data["peak-to-peak tip deflection [mm]"]
+    for (label, params), row in zip(runs, results):
+        got = p2p.sel({"case": label, "belt_speed [m/s]": params["belt_speed"]})
+        assert float(got) == row["p2p_mm"], (label, params)
