@@ -117,7 +117,7 @@ class Coupling:
 
 BEAM_FIRST, FRICTION_FIRST = (BEAM, FRICTION), (FRICTION, BEAM)
 # Row label -> coupling. The first three are the exponential law's (the labels the
-# tests and the README use); the others the plain network's.
+# tests and docs/cosimulation.md use); the others the plain network's.
 MASTER = {
     "Jacobi": Coupling(EXPONENTIAL, master.JACOBI, BEAM_FIRST, "magnitude"),
     "Gauss-Seidel": Coupling(EXPONENTIAL, master.GAUSS_SEIDEL, BEAM_FIRST, "magnitude"),

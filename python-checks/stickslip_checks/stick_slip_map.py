@@ -97,7 +97,7 @@ def run_metrics(
         "max_mm": 1e3 * float(w.max()),
         "mean_mm": 1e3 * float(w.mean()),
         "stick_fraction": float(stick[i0:].mean()),
-        # The corridor of the whole run after breakaway, as in fmu_scene.py / README.
+        # The corridor of the whole run after breakaway, as in scene.py and docs/measurements.md.
         "corridor_min_mm": 1e3 * float(after.min()) if after.size else None,
         "corridor_max_mm": 1e3 * float(after.max()) if after.size else None,
         "note": note,
