@@ -38,6 +38,7 @@ use std::path::{Path, PathBuf};
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::model::Model;
+use stickslip_fmi::model_description::unit_element;
 use stickslip_fmi::variables::{Access, AccessError, Causality, UNITS};
 use stickslip_fmi::xml::{escape, optional_attribute, real};
 use stickslip_fmi::FmuKind;
@@ -533,17 +534,7 @@ fn source(fmu: FmuKind) -> String {
 fn units(used: &[&str], indent: &str) -> String {
     let mut x = String::new();
     for unit in UNITS.iter().filter(|u| used.contains(&u.name)) {
-        let mut exponents = String::new();
-        for (base, exponent) in [("kg", unit.kg), ("m", unit.m), ("s", unit.s)] {
-            if exponent != 0 {
-                let _ = write!(exponents, r#" {base}="{exponent}""#);
-            }
-        }
-        let _ = writeln!(
-            x,
-            r#"{indent}<ssc:Unit name="{}"><ssc:BaseUnit{exponents}/></ssc:Unit>"#,
-            escape(unit.name)
-        );
+        let _ = writeln!(x, "{indent}{}", unit_element(unit, "ssc:"));
     }
     x
 }

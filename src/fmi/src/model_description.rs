@@ -18,8 +18,8 @@
 
 use crate::model::Model;
 use crate::variables::{
-    Access, ArrayVariable, Causality, ChoiceType, DependencyKind, InitialDependencies, Variability,
-    Variable, UNITS,
+    Access, ArrayVariable, Causality, ChoiceType, DependencyKind, InitialDependencies, Unit,
+    Variability, Variable, UNITS,
 };
 use crate::version::FmiVersion;
 use crate::xml::{attribute, escape, optional_attribute, real};
@@ -223,6 +223,21 @@ fn write_float64_types<M>(w: &mut String, variables: &[Variable<M>]) {
     let _ = writeln!(w, "  </TypeDefinitions>");
 }
 
+/// A unit as FMI's `<Unit>` (`prefix` "") or SSP's `<ssc:Unit>` (`prefix` "ssc:") gives
+/// it: its name and its nonzero SI exponents of kg, m and s on the `BaseUnit`.
+pub fn unit_element(unit: &Unit, prefix: &str) -> String {
+    let mut exponents = String::new();
+    for (base, exponent) in [("kg", unit.kg), ("m", unit.m), ("s", unit.s)] {
+        if exponent != 0 {
+            let _ = write!(exponents, r#" {base}="{exponent}""#);
+        }
+    }
+    format!(
+        "<{prefix}Unit{}><{prefix}BaseUnit{exponents}/></{prefix}Unit>",
+        attribute("name", unit.name)
+    )
+}
+
 /// UnitDefinitions, (FMI 3.0: TypeDefinitions,) LogCategories and DefaultExperiment.
 fn write_units_categories_experiment<M: Model>(
     w: &mut String,
@@ -236,17 +251,7 @@ fn write_units_categories_experiment<M: Model>(
             .iter()
             .any(|v| matches!(v.access, Access::Real { unit: Some(name), .. } if name == u.name))
     }) {
-        let mut exponents = String::new();
-        for (base, exponent) in [("kg", unit.kg), ("m", unit.m), ("s", unit.s)] {
-            if exponent != 0 {
-                let _ = write!(exponents, r#" {base}="{exponent}""#);
-            }
-        }
-        let _ = writeln!(
-            w,
-            r#"    <Unit name="{}"><BaseUnit{exponents}/></Unit>"#,
-            escape(unit.name)
-        );
+        let _ = writeln!(w, "    {}", unit_element(unit, ""));
     }
     let _ = writeln!(w, "  </UnitDefinitions>");
     if version == FmiVersion::V3 {

@@ -3,7 +3,7 @@
 
 use super::argument::SlipArgument;
 use super::kinetic::CountedLaw;
-use super::slip::{SLIP_ITERATIONS, SLIP_TOLERANCE};
+use super::limits::{SLIP_ITERATIONS, SLIP_TOLERANCE};
 
 /// The fixed-point iteration F <- F_law(x(F)) from `start` (N), stopped when an update
 /// is below the slip tolerance or after [`SLIP_ITERATIONS`] passes: the slip solve of

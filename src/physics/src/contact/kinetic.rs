@@ -18,7 +18,7 @@ pub enum Kinetic<'a> {
     /// evaluated at, all held over the step. The step's force is the law's tangent
     /// F(v) ~ force + slope (v - velocity) at the step's own sliding velocity, solved
     /// implicitly like the scene's law, and acting along v_rel where the tangent points
-    /// against it (see `Contact::slip_tangent`). With slope 0 it is the held force, or
+    /// against it (see `tangent`). With slope 0 it is the held force, or
     /// its magnitude along v_rel.
     ExternalSigned {
         force: f64,

@@ -61,51 +61,33 @@
 //!   switches every step (the paper's literal rule "stick when |v_s| < eps"; in a 1-DOF
 //!   run, 3 908 switches that dragged the tip to 23.5 mm).
 //!
-//! The files follow these concepts: `stick` (the reaction and F_hold), `switch` (the
-//! two schemes' decisions), `kinetic` (where the kinetic force comes from), `slip` (the
-//! solve and its choice of solver), with `argument` (x(F)), `newton`, `fixed_point` and
-//! `tangent` (the solvers).
+//! Here: the `Contact` of a scene and its two formulations. Its parts: `state` (stick or
+//! slip between steps), `stick` (the reaction and F_hold), `switch` (the two schemes'
+//! rules), `kinetic` (where the kinetic force comes from), `slip` (the solve and its
+//! choice of solver) with `argument` (x(F)), `limits`, `newton`, `fixed_point` and
+//! `tangent` (the solvers). Imports run one way, from here down to those parts.
 
 mod argument;
 mod fixed_point;
 mod kinetic;
+mod limits;
 mod newton;
 mod slip;
+mod state;
 mod stick;
 mod switch;
 mod tangent;
 
 pub use kinetic::Kinetic;
-pub use slip::{SlipSolve, SlipSolver, SLIP_ITERATIONS, SLIP_TOLERANCE};
+pub use limits::{SLIP_ITERATIONS, SLIP_TOLERANCE};
+pub use slip::{SlipSolve, SlipSolver};
+pub use state::{ContactState, Previous, Transition};
 pub use switch::{impulse_clamp, next_state};
 
 use crate::integrator::{Coefficients, TrialStep};
-use crate::scene::{CheckedScene, HoldingForce, SlidingVelocity};
-use serde::{Deserialize, Serialize};
-
-/// Contact state of the tip.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum ContactState {
-    Stick,
-    Slip,
-}
-
-/// A change of contact state at time `time` (s).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Transition {
-    pub time: f64,
-    pub to: ContactState,
-}
-
-/// The contact as the last step left it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Previous {
-    pub state: ContactState,
-    /// v_rel = v_b - v_tip at t_n (m/s), as the last step ended.
-    pub relative_velocity: f64,
-    /// Tip force of the last step (N); the slip iteration starts from it.
-    pub force: f64,
-}
+use crate::scene::CheckedScene;
+use slip::SlipOptions;
+use stick::{Holding, StickReaction};
 
 /// What the contact decided for one step.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -135,13 +117,10 @@ enum Formulation {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Contact {
     formulation: Formulation,
-    holding_force: HoldingForce,
-    /// 3 EI / L^3 (N/m), for `HoldingForce::EulerBernoulli`.
-    euler_bernoulli_stiffness: f64,
-    sliding_velocity: SlidingVelocity,
+    holding: Holding,
+    slip: SlipOptions,
     /// eps (m/s).
     stick_threshold: f64,
-    solver: SlipSolver,
 }
 
 impl Contact {
@@ -156,17 +135,21 @@ impl Contact {
         };
         Self {
             formulation,
-            holding_force: scene.contact.holding_force,
-            euler_bernoulli_stiffness: scene.euler_bernoulli_tip_stiffness(),
-            sliding_velocity: scene.contact.sliding_velocity,
+            holding: Holding {
+                kind: scene.contact.holding_force,
+                euler_bernoulli_stiffness: scene.euler_bernoulli_tip_stiffness(),
+            },
+            slip: SlipOptions {
+                sliding_velocity: scene.contact.sliding_velocity,
+                solver: SlipSolver::default(),
+            },
             stick_threshold: scene.friction.stick_threshold,
-            solver: SlipSolver::default(),
         }
     }
 
     /// Solves the slip force with `solver` from now on (the default is Newton).
     pub fn set_slip_solver(&mut self, solver: SlipSolver) {
-        self.solver = solver;
+        self.slip.solver = solver;
     }
 
     /// Decides the tip force of the step whose force-free `trial` the integrator just
@@ -192,6 +175,92 @@ impl Contact {
             Formulation::MoreauJean => {
                 self.resolve_moreau_jean(trial, previous, belt_speed, static_limit, kinetic)
             }
+        }
+    }
+
+    /// Karnopp/Leine at displacement level. In slip the slip solve comes first, since
+    /// re-stick looks at the v_rel it gives; in stick it is needed only on breakaway.
+    fn resolve_generalized_alpha(
+        &self,
+        trial: &TrialStep,
+        previous: Previous,
+        belt_speed: f64,
+        static_limit: f64,
+        mut kinetic: Kinetic<'_>,
+        alpha_f: f64,
+    ) -> Resolution {
+        let stick = StickReaction::displacement_level(trial, belt_speed);
+        let holding_force = self.holding.force(&stick);
+        let (state, force, slip) = match previous.state {
+            ContactState::Stick => {
+                match next_state(
+                    ContactState::Stick,
+                    holding_force,
+                    static_limit,
+                    0.0,
+                    0.0,
+                    0.0,
+                ) {
+                    ContactState::Stick => (ContactState::Stick, stick.force, None),
+                    ContactState::Slip => {
+                        let slip =
+                            self.slip
+                                .solve(trial, previous, belt_speed, &mut kinetic, alpha_f);
+                        (ContactState::Slip, slip.force, Some(slip.solve))
+                    }
+                }
+            }
+            ContactState::Slip => {
+                let slip = self
+                    .slip
+                    .solve(trial, previous, belt_speed, &mut kinetic, alpha_f);
+                match next_state(
+                    ContactState::Slip,
+                    holding_force,
+                    static_limit,
+                    previous.relative_velocity,
+                    slip.relative_velocity,
+                    self.stick_threshold,
+                ) {
+                    ContactState::Stick => (ContactState::Stick, stick.force, Some(slip.solve)),
+                    ContactState::Slip => (ContactState::Slip, slip.force, Some(slip.solve)),
+                }
+            }
+        };
+        Resolution {
+            state,
+            force,
+            holding_force,
+            slip,
+        }
+    }
+
+    /// Acary's impulse-level contact: the clamp decides from the reaction alone.
+    fn resolve_moreau_jean(
+        &self,
+        trial: &TrialStep,
+        previous: Previous,
+        belt_speed: f64,
+        static_limit: f64,
+        mut kinetic: Kinetic<'_>,
+    ) -> Resolution {
+        let stick = StickReaction::velocity_level(trial, belt_speed);
+        let holding_force = self.holding.force(&stick);
+        let (state, force, slip) = match impulse_clamp(stick.force, static_limit) {
+            ContactState::Stick => (ContactState::Stick, stick.force, None),
+            ContactState::Slip => {
+                // Moreau-Jean's law level is t_{n+1}: no weight on t_n.
+                let slip = self
+                    .slip
+                    .solve(trial, previous, belt_speed, &mut kinetic, 0.0);
+                (ContactState::Slip, slip.force, Some(slip.solve))
+            }
+        };
+        Resolution {
+            state,
+            force,
+            holding_force,
+            slip,
         }
     }
 }

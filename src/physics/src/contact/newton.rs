@@ -3,7 +3,7 @@
 use super::argument::{Point, SlipArgument};
 use super::fixed_point::fixed_point;
 use super::kinetic::CountedLaw;
-use super::slip::{SLIP_ITERATIONS, SLIP_TOLERANCE};
+use super::limits::{SLIP_ITERATIONS, SLIP_TOLERANCE};
 
 /// One evaluation of r(F) = F - F_law(x(F)): the residual (N), its slope r' (1) and the
 /// Newton iterate F - r / r' (N).

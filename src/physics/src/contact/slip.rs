@@ -5,18 +5,10 @@ use super::argument::SlipArgument;
 use super::fixed_point::fixed_point;
 use super::kinetic::{CountedLaw, Kinetic};
 use super::newton::newton;
+use super::state::Previous;
 use super::tangent::{tangent_newton, Tangent};
-use super::{Contact, Previous};
 use crate::integrator::TrialStep;
-
-/// Most law evaluations of one slip solve: Newton needs 1 to 3 and the fixed-point
-/// reference 6 to 15 where it converges; a guard, not a tuning knob.
-pub const SLIP_ITERATIONS: usize = 50;
-
-/// Convergence of the slip force: the last correction |dF| <= SLIP_TOLERANCE (1 + |F|)
-/// (N). For Newton the correction estimates the error of the iterate it starts from, and
-/// the iterate it gives is closer still (quadratic convergence).
-pub const SLIP_TOLERANCE: f64 = 1e-12;
+use crate::scene::SlidingVelocity;
 
 /// How the slip force F = F_law(x(F)) is solved (see the module notes).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -40,14 +32,21 @@ pub struct SlipSolve {
     pub solved: bool,
 }
 
-impl Contact {
+/// How the contact solves its slip steps: the law's sliding velocity and the solver.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct SlipOptions {
+    pub(super) sliding_velocity: SlidingVelocity,
+    pub(super) solver: SlipSolver,
+}
+
+impl SlipOptions {
     /// The slip force F = F_law(x(F)), solved from the last step's force, and v_rel at
     /// t_{n+1} under it.
     ///
     /// The law sees v_rel at t_{n+1-alpha_f}, (1 - alpha_f) v_rel,n+1 + alpha_f v_rel,n;
     /// with `sliding_velocity = "tip"` it sees |v_tip| at that level instead, in the
     /// direction of v_rel (otherwise there is no stick-slip).
-    pub(super) fn slip(
+    pub(super) fn solve(
         &self,
         trial: &TrialStep,
         previous: Previous,

@@ -1,7 +1,6 @@
 //! The stick reaction: the tip force that keeps the tip with the belt, and the holding
 //! force F_hold the switch compares with mu_s F_n.
 
-use super::Contact;
 use crate::integrator::TrialStep;
 use crate::scene::HoldingForce;
 
@@ -34,10 +33,18 @@ impl StickReaction {
     }
 }
 
-impl Contact {
-    /// F_hold (N) of a stick reaction, as the scene's `holding_force` asks.
-    pub(super) fn holding(&self, stick: &StickReaction) -> f64 {
-        match self.holding_force {
+/// How the holding force F_hold is taken, as the scene's `holding_force` asks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Holding {
+    pub(super) kind: HoldingForce,
+    /// 3 EI / L^3 (N/m), for `HoldingForce::EulerBernoulli`.
+    pub(super) euler_bernoulli_stiffness: f64,
+}
+
+impl Holding {
+    /// F_hold (N) of a stick reaction.
+    pub(super) fn force(&self, stick: &StickReaction) -> f64 {
+        match self.kind {
             HoldingForce::Reaction => stick.force,
             // The paper's rule, P = E h^3 delta / (4 L^3) = 3 EI delta / L^3 for b = 1.
             HoldingForce::EulerBernoulli => self.euler_bernoulli_stiffness * stick.tip_displacement,

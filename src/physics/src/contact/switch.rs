@@ -1,92 +1,9 @@
-//! The switch: which of the stick reaction and the slip force a step takes, by
-//! Karnopp/Leine at displacement level (generalised-alpha) or by the impulse clamp at
-//! velocity level (Moreau-Jean); see the module notes of `contact`.
+//! The switch rules: which of the stick reaction and the slip force a step takes, by
+//! Leine's rule (generalised-alpha, at displacement level) or by the impulse clamp
+//! (Moreau-Jean, at velocity level); `Contact::resolve` applies them (see the module
+//! notes of `contact`).
 
-use super::stick::StickReaction;
-use super::{Contact, ContactState, Kinetic, Previous, Resolution};
-use crate::integrator::TrialStep;
-
-impl Contact {
-    /// Karnopp/Leine at displacement level. In slip the slip solve comes first, since
-    /// re-stick looks at the v_rel it gives; in stick it is needed only on breakaway.
-    pub(super) fn resolve_generalized_alpha(
-        &self,
-        trial: &TrialStep,
-        previous: Previous,
-        belt_speed: f64,
-        static_limit: f64,
-        mut kinetic: Kinetic<'_>,
-        alpha_f: f64,
-    ) -> Resolution {
-        let stick = StickReaction::displacement_level(trial, belt_speed);
-        let holding_force = self.holding(&stick);
-        let (state, force, slip) = match previous.state {
-            ContactState::Stick => {
-                match next_state(
-                    ContactState::Stick,
-                    holding_force,
-                    static_limit,
-                    0.0,
-                    0.0,
-                    0.0,
-                ) {
-                    ContactState::Stick => (ContactState::Stick, stick.force, None),
-                    ContactState::Slip => {
-                        let slip = self.slip(trial, previous, belt_speed, &mut kinetic, alpha_f);
-                        (ContactState::Slip, slip.force, Some(slip.solve))
-                    }
-                }
-            }
-            ContactState::Slip => {
-                let slip = self.slip(trial, previous, belt_speed, &mut kinetic, alpha_f);
-                match next_state(
-                    ContactState::Slip,
-                    holding_force,
-                    static_limit,
-                    previous.relative_velocity,
-                    slip.relative_velocity,
-                    self.stick_threshold,
-                ) {
-                    ContactState::Stick => (ContactState::Stick, stick.force, Some(slip.solve)),
-                    ContactState::Slip => (ContactState::Slip, slip.force, Some(slip.solve)),
-                }
-            }
-        };
-        Resolution {
-            state,
-            force,
-            holding_force,
-            slip,
-        }
-    }
-
-    /// Acary's impulse-level contact: the clamp decides from the reaction alone.
-    pub(super) fn resolve_moreau_jean(
-        &self,
-        trial: &TrialStep,
-        previous: Previous,
-        belt_speed: f64,
-        static_limit: f64,
-        mut kinetic: Kinetic<'_>,
-    ) -> Resolution {
-        let stick = StickReaction::velocity_level(trial, belt_speed);
-        let holding_force = self.holding(&stick);
-        let (state, force, slip) = match impulse_clamp(stick.force, static_limit) {
-            ContactState::Stick => (ContactState::Stick, stick.force, None),
-            ContactState::Slip => {
-                // Moreau-Jean's law level is t_{n+1}: no weight on t_n.
-                let slip = self.slip(trial, previous, belt_speed, &mut kinetic, 0.0);
-                (ContactState::Slip, slip.force, Some(slip.solve))
-            }
-        };
-        Resolution {
-            state,
-            force,
-            holding_force,
-            slip,
-        }
-    }
-}
+use super::state::ContactState;
 
 /// Leine's switch rule for one step.
 ///

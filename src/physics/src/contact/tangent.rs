@@ -2,7 +2,7 @@
 
 use super::argument::SlipArgument;
 use super::kinetic::CountedLaw;
-use super::slip::SLIP_ITERATIONS;
+use super::limits::SLIP_ITERATIONS;
 
 /// A coupled model's tangent: F(v) ~ force + slope (v - velocity) (N, N s/m, m/s).
 #[derive(Clone, Copy, Debug)]
