@@ -22,6 +22,7 @@ use stickslip::neural::{
 };
 use stickslip::scene::Scene;
 use stickslip_fuzz::resources;
+use stickslip_tests::vr;
 
 fn corpus(target: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -35,14 +36,6 @@ fn write(target: &str, name: &str, bytes: &[u8]) {
     let path = corpus(target).join(format!("seed-{name}"));
     std::fs::write(&path, bytes).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     println!("{:>7} bytes  {}", bytes.len(), path.display());
-}
-
-fn vr<M: Model>(name: &str) -> u32 {
-    M::variables()
-        .iter()
-        .find(|v| v.name == name)
-        .unwrap_or_else(|| panic!("no variable {name}"))
-        .value_reference
 }
 
 fn instance<M: Model>() -> Instance<M> {

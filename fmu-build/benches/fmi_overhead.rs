@@ -20,6 +20,8 @@
 //! fmi_overhead` (same CARGO_TARGET_DIR).
 
 use criterion::{Criterion, SamplingMode};
+#[path = "../tests/packaged/value_reference.rs"]
+mod value_reference;
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common};
 use fmi::traits::FmiImport;
@@ -30,6 +32,7 @@ use stickslip::scene::{CheckedScene, FidelityLevel};
 use stickslip::simulation::Simulator;
 use stickslip_fmi::FmuKind;
 use stickslip_tests::bench::{ratio, shown, table_note, Samples};
+use value_reference::vr;
 
 const STOP: f64 = 1.2;
 /// Internal step of the paper scene (s).
@@ -104,14 +107,6 @@ struct Vrs {
     stick: u32,
     transitions: u32,
     fidelity: u32,
-}
-
-fn vr(import: &Fmi2Import, name: &str) -> u32 {
-    import
-        .model_description()
-        .model_variable_by_name(name)
-        .unwrap_or_else(|e| panic!("variable {name}: {e}"))
-        .value_reference
 }
 
 /// (b), (c) The FMU at communication step `h`, all 7 outputs read after every step.

@@ -12,17 +12,17 @@
 //!
 //! Archives are reproducible: entries in a fixed order with a fixed timestamp.
 
+pub mod archive;
 pub mod glibc;
 pub mod ssp;
 
 use std::fs;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitStatus};
 use stickslip_fmi::FmuKind;
 use zip::result::ZipError;
-use zip::write::SimpleFileOptions;
-use zip::{CompressionMethod, DateTime, ZipWriter};
+
+use archive::{write_zip, Entry};
 
 /// Why the FMUs could not be built; `main` prints it as `fmu-build: {e}`.
 #[derive(Debug, thiserror::Error)]
@@ -110,7 +110,7 @@ pub enum BuildError {
 }
 
 /// An I/O error on `path`.
-fn io(path: &Path) -> impl FnOnce(std::io::Error) -> BuildError + '_ {
+pub(crate) fn io(path: &Path) -> impl FnOnce(std::io::Error) -> BuildError + '_ {
     move |source| BuildError::Io {
         path: path.to_path_buf(),
         source,
@@ -410,15 +410,12 @@ fn package_with(
     let binary = fs::read(library).map_err(io(library))?;
     fs::create_dir_all(out_dir).map_err(io(out_dir))?;
     let path = out_dir.join(format!("{}.fmu", kind.model_identifier()));
-    let file = fs::File::create(&path).map_err(io(&path))?;
-    let mut zip = ZipWriter::new(file);
-    let options = SimpleFileOptions::default()
-        .compression_method(CompressionMethod::Deflated)
-        .last_modified_time(DateTime::default())
-        .unix_permissions(0o644);
-    let mut entries: Vec<(String, Vec<u8>)> = vec![
-        ("modelDescription.xml".into(), description.into_bytes()),
-        (format!("{binaries}/{}.so", kind.model_identifier()), binary),
+    let mut entries = vec![
+        Entry::deflated("modelDescription.xml", description.into_bytes()),
+        Entry {
+            mode: 0o755,
+            ..Entry::deflated(format!("{binaries}/{}.so", kind.model_identifier()), binary)
+        },
     ];
     for name in kind.info().resources {
         let source = workspace_root().join("weights").join(name);
@@ -426,31 +423,8 @@ fn package_with(
             path: source.clone(),
             source: source_error,
         })?;
-        entries.push((format!("resources/{name}"), contents));
+        entries.push(Entry::deflated(format!("resources/{name}"), contents));
     }
-    for (name, bytes) in entries {
-        let options = if name.ends_with(".so") {
-            options.unix_permissions(0o755)
-        } else {
-            options
-        };
-        zip.start_file(name.as_str(), options)
-            .map_err(|source| BuildError::Zip {
-                path: path.clone(),
-                entry: Some(name.clone()),
-                source,
-            })?;
-        zip.write_all(&bytes)
-            .map_err(|source| BuildError::ZipWrite {
-                path: path.clone(),
-                entry: name.clone(),
-                source,
-            })?;
-    }
-    zip.finish().map_err(|source| BuildError::Zip {
-        path: path.clone(),
-        entry: None,
-        source,
-    })?;
+    write_zip(&path, entries)?;
     Ok(path)
 }

@@ -30,18 +30,19 @@
 //!   default experiment (`osp:FixedStepAlgorithm baseStepSize`), which libcosim reads
 //!   when no step is passed; SSP 1.0 itself has no step size.
 
-use crate::BuildError;
+use crate::archive::{write_zip, Entry};
+use crate::{io, BuildError};
 use std::fmt::Write as _;
 use std::fs;
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::model::Model;
+use stickslip_fmi::model_description::unit_element;
 use stickslip_fmi::variables::{Access, AccessError, Causality, UNITS};
+use stickslip_fmi::xml::{escape, optional_attribute, real};
 use stickslip_fmi::FmuKind;
-use zip::write::SimpleFileOptions;
-use zip::{CompressionMethod, DateTime, ZipWriter};
+use zip::CompressionMethod;
 
 /// Name of the parameter set of every component: the name Ecos's own SSP examples use,
 /// and the one to pass to ecospy's `init(parameter_set=...)`.
@@ -78,8 +79,7 @@ impl Value {
             Value::Real(value, unit) => format!(
                 r#"<ssv:Real value="{}"{}/>"#,
                 real(*value),
-                unit.map(|u| format!(r#" unit="{}""#, escape(u)))
-                    .unwrap_or_default()
+                optional_attribute("unit", *unit)
             ),
             Value::Integer(value) => format!(r#"<ssv:Integer value="{value}"/>"#),
             Value::Boolean(value) => format!(r#"<ssv:Boolean value="{value}"/>"#),
@@ -98,26 +98,6 @@ impl Value {
     }
 }
 
-/// A Real as xs:double: Rust's shortest representation that reads back exactly.
-fn real(value: f64) -> String {
-    format!("{value:?}")
-}
-
-/// Escapes text for an XML attribute.
-fn escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            _ => out.push(c),
-        }
-    }
-    out
-}
-
 /// The type of a connector, as `ssc:` names it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ConnectorType {
@@ -131,11 +111,7 @@ pub enum ConnectorType {
 impl ConnectorType {
     fn ssc(self) -> String {
         match self {
-            ConnectorType::Real(unit) => format!(
-                "<ssc:Real{}/>",
-                unit.map(|u| format!(r#" unit="{}""#, escape(u)))
-                    .unwrap_or_default()
-            ),
+            ConnectorType::Real(unit) => format!("<ssc:Real{}/>", optional_attribute("unit", unit)),
             ConnectorType::Integer => "<ssc:Integer/>".into(),
             ConnectorType::Boolean => "<ssc:Boolean/>".into(),
             ConnectorType::String => "<ssc:String/>".into(),
@@ -558,17 +534,7 @@ fn source(fmu: FmuKind) -> String {
 fn units(used: &[&str], indent: &str) -> String {
     let mut x = String::new();
     for unit in UNITS.iter().filter(|u| used.contains(&u.name)) {
-        let mut exponents = String::new();
-        for (base, exponent) in [("kg", unit.kg), ("m", unit.m), ("s", unit.s)] {
-            if exponent != 0 {
-                let _ = write!(exponents, r#" {base}="{exponent}""#);
-            }
-        }
-        let _ = writeln!(
-            x,
-            r#"{indent}<ssc:Unit name="{}"><ssc:BaseUnit{exponents}/></ssc:Unit>"#,
-            escape(unit.name)
-        );
+        let _ = writeln!(x, "{indent}{}", unit_element(unit, "ssc:"));
     }
     x
 }
@@ -776,14 +742,6 @@ impl CheckedSystem {
     }
 }
 
-/// An I/O error on `path`.
-fn io(path: &Path) -> impl FnOnce(std::io::Error) -> BuildError + '_ {
-    move |source| BuildError::Io {
-        path: path.to_path_buf(),
-        source,
-    }
-}
-
 /// Writes `<out_dir>/<name>.ssp` with the FMUs from `fmu_dir` (as packaged); returns its
 /// path.
 pub fn write_ssp(
@@ -792,47 +750,25 @@ pub fn write_ssp(
     out_dir: &Path,
 ) -> Result<PathBuf, BuildError> {
     let path = out_dir.join(format!("{}.ssp", system.name));
-    let mut entries: Vec<(String, Vec<u8>)> =
-        vec![("SystemStructure.ssd".into(), system.ssd().into_bytes())];
+    let mut entries = vec![Entry::deflated(
+        "SystemStructure.ssd",
+        system.ssd().into_bytes(),
+    )];
     for c in &system.components {
         let name = source(c.fmu);
-        if entries.iter().any(|(n, _)| *n == name) {
+        if entries.iter().any(|e| e.name == name) {
             continue;
         }
         let fmu = fmu_dir.join(format!("{}.fmu", c.fmu.model_identifier()));
-        entries.push((name, fs::read(&fmu).map_err(io(&fmu))?));
+        let bytes = fs::read(&fmu).map_err(io(&fmu))?;
+        // The FMUs are zip archives already: stored, not compressed again.
+        entries.push(Entry {
+            method: CompressionMethod::Stored,
+            ..Entry::deflated(name, bytes)
+        });
     }
     fs::create_dir_all(out_dir).map_err(io(out_dir))?;
-    let file = fs::File::create(&path).map_err(io(&path))?;
-    let mut zip = ZipWriter::new(file);
-    let options = SimpleFileOptions::default()
-        .last_modified_time(DateTime::default())
-        .unix_permissions(0o644);
-    for (name, bytes) in entries {
-        // The FMUs are zip archives already: stored, not compressed again.
-        let method = if name.ends_with(".fmu") {
-            CompressionMethod::Stored
-        } else {
-            CompressionMethod::Deflated
-        };
-        zip.start_file(name.as_str(), options.compression_method(method))
-            .map_err(|source| BuildError::Zip {
-                path: path.clone(),
-                entry: Some(name.clone()),
-                source,
-            })?;
-        zip.write_all(&bytes)
-            .map_err(|source| BuildError::ZipWrite {
-                path: path.clone(),
-                entry: name.clone(),
-                source,
-            })?;
-    }
-    zip.finish().map_err(|source| BuildError::Zip {
-        path: path.clone(),
-        entry: None,
-        source,
-    })?;
+    write_zip(&path, entries)?;
     Ok(path)
 }
 

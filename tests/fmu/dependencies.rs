@@ -21,6 +21,7 @@ use stickslip_fmi::instance::{Instance, Mode};
 use stickslip_fmi::model::Model;
 use stickslip_fmi::variables::{Access, Causality};
 use stickslip_fmi::FmuKind;
+use stickslip_tests::vr;
 
 /// Output name -> names of the knowns it depends on.
 type DependencyMap = BTreeMap<String, BTreeSet<String>>;
@@ -100,14 +101,6 @@ enum Value {
     Real(f64),
     Integer(i32),
     String(String),
-}
-
-fn vr<M: Model>(name: &str) -> u32 {
-    M::variables()
-        .iter()
-        .find(|v| v.name == name)
-        .unwrap_or_else(|| panic!("no variable {name}"))
-        .value_reference
 }
 
 fn set<M: Model>(fmu: &mut Instance<M>, name: &str, value: &Value) {

@@ -5,6 +5,7 @@
 
 mod auto;
 mod choices;
+mod contact;
 mod coupling;
 mod dynamics;
 mod errors;

@@ -10,6 +10,7 @@
 //! (1e-3 s apart) lie on that grid, so `Simulator::advance_to` takes exactly ten full
 //! steps per communication step and no shorter landing step.
 
+use crate::value_reference::vr;
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common, InstanceCS};
 use fmi::fmi2::Fmi2Error;
@@ -115,14 +116,6 @@ fn import(kind: FmuKind) -> Fmi2Import {
     let cs = md.co_simulation.as_ref().expect("a <CoSimulation> element");
     assert_eq!(cs.model_identifier, kind.model_identifier());
     import
-}
-
-fn vr(import: &Fmi2Import, name: &str) -> u32 {
-    import
-        .model_description()
-        .model_variable_by_name(name)
-        .unwrap_or_else(|e| panic!("variable {name}: {e}"))
-        .value_reference
 }
 
 // ---------------------------------------------------------------------------------------

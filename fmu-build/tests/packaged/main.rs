@@ -10,3 +10,4 @@ mod import;
 mod layout;
 mod portable;
 mod ssp;
+mod value_reference;

@@ -7,6 +7,7 @@
 //! the dynamic loader refuses a library exactly when it needs a version its glibc does
 //! not define.
 
+use crate::value_reference::vr;
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common, InstanceCS};
 use fmi::schema::fmi2::{Causality, ScalarVariableElement};
@@ -337,14 +338,6 @@ fn sample(inst: &mut InstanceCS, outputs: &[Output]) -> Vec<u64> {
 enum Parameter {
     Integer(&'static str, i32),
     String(&'static str, &'static str),
-}
-
-fn vr(import: &Fmi2Import, name: &str) -> u32 {
-    import
-        .model_description()
-        .model_variable_by_name(name)
-        .unwrap_or_else(|e| panic!("variable {name}: {e}"))
-        .value_reference
 }
 
 /// An initialised instance over [0, `stop`] (None: open-ended).

@@ -32,6 +32,7 @@ pub mod networks;
 pub mod values3;
 pub mod variables;
 pub mod version;
+pub mod xml;
 
 use model::{Model, ModelInfo};
 

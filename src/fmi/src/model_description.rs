@@ -18,10 +18,11 @@
 
 use crate::model::Model;
 use crate::variables::{
-    Access, ArrayVariable, Causality, ChoiceType, DependencyKind, InitialDependencies, Variability,
-    Variable, UNITS,
+    Access, ArrayVariable, Causality, ChoiceType, DependencyKind, InitialDependencies, Unit,
+    Variability, Variable, UNITS,
 };
 use crate::version::FmiVersion;
+use crate::xml::{attribute, escape, optional_attribute, real};
 use std::fmt::Write;
 
 /// The log categories every FMU declares, in modelDescription order.
@@ -37,26 +38,6 @@ pub const LOG_CATEGORIES: [(&str, &str); 4] = [
     ),
     ("logCalls", "Every FMI function call with its arguments"),
 ];
-
-/// Escapes text for an XML attribute.
-fn escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            _ => out.push(c),
-        }
-    }
-    out
-}
-
-/// A Real as xs:double: Rust's shortest representation that reads back exactly.
-fn real(value: f64) -> String {
-    format!("{value:?}")
-}
 
 /// The `name` of the `<Tool>` under `<VendorAnnotations>` that lists the choices:
 ///
@@ -137,9 +118,7 @@ fn body<M: Model>(guid: &str) -> String {
         let with_start = v.causality != Causality::Output;
         let element = match &v.access {
             Access::Real { unit, get, .. } => {
-                let unit = unit
-                    .map(|u| format!(r#" unit="{}""#, escape(u)))
-                    .unwrap_or_default();
+                let unit = optional_attribute("unit", *unit);
                 let start = if with_start {
                     format!(r#" start="{}""#, real(get(&defaults)))
                 } else {
@@ -173,7 +152,7 @@ fn body<M: Model>(guid: &str) -> String {
             }
             Access::String { get, .. } => {
                 let start = if with_start {
-                    format!(r#" start="{}""#, escape(&get(&defaults)))
+                    attribute("start", &get(&defaults))
                 } else {
                     String::new()
                 };
@@ -244,6 +223,21 @@ fn write_float64_types<M>(w: &mut String, variables: &[Variable<M>]) {
     let _ = writeln!(w, "  </TypeDefinitions>");
 }
 
+/// A unit as FMI's `<Unit>` (`prefix` "") or SSP's `<ssc:Unit>` (`prefix` "ssc:") gives
+/// it: its name and its nonzero SI exponents of kg, m and s on the `BaseUnit`.
+pub fn unit_element(unit: &Unit, prefix: &str) -> String {
+    let mut exponents = String::new();
+    for (base, exponent) in [("kg", unit.kg), ("m", unit.m), ("s", unit.s)] {
+        if exponent != 0 {
+            let _ = write!(exponents, r#" {base}="{exponent}""#);
+        }
+    }
+    format!(
+        "<{prefix}Unit{}><{prefix}BaseUnit{exponents}/></{prefix}Unit>",
+        attribute("name", unit.name)
+    )
+}
+
 /// UnitDefinitions, (FMI 3.0: TypeDefinitions,) LogCategories and DefaultExperiment.
 fn write_units_categories_experiment<M: Model>(
     w: &mut String,
@@ -257,17 +251,7 @@ fn write_units_categories_experiment<M: Model>(
             .iter()
             .any(|v| matches!(v.access, Access::Real { unit: Some(name), .. } if name == u.name))
     }) {
-        let mut exponents = String::new();
-        for (base, exponent) in [("kg", unit.kg), ("m", unit.m), ("s", unit.s)] {
-            if exponent != 0 {
-                let _ = write!(exponents, r#" {base}="{exponent}""#);
-            }
-        }
-        let _ = writeln!(
-            w,
-            r#"    <Unit name="{}"><BaseUnit{exponents}/></Unit>"#,
-            escape(unit.name)
-        );
+        let _ = writeln!(w, "    {}", unit_element(unit, ""));
     }
     let _ = writeln!(w, "  </UnitDefinitions>");
     if version == FmiVersion::V3 {
@@ -396,8 +380,7 @@ fn body3<M: Model>(token: &str) -> String {
                 "Float64",
                 format!(
                     "{}{}",
-                    unit.map(|u| format!(r#" declaredType="{}""#, escape(u)))
-                        .unwrap_or_default(),
+                    optional_attribute("declaredType", *unit),
                     start(real(get(&defaults)))
                 ),
                 None,
@@ -523,8 +506,7 @@ fn write_array<M>(
         escape(array.description),
         first.causality.as_str(),
         first.variability.as_str(),
-        unit.map(|u| format!(r#" declaredType="{}""#, escape(u)))
-            .unwrap_or_default(),
+        optional_attribute("declaredType", unit),
     );
     let _ = writeln!(w, r#"      <Dimension start="{}"/>"#, array.elements.len());
     let _ = writeln!(w, "    </Float64>");
@@ -658,14 +640,6 @@ pub fn generate3<M: Model>() -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn escaping_and_reals() {
-        assert_eq!(escape(r#"a<b & "c">"#), "a&lt;b &amp; &quot;c&quot;&gt;");
-        assert_eq!(real(2.0), "2.0");
-        assert_eq!(real(5e-5), "5e-5");
-        assert_eq!(real(0.1).parse::<f64>().unwrap(), 0.1);
-    }
 
     #[test]
     fn time_has_a_value_reference_of_its_own() {
