@@ -22,6 +22,7 @@
 //! - `values3`: what an FMI 3.0 Float64 request stands for (time, arrays, scalars).
 
 pub mod beam;
+mod declare;
 pub mod ffi;
 pub mod ffi3;
 pub mod friction;
