@@ -387,7 +387,14 @@ pub fn choose(
     // The front's mode counts as this scene's spectrum asks for them (`transfer`).
     let front = &crate::transfer::front_for_scene(scene, front);
     let mut count = 0;
-    let horizon = horizon_counted(scene, law, front[0].configuration, started, &mut count, progress)?;
+    let horizon = horizon_counted(
+        scene,
+        law,
+        front[0].configuration,
+        started,
+        &mut count,
+        progress,
+    )?;
     let mut calibrated = scene.clone();
     calibrated.time.end = horizon;
     let mut runs: Vec<Option<Measured>> = vec![None; front.len()];
@@ -641,7 +648,8 @@ pub fn verify(
     let choice = choose(scene, law, tolerance, front, &mut |_| {})?;
     let front = &crate::transfer::front_for_scene(scene, front);
     let error_of = |configuration: Configuration| -> Result<f64, AutoError> {
-        let run = measure(scene, law, configuration).map_err(|f| AutoError::Verification(f.reason))?;
+        let run =
+            measure(scene, law, configuration).map_err(|f| AutoError::Verification(f.reason))?;
         Ok(first_cycle_deviation(&run.tip, reference))
     };
     let true_error = error_of(choice.configuration)?;
@@ -659,9 +667,9 @@ pub fn verify(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::friction::ExponentialLaw;
     use crate::scene::Scheme;
     use crate::study::Resolution;
-    use crate::friction::ExponentialLaw;
 
     fn point(elements: usize, seconds: f64, rms_error: f64) -> FrontPoint {
         FrontPoint {
@@ -807,6 +815,11 @@ mod tests {
         assert!(lines.last().unwrap().contains("already made"), "{lines:?}");
         // Another tolerance is another choice.
         scene.fidelity.tolerance = Some(0.4);
-        assert!(choose_cached(&scene, &law, &front, &mut |_| {}).unwrap().runs > 0);
+        assert!(
+            choose_cached(&scene, &law, &front, &mut |_| {})
+                .unwrap()
+                .runs
+                > 0
+        );
     }
 }

@@ -165,10 +165,8 @@ impl LawSource {
             LawSource::Exponential(law) => Ok(Box::new(law.clone())),
             LawSource::Coulomb(law) => Ok(Box::new(law.clone())),
             LawSource::External { stand_in } => Ok(Box::new(stand_in.clone())),
-            LawSource::Network(n) => {
-                network_law((*n.network).clone(), n.inference, n.normal_force)
-                    .map_err(|source| n.origin.error(source))
-            }
+            LawSource::Network(n) => network_law((*n.network).clone(), n.inference, n.normal_force)
+                .map_err(|source| n.origin.error(source)),
         }
     }
 
@@ -232,5 +230,63 @@ fn network_law(
             }
             Ok(Box::new(TableLaw::build(law, normal_force)))
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Scene;
+
+    fn neural_scene() -> CheckedScene {
+        let mut scene = Scene::default();
+        scene.friction.law = FrictionLawKind::Neural;
+        scene.check().unwrap()
+    }
+
+    /// Every law of one source is the same law (the same numbers, bit for bit), and the
+    /// source's clones share its network rather than copy it.
+    #[test]
+    fn one_source_gives_the_same_law_every_time_and_shares_its_network() {
+        let source = LawSource::resolve(&neural_scene()).unwrap();
+        let (mut a, mut b) = (source.law().unwrap(), source.law().unwrap());
+        for v in [-0.3, -1e-3, 0.0, 2e-4, 0.05, 1.0] {
+            let (fa, sa) = a.sliding_force_and_slope(v, 100.0);
+            let (fb, sb) = b.sliding_force_and_slope(v, 100.0);
+            assert_eq!((fa.to_bits(), sa.to_bits()), (fb.to_bits(), sb.to_bits()));
+        }
+        let (LawSource::Network(n), LawSource::Network(m)) =
+            (&source, &source.with_inference(Inference::F32))
+        else {
+            panic!("the neural scene's source is a network");
+        };
+        assert!(Arc::ptr_eq(&n.network, &m.network));
+        assert_eq!(m.inference, Inference::F32);
+    }
+
+    /// `auto` keys its cache by the fingerprint: the same network read twice is one
+    /// entry, another network another, an analytical law names itself.
+    #[test]
+    fn the_fingerprint_tells_networks_apart_whoever_loaded_them() {
+        let scene = neural_scene();
+        let read = |law: NeuralLaw| {
+            LawSource::network(
+                Arc::new(law),
+                NetworkOrigin::Shipped,
+                Inference::Exact,
+                100.0,
+            )
+        };
+        let plain = LawSource::resolve(&scene).unwrap().fingerprint();
+        assert_eq!(
+            plain,
+            read(NeuralLaw::paper_default().unwrap()).fingerprint()
+        );
+        assert_ne!(
+            plain,
+            read(NeuralLaw::paper_signed().unwrap()).fingerprint()
+        );
+        let exponential = LawSource::resolve(&Scene::default().check().unwrap()).unwrap();
+        assert_eq!(exponential.fingerprint(), "exponential");
     }
 }

@@ -20,8 +20,8 @@
 //! tabulating it: 1 to 25 ms for the shipped networks), as [`run_scene`] times it.
 
 use crate::choice::Choice;
-use crate::metrics::Summary;
 use crate::law_source::LawSource;
+use crate::metrics::Summary;
 use crate::run::{run_scene, RunError};
 use crate::scene::{CheckedScene, FidelityLevel, Inference, ModalBasis, Scene, SceneError, Scheme};
 use serde::{Deserialize, Serialize};
