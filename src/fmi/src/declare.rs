@@ -6,16 +6,31 @@
 //! Rows that fit none of these (a String, a Boolean, a parameter with its own check)
 //! are written out as `Variable { .. }` in the table itself.
 
-/// A Real parameter (`fixed`), read and written at the place.
-macro_rules! real_parameter {
-    ($vr:expr, $name:expr, $unit:expr, $description:expr, |$m:ident: $model:ty| $place:expr) => {
+/// One row: what every macro below shares.
+macro_rules! row {
+    ($vr:expr, $name:expr, $causality:ident, $variability:ident, $description:expr, $access:expr, $depends_on:expr) => {
         $crate::variables::Variable {
             name: $name,
             value_reference: $vr,
-            causality: $crate::variables::Causality::Parameter,
-            variability: $crate::variables::Variability::Fixed,
+            causality: $crate::variables::Causality::$causality,
+            variability: $crate::variables::Variability::$variability,
             description: $description,
-            access: $crate::variables::Access::Real {
+            access: $access,
+            depends_on: $depends_on,
+        }
+    };
+}
+
+/// A Real parameter (`fixed`), read and written at the place.
+macro_rules! real_parameter {
+    ($vr:expr, $name:expr, $unit:expr, $description:expr, |$m:ident: $model:ty| $place:expr) => {
+        $crate::declare::row!(
+            $vr,
+            $name,
+            Parameter,
+            Fixed,
+            $description,
+            $crate::variables::Access::Real {
                 unit: $unit,
                 get: |$m: &$model| $place,
                 set: Some(|$m: &mut $model, v: f64| {
@@ -23,8 +38,8 @@ macro_rules! real_parameter {
                     Ok(())
                 }),
             },
-            depends_on: None,
-        }
+            None
+        )
     };
 }
 
@@ -32,13 +47,13 @@ macro_rules! real_parameter {
 /// all read off the choice.
 macro_rules! choice_parameter {
     ($vr:expr, $name:expr, $choice:ty, $description:expr, |$m:ident: $model:ty| $place:expr) => {
-        $crate::variables::Variable {
-            name: $name,
-            value_reference: $vr,
-            causality: $crate::variables::Causality::Parameter,
-            variability: $crate::variables::Variability::Fixed,
-            description: $description,
-            access: $crate::variables::Access::Choice {
+        $crate::declare::row!(
+            $vr,
+            $name,
+            Parameter,
+            Fixed,
+            $description,
+            $crate::variables::Access::Choice {
                 kind: $crate::variables::ChoiceType::of::<$choice>(),
                 get: |$m: &$model| {
                     use ::stickslip::choice::Choice as _;
@@ -49,21 +64,21 @@ macro_rules! choice_parameter {
                     Ok(())
                 }),
             },
-            depends_on: None,
-        }
+            None
+        )
     };
 }
 
 /// A count parameter (FMI Integer from 1 to `$max`) held as a `usize`.
 macro_rules! count_parameter {
     ($vr:expr, $name:expr, $max:expr, $description:expr, |$m:ident: $model:ty| $place:expr) => {
-        $crate::variables::Variable {
-            name: $name,
-            value_reference: $vr,
-            causality: $crate::variables::Causality::Parameter,
-            variability: $crate::variables::Variability::Fixed,
-            description: $description,
-            access: $crate::variables::Access::Integer {
+        $crate::declare::row!(
+            $vr,
+            $name,
+            Parameter,
+            Fixed,
+            $description,
+            $crate::variables::Access::Integer {
                 min: 1,
                 max: $max,
                 get: |$m: &$model| $place as i32,
@@ -72,8 +87,8 @@ macro_rules! count_parameter {
                     Ok(())
                 }),
             },
-            depends_on: None,
-        }
+            None
+        )
     };
 }
 
@@ -82,46 +97,46 @@ macro_rules! count_parameter {
 macro_rules! real_input {
     ($vr:expr, $name:expr, $unit:expr, $description:expr, |$m:ident: $model:ty| $place:expr
         $(, check = $check:expr)? $(, then = $then:expr)? $(,)?) => {
-        $crate::variables::Variable {
-            name: $name,
-            value_reference: $vr,
-            causality: $crate::variables::Causality::Input,
-            variability: $crate::variables::Variability::Continuous,
-            description: $description,
-            access: $crate::variables::Access::Real {
-                unit: $unit,
-                get: |$m: &$model| $place,
-                set: Some(|$m: &mut $model, v: f64| {
-                    $(
-                        let check: fn(f64) -> Result<(), String> = $check;
-                        check(v)?;
-                    )?
-                    $place = v;
-                    $($then;)?
-                    Ok(())
-                }),
-            },
-            depends_on: None,
-        }
+        $crate::declare::row!(
+            $vr,
+            $name,
+            Input,
+            Continuous,
+            $description,
+            $crate::variables::Access::Real {
+            unit: $unit,
+            get: |$m: &$model| $place,
+            set: Some(|$m: &mut $model, v: f64| {
+                $(
+                    let check: fn(f64) -> Result<(), String> = $check;
+                    check(v)?;
+                )?
+                $place = v;
+                $($then;)?
+                Ok(())
+            }),
+        },
+            None
+        )
     };
 }
 
 /// A Real output (`continuous`), read off the model, depending on `$depends_on`.
 macro_rules! real_output {
     ($vr:expr, $name:expr, $unit:expr, $description:expr, $depends_on:expr, |$m:ident: $model:ty| $value:expr) => {
-        $crate::variables::Variable {
-            name: $name,
-            value_reference: $vr,
-            causality: $crate::variables::Causality::Output,
-            variability: $crate::variables::Variability::Continuous,
-            description: $description,
-            access: $crate::variables::Access::Real {
+        $crate::declare::row!(
+            $vr,
+            $name,
+            Output,
+            Continuous,
+            $description,
+            $crate::variables::Access::Real {
                 unit: $unit,
                 get: |$m: &$model| $value,
                 set: None,
             },
-            depends_on: Some($depends_on),
-        }
+            Some($depends_on)
+        )
     };
 }
 
@@ -134,4 +149,4 @@ pub fn non_negative(v: f64) -> Result<(), String> {
     }
 }
 
-pub(crate) use {choice_parameter, count_parameter, real_input, real_output, real_parameter};
+pub(crate) use {choice_parameter, count_parameter, real_input, real_output, real_parameter, row};

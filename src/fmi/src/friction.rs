@@ -14,16 +14,15 @@
 //! they are the law's tangent, which StickSlipBeam's `external.coupling = signed` solves
 //! within its internal steps (see `stickslip::contact`).
 
-use crate::declare::{non_negative, real_input, real_output, real_parameter};
+use crate::declare::{choice_parameter, non_negative, real_input, real_output, real_parameter};
 use crate::model::{Model, ModelInfo};
 use crate::networks::{weights_name, NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use crate::variables::{
-    choice_at, Access, ArrayVariable, Causality, ChoiceType, Dependencies, DependencyKind,
-    InitialDependencies, Variability, Variable,
+    Access, ArrayVariable, Causality, Dependencies, DependencyKind, InitialDependencies,
+    Variability, Variable,
 };
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-use stickslip::choice::Choice;
 use stickslip::friction::{ExponentialLaw, FrictionLaw, LawChoice};
 use stickslip::neural::NeuralError;
 use stickslip::scene::{Scene, SceneError};
@@ -253,22 +252,13 @@ const STATIC_LIMIT: Dependencies = Dependencies {
 };
 
 static VARIABLES: &[Variable<NeuralFriction>] = &[
-    Variable {
-        name: "law",
-        value_reference: LAW,
-        causality: Causality::Parameter,
-        variability: Variability::Fixed,
-        description: "Friction law: the network, or the analytical law for comparison",
-        access: Access::Choice {
-            kind: ChoiceType::of::<LawChoice>(),
-            get: |m: &NeuralFriction| m.settings.law.code(),
-            set: Some(|m: &mut NeuralFriction, v: i32| {
-                m.settings.law = choice_at::<LawChoice>(v)?;
-                Ok(())
-            }),
-        },
-        depends_on: None,
-    },
+    choice_parameter!(
+        LAW,
+        "law",
+        LawChoice,
+        "Friction law: the network, or the analytical law for comparison",
+        |m: NeuralFriction| m.settings.law
+    ),
     real_parameter!(STATIC_COEFFICIENT, "static_coefficient", None, "Static coefficient mu_s (static limit; exponential law)", |m: NeuralFriction| m.settings.static_coefficient),
     real_parameter!(KINETIC_COEFFICIENT, "kinetic_coefficient", None, "Kinetic coefficient mu_k (exponential law)", |m: NeuralFriction| m.settings.kinetic_coefficient),
     real_parameter!(DECAY, "decay", Some("s/m"), "Decay alpha (exponential law)", |m: NeuralFriction| m.settings.decay),

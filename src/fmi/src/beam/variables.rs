@@ -9,10 +9,8 @@ use crate::declare::{
 };
 use crate::networks::weights_name;
 use crate::variables::{
-    choice_at, Access, Causality, ChoiceType, Dependencies, InitialDependencies, Variability,
-    Variable,
+    Access, Causality, Dependencies, InitialDependencies, Variability, Variable,
 };
-use stickslip::choice::Choice;
 use stickslip::scene::{
     Clamp, FidelityLevel, FrictionLawKind, HoldingForce, Inference, InitialState, ModalBasis,
     Scheme, SlidingVelocity,
@@ -130,22 +128,13 @@ pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &[
         },
         depends_on: None,
     },
-    Variable {
-        name: "external.coupling",
-        value_reference: 16,
-        causality: Causality::Parameter,
-        variability: Variability::Fixed,
-        description: "friction.law = external: how the kinetic force is read from the inputs",
-        access: Access::Choice {
-            kind: ChoiceType::of::<ExternalCoupling>(),
-            get: |m: &StickSlipBeam| m.settings.coupling.code(),
-            set: Some(|m: &mut StickSlipBeam, v: i32| {
-                m.settings.coupling = choice_at::<ExternalCoupling>(v)?;
-                Ok(())
-            }),
-        },
-        depends_on: None,
-    },
+    choice_parameter!(
+        16,
+        "external.coupling",
+        ExternalCoupling,
+        "friction.law = external: how the kinetic force is read from the inputs",
+        |m: StickSlipBeam| m.settings.coupling
+    ),
     choice_parameter!(
         17,
         "friction.inference",
