@@ -140,6 +140,28 @@ macro_rules! real_output {
     };
 }
 
+/// A weights parameter (String): the name of a network file, refused when blank
+/// (`networks::weights_name`; whether the file exists is checked when it is read).
+macro_rules! weights_parameter {
+    ($vr:expr, $name:expr, $description:expr, |$m:ident: $model:ty| $place:expr) => {
+        $crate::declare::row!(
+            $vr,
+            $name,
+            Parameter,
+            Fixed,
+            $description,
+            $crate::variables::Access::String {
+                get: |$m: &$model| $place.clone(),
+                set: Some(|$m: &mut $model, v: &str| {
+                    $place = $crate::networks::weights_name(v)?;
+                    Ok(())
+                }),
+            },
+            None
+        )
+    };
+}
+
 /// An input's check: the value must not be negative (a force, a magnitude).
 pub fn non_negative(v: f64) -> Result<(), String> {
     if v < 0.0 {
@@ -149,4 +171,7 @@ pub fn non_negative(v: f64) -> Result<(), String> {
     }
 }
 
-pub(crate) use {choice_parameter, count_parameter, real_input, real_output, real_parameter, row};
+pub(crate) use {
+    choice_parameter, count_parameter, real_input, real_output, real_parameter, row,
+    weights_parameter,
+};

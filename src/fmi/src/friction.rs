@@ -14,12 +14,13 @@
 //! they are the law's tangent, which StickSlipBeam's `external.coupling = signed` solves
 //! within its internal steps (see `stickslip::contact`).
 
-use crate::declare::{choice_parameter, non_negative, real_input, real_output, real_parameter};
+use crate::declare::{
+    choice_parameter, non_negative, real_input, real_output, real_parameter, weights_parameter,
+};
 use crate::model::{Model, ModelInfo};
-use crate::networks::{weights_name, NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
+use crate::networks::{NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use crate::variables::{
-    Access, ArrayVariable, Causality, Dependencies, DependencyKind, InitialDependencies,
-    Variability, Variable,
+    ArrayVariable, Dependencies, DependencyKind, InitialDependencies, Variable,
 };
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -259,25 +260,40 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         "Friction law: the network, or the analytical law for comparison",
         |m: NeuralFriction| m.settings.law
     ),
-    real_parameter!(STATIC_COEFFICIENT, "static_coefficient", None, "Static coefficient mu_s (static limit; exponential law)", |m: NeuralFriction| m.settings.static_coefficient),
-    real_parameter!(KINETIC_COEFFICIENT, "kinetic_coefficient", None, "Kinetic coefficient mu_k (exponential law)", |m: NeuralFriction| m.settings.kinetic_coefficient),
-    real_parameter!(DECAY, "decay", Some("s/m"), "Decay alpha (exponential law)", |m: NeuralFriction| m.settings.decay),
-    Variable {
-        name: "weights",
-        value_reference: WEIGHTS,
-        causality: Causality::Parameter,
-        variability: Variability::Fixed,
-        description: "Network weights: a file in resources/ or an absolute path",
-        access: Access::String {
-            get: |m: &NeuralFriction| m.settings.weights.clone(),
-            set: Some(|m: &mut NeuralFriction, v: &str| {
-                m.settings.weights = weights_name(v)?;
-                Ok(())
-            }),
-        },
-        depends_on: None,
-    },
-    real_input!(SLIDING_VELOCITY, "sliding_velocity", Some("m/s"), "Sliding velocity v_rel = v_b - v_tip", |m: NeuralFriction| m.settings.sliding_velocity),
+    real_parameter!(
+        STATIC_COEFFICIENT,
+        "static_coefficient",
+        None,
+        "Static coefficient mu_s (static limit; exponential law)",
+        |m: NeuralFriction| m.settings.static_coefficient
+    ),
+    real_parameter!(
+        KINETIC_COEFFICIENT,
+        "kinetic_coefficient",
+        None,
+        "Kinetic coefficient mu_k (exponential law)",
+        |m: NeuralFriction| m.settings.kinetic_coefficient
+    ),
+    real_parameter!(
+        DECAY,
+        "decay",
+        Some("s/m"),
+        "Decay alpha (exponential law)",
+        |m: NeuralFriction| m.settings.decay
+    ),
+    weights_parameter!(
+        WEIGHTS,
+        "weights",
+        "Network weights: a file in resources/ or an absolute path",
+        |m: NeuralFriction| m.settings.weights
+    ),
+    real_input!(
+        SLIDING_VELOCITY,
+        "sliding_velocity",
+        Some("m/s"),
+        "Sliding velocity v_rel = v_b - v_tip",
+        |m: NeuralFriction| m.settings.sliding_velocity
+    ),
     real_input!(
         NORMAL_FORCE,
         "normal_force",
@@ -286,16 +302,82 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         |m: NeuralFriction| m.settings.normal_force,
         check = non_negative
     ),
-    real_input!(EXTRA_FEATURE[0], "extra_feature[1]", None, "First network feature besides velocity and normal force, if any", |m: NeuralFriction| m.settings.extra_features[0]),
-    real_input!(EXTRA_FEATURE[1], "extra_feature[2]", None, "Second further network feature, if any", |m: NeuralFriction| m.settings.extra_features[1]),
-    real_input!(EXTRA_FEATURE[2], "extra_feature[3]", None, "Third further network feature, if any", |m: NeuralFriction| m.settings.extra_features[2]),
-    real_input!(EXTRA_FEATURE[3], "extra_feature[4]", None, "Fourth further network feature, if any", |m: NeuralFriction| m.settings.extra_features[3]),
-    real_output!(20, "friction_force", Some("N"), "Kinetic friction force, signed: positive for positive sliding velocity", LAW_OUTPUT, |m: NeuralFriction| m.outputs.force),
-    real_output!(21, "friction_force_magnitude", Some("N"), "Magnitude of the kinetic friction force", LAW_OUTPUT, |m: NeuralFriction| m.outputs.force.abs()),
-    real_output!(22, "friction_coefficient", None, "|friction_force| / normal_force (0 when normal_force = 0)", LAW_OUTPUT, |m: NeuralFriction| m.outputs.coefficient),
-    real_output!(23, "static_limit", Some("N"), "Static limit mu_s F_n", STATIC_LIMIT, |m: NeuralFriction| m.outputs.static_limit),
-    real_output!(24, "friction_force_slope", Some("N.s/m"), "dF/dv of friction_force at sliding_velocity (the exponential law: beside its jump at 0)", LAW_OUTPUT, |m: NeuralFriction| m.outputs.slope),
-    real_output!(25, "evaluated_velocity", Some("m/s"), "The sliding_velocity the outputs were evaluated at: where friction_force and its slope hold", EVALUATED_VELOCITY, |m: NeuralFriction| m.outputs.velocity),
+    real_input!(
+        EXTRA_FEATURE[0],
+        "extra_feature[1]",
+        None,
+        "First network feature besides velocity and normal force, if any",
+        |m: NeuralFriction| m.settings.extra_features[0]
+    ),
+    real_input!(
+        EXTRA_FEATURE[1],
+        "extra_feature[2]",
+        None,
+        "Second further network feature, if any",
+        |m: NeuralFriction| m.settings.extra_features[1]
+    ),
+    real_input!(
+        EXTRA_FEATURE[2],
+        "extra_feature[3]",
+        None,
+        "Third further network feature, if any",
+        |m: NeuralFriction| m.settings.extra_features[2]
+    ),
+    real_input!(
+        EXTRA_FEATURE[3],
+        "extra_feature[4]",
+        None,
+        "Fourth further network feature, if any",
+        |m: NeuralFriction| m.settings.extra_features[3]
+    ),
+    real_output!(
+        20,
+        "friction_force",
+        Some("N"),
+        "Kinetic friction force, signed: positive for positive sliding velocity",
+        LAW_OUTPUT,
+        |m: NeuralFriction| m.outputs.force
+    ),
+    real_output!(
+        21,
+        "friction_force_magnitude",
+        Some("N"),
+        "Magnitude of the kinetic friction force",
+        LAW_OUTPUT,
+        |m: NeuralFriction| m.outputs.force.abs()
+    ),
+    real_output!(
+        22,
+        "friction_coefficient",
+        None,
+        "|friction_force| / normal_force (0 when normal_force = 0)",
+        LAW_OUTPUT,
+        |m: NeuralFriction| m.outputs.coefficient
+    ),
+    real_output!(
+        23,
+        "static_limit",
+        Some("N"),
+        "Static limit mu_s F_n",
+        STATIC_LIMIT,
+        |m: NeuralFriction| m.outputs.static_limit
+    ),
+    real_output!(
+        24,
+        "friction_force_slope",
+        Some("N.s/m"),
+        "dF/dv of friction_force at sliding_velocity (the exponential law: beside its jump at 0)",
+        LAW_OUTPUT,
+        |m: NeuralFriction| m.outputs.slope
+    ),
+    real_output!(
+        25,
+        "evaluated_velocity",
+        Some("m/s"),
+        "The sliding_velocity the outputs were evaluated at: where friction_force and its slope hold",
+        EVALUATED_VELOCITY,
+        |m: NeuralFriction| m.outputs.velocity
+    ),
 ];
 
 impl Model for NeuralFriction {

@@ -6,8 +6,8 @@
 use super::StickSlipBeam;
 use crate::declare::{
     choice_parameter, count_parameter, non_negative, real_input, real_output, real_parameter,
+    weights_parameter,
 };
-use crate::networks::weights_name;
 use crate::variables::{
     Access, Causality, Dependencies, InitialDependencies, Variability, Variable,
 };
@@ -112,22 +112,12 @@ pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &[
         "Stick threshold eps on |v_rel|",
         |m: StickSlipBeam| m.settings.scene.friction.stick_threshold
     ),
-    Variable {
-        name: "friction.weights",
-        value_reference: 15,
-        causality: Causality::Parameter,
-        variability: Variability::Fixed,
-        description:
-            "Network weights for friction.law = neural: a file in resources/ or an absolute path",
-        access: Access::String {
-            get: |m: &StickSlipBeam| m.settings.weights.clone(),
-            set: Some(|m: &mut StickSlipBeam, v: &str| {
-                m.settings.weights = weights_name(v)?;
-                Ok(())
-            }),
-        },
-        depends_on: None,
-    },
+    weights_parameter!(
+        15,
+        "friction.weights",
+        "Network weights for friction.law = neural: a file in resources/ or an absolute path",
+        |m: StickSlipBeam| m.settings.weights
+    ),
     choice_parameter!(
         16,
         "external.coupling",
