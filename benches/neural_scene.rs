@@ -23,9 +23,10 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use criterion::{Criterion, SamplingMode, Throughput};
+use std::sync::Arc;
 use stickslip::choice::Choice;
 use stickslip::friction::{ExponentialLaw, FrictionLaw};
-use stickslip::neural::inference::friction_law;
+use stickslip::law_source::{LawSource, NetworkOrigin};
 use stickslip::neural::NeuralLaw;
 use stickslip::scene::Inference;
 use stickslip::scene::{CheckedScene, FidelityLevel, Scene};
@@ -79,7 +80,14 @@ impl Law {
                     NeuralLaw::paper_default()
                 }
                 .expect("shipped weights");
-                friction_law(law, inference, scene.loading.normal_force).expect("a friction law")
+                LawSource::network(
+                    Arc::new(law),
+                    NetworkOrigin::Shipped,
+                    inference,
+                    scene.loading.normal_force,
+                )
+                .law()
+                .expect("a friction law")
             }
         }
     }

@@ -14,6 +14,7 @@ use std::time::{Duration, Instant};
 
 use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, Criterion, SamplingMode};
+use stickslip::law_source::LawSource;
 use stickslip::run::run_scene;
 use stickslip::scene::{FidelityLevel, Scene};
 use stickslip::structure::StructuralModel;
@@ -54,10 +55,13 @@ fn main() {
         scene.fidelity.beam_elements = elements;
         scene.fidelity.element_size = size;
         let checked = scene.check().unwrap();
+        let law = LawSource::resolve(&checked).unwrap();
         let model = StructuralModel::build(&checked).unwrap();
         let id = model.label.clone();
         group.bench_function(&id, |b| {
-            b.iter_custom(|iters| times.time(&id, iters, || run_scene(checked.clone(), 1).unwrap()))
+            b.iter_custom(|iters| {
+                times.time(&id, iters, || run_scene(checked.clone(), &law, 1).unwrap())
+            })
         });
         models.push((id, model.dofs(), checked.time.end));
     }

@@ -43,7 +43,7 @@ use std::time::{Duration, Instant};
 
 use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, Criterion, SamplingMode};
-use stickslip::friction::analytical_law;
+use stickslip::law_source::LawSource;
 use stickslip::scene::Scene;
 use stickslip::simulation::Simulator;
 use stickslip_tests::bench::{table_note, test_mode, Samples};
@@ -117,7 +117,9 @@ fn bench_mesh(group: &mut BenchmarkGroup<'_, WallTime>, times: &Samples, row: &R
         b.iter_custom(|steps| {
             let sim = sim.get_or_insert_with(|| {
                 let checked = scene(length, element_size).check().expect("checked above");
-                let law = analytical_law(&checked).expect("the default law is analytical");
+                let law = LawSource::resolve(&checked)
+                    .and_then(|law| law.law())
+                    .expect("the default law is analytical");
                 let started = Instant::now();
                 let sim = Simulator::new(checked, law).expect("simulator set-up");
                 row.borrow_mut().built = Some(Built {

@@ -77,7 +77,9 @@ fn direct(level: FidelityLevel) -> (Timing, f64) {
     let mut scene = CheckedScene::paper().into_scene();
     scene.fidelity.level = level;
     let scene = scene.check().expect("valid scene");
-    let law = stickslip::friction::analytical_law(&scene).expect("analytical law");
+    let law = stickslip::law_source::LawSource::resolve(&scene)
+        .and_then(|law| law.law())
+        .expect("analytical law");
     let mut sim = Simulator::new(scene, law).expect("the paper scene builds");
     let stepping = Instant::now();
     let steps = (STOP / DT).round() as usize;

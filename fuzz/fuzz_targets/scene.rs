@@ -16,7 +16,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use stickslip::run::friction_law;
+use stickslip::law_source::LawSource;
 use stickslip::scene::Scene;
 use stickslip::simulation::Simulator;
 use stickslip_cli::scene_args::SceneArgs;
@@ -45,7 +45,14 @@ fuzz_target!(|data: &[u8]| {
     if checked.friction.weights.is_some() || !cheap_to_build(&checked) {
         return;
     }
-    let Ok(law) = friction_law(&checked) else {
+    // As a stand-alone run: external is refused (only the FMU has its inputs).
+    let Ok(source) = LawSource::resolve(&checked) else {
+        return;
+    };
+    if source.is_external() {
+        return;
+    }
+    let Ok(law) = source.law() else {
         return;
     };
     let Ok(mut simulator) = Simulator::new(checked, law) else {

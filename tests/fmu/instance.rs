@@ -4,7 +4,8 @@
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 use stickslip::choice::Choice;
-use stickslip::friction::{analytical_law, LawChoice};
+use stickslip::friction::LawChoice;
+use stickslip::law_source::LawSource;
 use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Scene};
 use stickslip::simulation::Simulator;
 use stickslip_fmi::beam::StickSlipBeam;
@@ -220,7 +221,7 @@ fn fmu_steps_equal_the_library_bit_for_bit() {
     scene.fidelity.level = FidelityLevel::Beam;
     scene.time.end = 1.2;
     let scene = scene.check().unwrap();
-    let law = analytical_law(&scene).unwrap();
+    let law = LawSource::resolve(&scene).unwrap().law().unwrap();
     let mut sim = Simulator::new(scene, law).unwrap();
     for (k, &u) in fmu.iter().enumerate() {
         for _ in 0..10 {
@@ -872,8 +873,9 @@ fn fidelity_auto_chooses_at_initialisation_and_logs_the_choice() {
 }
 
 /// With the neural law, auto calibrates with the network of friction.weights, the one
-/// the instance will run: weights that are not a network fail the calibration itself,
-/// named in the message, where the shipped plain network would have calibrated.
+/// the instance will run: the instance reads it once, before the calibration, so
+/// weights that are not a network fail there, named in the message, where the shipped
+/// plain network would have calibrated; no calibration run starts.
 #[test]
 fn fidelity_auto_calibrates_with_the_instances_own_weights() {
     let dir = std::env::temp_dir().join(format!("stickslip-auto-weights-{}", std::process::id()));
@@ -897,8 +899,13 @@ fn fidelity_auto_calibrates_with_the_instances_own_weights() {
     assert!(
         entries
             .iter()
-            .any(|(_, _, m)| m.contains("fidelity = auto, running")
-                && m.contains(broken.to_str().unwrap())),
+            .any(|(_, _, m)| m.contains("weights file") && m.contains(broken.to_str().unwrap())),
+        "{entries:?}"
+    );
+    assert!(
+        !entries
+            .iter()
+            .any(|(_, _, m)| m.contains("calibration run")),
         "{entries:?}"
     );
     std::fs::remove_dir_all(&dir).ok();
@@ -1048,7 +1055,7 @@ fn neural_inference_is_a_parameter_of_the_beam() {
         scene.friction.inference = *inference;
         scene.time.end = 0.6;
         let scene = scene.check().unwrap();
-        let law = stickslip::run::friction_law(&scene).unwrap();
+        let law = LawSource::resolve(&scene).unwrap().law().unwrap();
         let mut sim = Simulator::new(scene, law).unwrap();
         let library: Vec<f64> = (1..=600)
             .map(|k| {

@@ -3,10 +3,12 @@
 //! the faster evaluations (`friction.inference`): the f32 network and the table, each
 //! against the exact network, and the refusal of what the table cannot cover.
 
+use std::sync::Arc;
 use stickslip::friction::FrictionLaw;
-use stickslip::neural::inference::friction_law;
+use stickslip::law_source::{LawSource, NetworkOrigin};
 use stickslip::neural::table::{TableLaw, TABLE_TOLERANCE};
 use stickslip::neural::NeuralLaw;
+use stickslip::neural::SceneLawError;
 use stickslip::scene::Inference;
 
 fn shipped() -> [(&'static str, NeuralLaw); 2] {
@@ -230,4 +232,19 @@ fn a_network_with_more_inputs_than_the_table_is_refused() {
         .expect("refused")
         .to_string();
     assert!(message.contains("temperature"), "{message}");
+}
+
+/// A network as the beam's law through its law source, evaluated as `inference` asks.
+fn friction_law(
+    law: NeuralLaw,
+    inference: Inference,
+    normal_force: f64,
+) -> Result<Box<dyn FrictionLaw>, SceneLawError> {
+    LawSource::network(
+        Arc::new(law),
+        NetworkOrigin::Weights("three.json".into()),
+        inference,
+        normal_force,
+    )
+    .law()
 }

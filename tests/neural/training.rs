@@ -6,8 +6,8 @@
 use nalgebra::DMatrix;
 use stickslip::friction::{ExponentialLaw, FrictionLaw};
 use stickslip::neural::{
-    default_friction_law, FeatureRole, NeuralError, NeuralLaw, NeuralModel, SyntheticSpec, Variant,
-    PAPER_PLAIN_JSON, PAPER_SIGNED_JSON,
+    FeatureRole, NeuralError, NeuralLaw, NeuralModel, SyntheticSpec, Variant, PAPER_PLAIN_JSON,
+    PAPER_SIGNED_JSON,
 };
 use stickslip_cli::train::{run_train, DataArgs, TrainArgs};
 use stickslip_train::data::{Dataset, Quantity, Synthetic};
@@ -162,7 +162,10 @@ fn single_batch_and_friction_law_evaluations_agree() {
         assert!((single - batch[k]).abs() < 1e-9, "{single} vs {}", batch[k]);
         assert_eq!(single, law.sliding_force(v, f_n));
     }
-    let boxed = default_friction_law(Variant::Plain).unwrap();
+    let boxed = NeuralLaw::paper_default()
+        .unwrap()
+        .into_friction_law()
+        .unwrap();
     assert_eq!(boxed.name(), "neural");
 }
 

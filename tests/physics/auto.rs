@@ -44,7 +44,7 @@ fn reference(scene: &Scene) -> Measured {
         1e-5,
         Scheme::GeneralizedAlpha,
     );
-    measure(scene, finest).unwrap()
+    measure(scene, &stickslip_tests::law_of(scene), finest).unwrap()
 }
 
 fn short(mut scene: Scene) -> Scene {
@@ -61,7 +61,7 @@ fn auto_chooses_the_cheapest_point_that_meets_the_tolerance_on_three_scenes() {
     let mut front: Vec<FrontPoint> = candidates()
         .into_iter()
         .map(|c| {
-            let run = measure(&paper, c).unwrap();
+            let run = measure(&paper, &stickslip_tests::law_of(&paper), c).unwrap();
             FrontPoint {
                 configuration: c,
                 seconds: run.dofs as f64 / c.dt,
@@ -86,7 +86,8 @@ fn auto_chooses_the_cheapest_point_that_meets_the_tolerance_on_three_scenes() {
         let errors: Vec<f64> = front
             .iter()
             .map(|p| {
-                let run = measure(&scene, p.configuration).unwrap();
+                let run =
+                    measure(&scene, &stickslip_tests::law_of(&scene), p.configuration).unwrap();
                 first_cycle_deviation(&run.tip, &reference)
             })
             .collect();
@@ -98,7 +99,14 @@ fn auto_chooses_the_cheapest_point_that_meets_the_tolerance_on_three_scenes() {
         // Auto may stop earlier only if an earlier point also meets the tolerance.
         let tolerance = (errors[k - 1] * errors[k]).sqrt();
         let first_meeting = errors.iter().position(|&e| e <= tolerance).unwrap();
-        let choice = choose(&scene, tolerance, &front, &mut |_| {}).unwrap();
+        let choice = choose(
+            &scene,
+            &stickslip_tests::law_of(&scene),
+            tolerance,
+            &front,
+            &mut |_| {},
+        )
+        .unwrap();
         println!(
             "{name}: errors {errors:?} m, tolerance {tolerance:.3e} m, chose point {} (estimated {:.3e} m)",
             choice.index, choice.estimated_error
@@ -127,8 +135,13 @@ fn the_calibration_horizon_follows_the_first_cycle_not_the_end_time() {
     let mut horizon_at = |end: f64| {
         let mut scene = Scene::default();
         scene.time.end = end;
-        stickslip::auto::calibration_horizon(&scene, pilot, &mut |l| lines.push(l.to_string()))
-            .unwrap()
+        stickslip::auto::calibration_horizon(
+            &scene,
+            &stickslip_tests::law_of(&scene),
+            pilot,
+            &mut |l| lines.push(l.to_string()),
+        )
+        .unwrap()
     };
     let paper = horizon_at(1.2);
     let long = horizon_at(100.0);
@@ -136,7 +149,11 @@ fn the_calibration_horizon_follows_the_first_cycle_not_the_end_time() {
     // The pilot's second onset on the paper scene, over 1 s and over 2 s of run.
     let mut scene = Scene::default();
     scene.time.end = 1.0;
-    let second = measure(&scene, pilot).unwrap().summary.major_slips[1].onset;
+    let second = measure(&scene, &stickslip_tests::law_of(&scene), pilot)
+        .unwrap()
+        .summary
+        .major_slips[1]
+        .onset;
     let expected = (1.5 * second / 1e-3).ceil() * 1e-3;
     assert!((paper - expected).abs() < 1e-12, "{paper} {expected}");
     assert_eq!(long, paper);
@@ -187,14 +204,21 @@ fn the_chain_bounds_the_error_where_the_first_partner_is_as_wrong() {
             rms_error: 5e-7,
         },
     ];
-    let choice = choose(&stubby, 1.0, &front, &mut |_| {}).unwrap();
+    let choice = choose(
+        &stubby,
+        &stickslip_tests::law_of(&stubby),
+        1.0,
+        &front,
+        &mut |_| {},
+    )
+    .unwrap();
     let tried = &choice.tried[0];
     assert_eq!(tried.configuration, coarse);
     assert_eq!(tried.chain.len(), 2, "{tried:?}");
     let first_link = tried.chain[0].1;
     let truth = {
         let reference = reference(&stubby);
-        let run = measure(&stubby, coarse).unwrap();
+        let run = measure(&stubby, &stickslip_tests::law_of(&stubby), coarse).unwrap();
         first_cycle_deviation(&run.tip, &reference)
     };
     println!(

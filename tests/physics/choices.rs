@@ -5,8 +5,9 @@
 
 use stickslip::choice::Choice;
 use stickslip::friction::LawChoice;
+use stickslip::law_source::LawSource;
 use stickslip::neural::{Activation, Variant};
-use stickslip::run::{friction_law, run_scene, RunError};
+use stickslip::run::{run_scene, RunError};
 use stickslip::scene::{
     Clamp, FidelityLevel, FrictionLawKind, HoldingForce, Inference, InitialState, ModalBasis,
     Scene, Scheme, SlidingVelocity,
@@ -120,7 +121,8 @@ fn an_unresolved_auto_scene_builds_no_model_and_does_not_run() {
     let error = StructuralModel::build(&checked).err().unwrap();
     assert_eq!(error, ModelError::UnresolvedAuto);
     assert!(error.to_string().contains("resolve"), "{error}");
-    let error = run_scene(checked, 1).err().unwrap();
+    let law = LawSource::resolve(&checked).unwrap();
+    let error = run_scene(checked, &law, 1).err().unwrap();
     assert!(
         error.to_string().contains("fidelity.level = auto"),
         "{error}"
@@ -133,8 +135,13 @@ fn the_external_law_is_refused_by_a_stand_alone_run() {
     scene.friction.law = FrictionLawKind::External;
     scene.fidelity.level = FidelityLevel::Modal;
     let checked = scene.check().unwrap();
-    assert!(matches!(friction_law(&checked), Err(RunError::External)));
-    let error = run_scene(checked, 1).err().unwrap().to_string();
+    let law = LawSource::resolve(&checked).unwrap();
+    assert!(law.is_external());
+    assert!(matches!(
+        run_scene(checked.clone(), &law, 1),
+        Err(RunError::External)
+    ));
+    let error = run_scene(checked, &law, 1).err().unwrap().to_string();
     for needle in ["friction.law = external", "StickSlipBeam", "exponential"] {
         assert!(error.contains(needle), "{needle}: {error}");
     }
@@ -145,7 +152,9 @@ fn the_external_law_is_refused_by_a_stand_alone_run() {
 #[test]
 fn resolve_replaces_auto_by_the_choice_and_leaves_concrete_scenes_alone() {
     let front = stickslip::auto::paper_front().unwrap();
-    let (same, none) = stickslip::auto::resolve(Scene::default(), &front, &mut |_| {}).unwrap();
+    let law = stickslip_tests::law_of(&Scene::default());
+    let (same, none) =
+        stickslip::auto::resolve(Scene::default(), &law, &front, &mut |_| {}).unwrap();
     assert_eq!(same, Scene::default());
     assert!(none.is_none());
 
@@ -153,18 +162,20 @@ fn resolve_replaces_auto_by_the_choice_and_leaves_concrete_scenes_alone() {
     scene.time.end = 0.6;
     scene.fidelity.level = FidelityLevel::Auto;
     scene.fidelity.tolerance = Some(1e-4);
-    let (resolved, choice) = stickslip::auto::resolve(scene.clone(), &front, &mut |_| {}).unwrap();
+    let (resolved, choice) =
+        stickslip::auto::resolve(scene.clone(), &law, &front, &mut |_| {}).unwrap();
     let choice = choice.unwrap();
     assert_ne!(resolved.fidelity.level, FidelityLevel::Auto);
     assert_eq!(resolved, choice.configuration.apply(&scene));
     assert!(choice.estimated_error <= 1e-4);
-    assert!(run_scene(resolved.check().unwrap(), 1).is_ok());
+    assert!(run_scene(resolved.check().unwrap(), &law, 1).is_ok());
 
     // Without a tolerance: the default's choice, the same as asking for it.
     scene.fidelity.tolerance = None;
-    let (by_default, _) = stickslip::auto::resolve(scene.clone(), &front, &mut |_| {}).unwrap();
+    let (by_default, _) =
+        stickslip::auto::resolve(scene.clone(), &law, &front, &mut |_| {}).unwrap();
     scene.fidelity.tolerance = Some(stickslip::auto::DEFAULT_TOLERANCE);
-    let (mut explicit, _) = stickslip::auto::resolve(scene, &front, &mut |_| {}).unwrap();
+    let (mut explicit, _) = stickslip::auto::resolve(scene, &law, &front, &mut |_| {}).unwrap();
     explicit.fidelity.tolerance = None;
     assert_eq!(by_default, explicit);
 }

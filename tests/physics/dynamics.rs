@@ -2,8 +2,9 @@
 //! breakaway, corridor, closed-form orbit.
 
 use stickslip::banded::SymBandMatrix;
-use stickslip::friction::{analytical_law, CoulombLaw};
+use stickslip::friction::CoulombLaw;
 use stickslip::integrator::{Coefficients, Integrator, Kinematics};
+use stickslip::law_source::LawSource;
 use stickslip::metrics::Summary;
 use stickslip::scene::{CheckedScene, Damping, FidelityLevel, Scene, Scheme};
 use stickslip::simulation::{Simulator, RECENT_TRANSITIONS};
@@ -126,7 +127,7 @@ fn generalized_alpha_is_second_order() {
 }
 
 fn run(scene: CheckedScene) -> Summary {
-    let law = analytical_law(&scene).unwrap();
+    let law = LawSource::resolve(&scene).unwrap().law().unwrap();
     let mut sim = Simulator::new(scene, law).unwrap();
     sim.keep_all_transitions();
     let samples = sim.run(1).unwrap();
@@ -268,7 +269,7 @@ fn the_transition_list_is_bounded_unless_all_are_asked_for() {
     s.time.end = 100.0;
     let scene = s.check().unwrap();
     let run = |keep_all: bool| {
-        let law = analytical_law(&scene).unwrap();
+        let law = LawSource::resolve(&scene).unwrap().law().unwrap();
         let mut sim = Simulator::new(scene.clone(), law).unwrap();
         if keep_all {
             sim.keep_all_transitions();

@@ -5,7 +5,8 @@
 use std::error::Error;
 use stickslip::auto::{choose, paper_front, AutoError};
 use stickslip::banded::NotPositiveDefinite;
-use stickslip::run::friction_law;
+use stickslip::law_source::{LawSource, NetworkOrigin};
+use stickslip::neural::NeuralLaw;
 use stickslip::scene::{FidelityLevel, FrictionLawKind, Scene, SceneError, Scheme};
 use stickslip::simulation::{SimulationError, Simulator, StateMismatch};
 use stickslip::structure::{ModelError, StructuralModel};
@@ -66,7 +67,7 @@ fn a_state_that_does_not_fit_says_why() {
     scene.fidelity.level = FidelityLevel::Beam;
     scene.fidelity.beam_elements = 5;
     let scene = scene.check().unwrap();
-    let law = friction_law(&scene).unwrap();
+    let law = LawSource::resolve(&scene).unwrap().law().unwrap();
     let mut sim = Simulator::new(scene, law).unwrap();
     let mut state = sim.state().clone();
     state.kinematics.velocity.pop();
@@ -101,7 +102,7 @@ fn too_many_modes_and_a_bad_target_are_reported_with_their_numbers() {
     );
 
     let scene = Scene::default().check().unwrap();
-    let law = friction_law(&scene).unwrap();
+    let law = LawSource::resolve(&scene).unwrap().law().unwrap();
     let mut sim = Simulator::new(scene, law).unwrap();
     let e = sim.advance_to(-1.0).unwrap_err();
     assert_eq!(
@@ -118,7 +119,12 @@ fn a_failed_study_run_names_its_configuration_and_keeps_the_reason_as_source() {
         scheme: Scheme::GeneralizedAlpha,
         inference: None,
     };
-    let failed = measure(&Scene::default(), configuration).unwrap_err();
+    let failed = measure(
+        &Scene::default(),
+        &stickslip_tests::law_of(&Scene::default()),
+        configuration,
+    )
+    .unwrap_err();
     assert_eq!(
         failed.to_string(),
         "modal 1 modes, dt 3e-4 s, generalized-alpha: time step 0.0003 s does not divide the comparison interval 0.001 s"
@@ -129,24 +135,43 @@ fn a_failed_study_run_names_its_configuration_and_keeps_the_reason_as_source() {
         .is_some_and(|s| s.downcast_ref::<MeasureError>().is_some()));
 }
 
-/// A calibration run of `fidelity = auto` that cannot read its weights: the message says
-/// which run failed and why, and the chain reaches the I/O error.
+/// A calibration run of `fidelity = auto` that fails (a configuration whose law the
+/// network cannot serve): the message says which run failed and why. Weights that cannot
+/// be read fail before any calibration run, when the law is resolved (once, for every
+/// run), and the chain reaches the I/O error.
 #[test]
 fn a_failed_auto_calibration_leads_down_to_the_io_error() {
     let mut scene = Scene::default();
     scene.time.end = 0.01;
     scene.friction.law = FrictionLawKind::Neural;
-    scene.friction.weights = Some("/nonexistent/w.json".into());
     let front = paper_front().unwrap();
-    let e = choose(&scene, 1e-3, &front, &mut |_| {}).unwrap_err();
+    let three =
+        NeuralLaw::from_json(&stickslip_tests::three_input_weights(), "three.json").unwrap();
+    let law = LawSource::network(
+        std::sync::Arc::new(three),
+        NetworkOrigin::Weights("three.json".into()),
+        scene.friction.inference,
+        scene.loading.normal_force,
+    );
+    let e = choose(&scene, &law, 1e-3, &front, &mut |_| {}).unwrap_err();
     assert!(matches!(e, AutoError::Calibration(_)), "{e:?}");
-    let message = e.to_string();
     // The first calibration run is the cheapest front point's (the front is data).
+    let message = e.to_string();
     assert!(
         message.starts_with(&format!(
-            "fidelity = auto, running {}: friction.weights = /nonexistent/w.json: cannot read '/nonexistent/w.json': ",
+            "fidelity = auto, running {}: friction.weights = three.json: ",
             front[0].configuration
         )),
+        "{message}"
+    );
+
+    scene.friction.weights = Some("/nonexistent/w.json".into());
+    let e = LawSource::resolve(&scene.check().unwrap()).unwrap_err();
+    let message = e.to_string();
+    assert!(
+        message.starts_with(
+            "friction.weights = /nonexistent/w.json: cannot read '/nonexistent/w.json': "
+        ),
         "{message}"
     );
     let io = chain(&e)

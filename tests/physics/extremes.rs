@@ -8,9 +8,8 @@
 //! breakaway deflection mu_s F_n / k (8 mm), reached at t_b = mu_s F_n / (k v_b) (0.4 s),
 //! first bending frequency omega_1 = 1.8751^2 sqrt(EI / (rho A L^4)) (35.88 rad/s).
 
-use stickslip::friction::analytical_law;
+use stickslip::law_source::LawSource;
 use stickslip::metrics::Summary;
-use stickslip::neural::scene_law as neural_law;
 use stickslip::scene::{FidelityLevel, FrictionLawKind, Scene};
 use stickslip::simulation::{Sample, Simulator};
 
@@ -45,10 +44,7 @@ fn run(edit: impl FnOnce(&mut Scene)) -> Outcome {
     edit(&mut s);
     let (k, omega) = (tip_stiffness(&s), first_frequency(&s));
     let scene = s.check().expect("a valid scene");
-    let law = match scene.friction.law {
-        FrictionLawKind::Neural => neural_law(&scene).unwrap(),
-        _ => analytical_law(&scene).unwrap(),
-    };
+    let law = LawSource::resolve(&scene).unwrap().law().unwrap();
     let mut sim = Simulator::new(scene, law).unwrap();
     sim.keep_all_transitions();
     let samples = sim.run(1).expect("the run completes");

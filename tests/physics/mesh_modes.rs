@@ -156,10 +156,17 @@ fn a_stick_slip_run_approaches_the_full_mesh_as_modes_are_added() {
         scheme: Scheme::GeneralizedAlpha,
         inference: None,
     };
-    let full = measure(&scene, at(Resolution::PlaneStress { element_size: 0.02 })).unwrap();
+    let law = stickslip_tests::law_of(&scene);
+    let full = measure(
+        &scene,
+        &law,
+        at(Resolution::PlaneStress { element_size: 0.02 }),
+    )
+    .unwrap();
     let deviation = |modes| {
         let run = measure(
             &scene,
+            &law,
             at(Resolution::PlaneStressModal {
                 element_size: 0.02,
                 modes,

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use stickslip::contact::{SlipSolver, SLIP_TOLERANCE};
 use stickslip::friction::FrictionLaw;
 use stickslip::integrator::{Coefficients, Integrator, Kinematics};
-use stickslip::run::friction_law;
+use stickslip::law_source::LawSource;
 use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Scene, Scheme};
 use stickslip::simulation::Simulator;
 use stickslip::structure::StructuralModel;
@@ -60,7 +60,7 @@ struct Step {
 fn run(scene: &CheckedScene, solver: SlipSolver) -> Vec<Step> {
     let calls = Arc::new(AtomicUsize::new(0));
     let law = Counting {
-        inner: friction_law(scene).unwrap(),
+        inner: LawSource::resolve(scene).unwrap().law().unwrap(),
         calls: calls.clone(),
     };
     let mut sim = Simulator::new(scene.clone(), Box::new(law)).unwrap();

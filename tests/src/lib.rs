@@ -86,3 +86,9 @@ pub fn three_input_weights() -> String {
     }
     model.to_json().expect("weights text")
 }
+
+/// The law source of `scene` (checked first), as a stand-alone run resolves it.
+pub fn law_of(scene: &stickslip::scene::Scene) -> stickslip::law_source::LawSource {
+    stickslip::law_source::LawSource::resolve(&scene.clone().check().expect("a valid scene"))
+        .expect("the scene's law")
+}

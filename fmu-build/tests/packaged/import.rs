@@ -310,7 +310,9 @@ fn direct_simulator(level: Option<FidelityLevel>) -> Simulator {
         scene.fidelity.level = level;
     }
     let scene = scene.check().expect("the modified paper scene is valid");
-    let law = stickslip::friction::analytical_law(&scene).expect("the paper's law is analytical");
+    let law = stickslip::law_source::LawSource::resolve(&scene)
+        .and_then(|law| law.law())
+        .expect("the paper's law is analytical");
     let mut sim = Simulator::new(scene, law).expect("the paper scene builds");
     // The logEvents comparison wants every transition of the run.
     sim.keep_all_transitions();
@@ -1098,7 +1100,9 @@ fn h_outputs_read_in_initialization_mode_do_not_freeze_the_belt_speed() {
     scene.fidelity.level = FidelityLevel::Beam;
     scene.loading.belt_speed = 0.05;
     let scene = scene.check().expect("valid scene");
-    let law = stickslip::friction::analytical_law(&scene).expect("analytical");
+    let law = stickslip::law_source::LawSource::resolve(&scene)
+        .and_then(|law| law.law())
+        .expect("analytical");
     let mut sim = Simulator::new(scene, law).expect("builds");
     let mut library = vec![Outputs::of_simulator(&sim)];
     for &t in &communication_points(STEPS)[1..] {

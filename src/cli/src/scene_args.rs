@@ -9,6 +9,8 @@ use crate::choice::{parser, ChoiceParser};
 use crate::error::CliError;
 use clap::Args;
 use std::path::PathBuf;
+use stickslip::law_source::LawSource;
+use stickslip::run::RunError;
 use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Inference, Scene, Scheme};
 
 /// `--friction`: the scene's laws, plus `analytical`, the command line's name for the
@@ -77,6 +79,22 @@ pub struct SceneArgs {
 impl SceneArgs {
     /// The scene file (or the paper's scene) with the overrides applied, checked.
     pub fn scene(&self) -> Result<CheckedScene, CliError> {
+        Ok(self.build()?.0)
+    }
+
+    /// [`Self::scene`] and the friction law it runs, resolved once (the weights file
+    /// read once): with `fidelity = auto` before the calibration, whose runs all use it.
+    pub fn scene_and_law(&self) -> Result<(CheckedScene, LawSource), CliError> {
+        let (scene, law) = self.build()?;
+        let law = match law {
+            Some(law) => law,
+            None => law_of(&scene)?,
+        };
+        Ok((scene, law))
+    }
+
+    /// The checked scene, and its law if `fidelity = auto` needed it.
+    fn build(&self) -> Result<(CheckedScene, Option<LawSource>), CliError> {
         let mut scene: Scene = match &self.scene {
             Some(path) => Scene::load(path)?.into_scene(),
             None => Scene::default(),
@@ -126,15 +144,16 @@ impl SceneArgs {
             scene.damping = stickslip::stability::rayleigh_at_modes_1_and_3(&checked, zeta);
         }
         let Some(tolerance) = auto_tolerance else {
-            return Ok(scene.check()?);
+            return Ok((scene.check()?, None));
         };
         let front = stickslip::auto::paper_front()?;
+        let source = law_of(&scene.clone().check()?)?;
         let (resolved, choice) =
-            stickslip::auto::resolve(scene, &front, &mut |line| eprintln!("{line}"))?;
+            stickslip::auto::resolve(scene, &source, &front, &mut |line| eprintln!("{line}"))?;
         if let Some(choice) = &choice {
             eprintln!("{}", stickslip::auto::describe(choice, tolerance));
         }
-        Ok(resolved.check()?)
+        Ok((resolved.check()?, Some(source)))
     }
 
     /// With fidelity auto (from `--fidelity auto` or the scene file): puts `--tolerance`
@@ -169,4 +188,9 @@ impl SceneArgs {
         }
         Ok(Some(tolerance))
     }
+}
+
+/// The friction law of a checked scene, resolved once ([`LawSource::resolve`]).
+pub fn law_of(scene: &CheckedScene) -> Result<LawSource, CliError> {
+    LawSource::resolve(scene).map_err(|e| CliError::Run(RunError::Law(e)))
 }

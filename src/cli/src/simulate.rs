@@ -67,10 +67,10 @@ pub(crate) fn write(path: &std::path::Path, contents: impl AsRef<[u8]>) -> Resul
 
 /// `stickslip simulate`.
 pub fn simulate(args: &SimulateArgs) -> Result<(), CliError> {
-    let scene = args.scene.scene()?;
+    let (scene, law) = args.scene.scene_and_law()?;
     let end = scene.time.end;
     // The summary is computed on every step; decimation applies to the CSV only.
-    let run = run_scene(scene, 1)?;
+    let run = run_scene(scene, &law, 1)?;
     if let Some(path) = &args.out {
         let every = args.every.max(1);
         let kept: Vec<Sample> = run.samples.iter().step_by(every).copied().collect();

@@ -113,7 +113,8 @@ pub fn study(args: &StudyArgs) -> Result<(), CliError> {
         configurations.len(),
         scene.time.end
     );
-    let reference = measure(&scene, reference_configuration)
+    let law = crate::scene_args::law_of(&scene.clone().check()?)?;
+    let reference = measure(&scene, &law, reference_configuration)
         .map_err(|failed| CliError::Reference(Box::new(failed)))?;
     let mut rows = Vec::new();
     let mut failures = Vec::new();
@@ -121,7 +122,7 @@ pub fn study(args: &StudyArgs) -> Result<(), CliError> {
         let measured = if *configuration == reference_configuration {
             Ok(reference.clone())
         } else {
-            measure(&scene, *configuration)
+            measure(&scene, &law, *configuration)
         };
         match measured {
             Ok(measured) => {
@@ -263,15 +264,16 @@ fn verify_auto(
     let cases = tolerances.len() * scenes.len();
     for (name, mut scene) in scenes {
         scene.time.end = base.time.end;
+        let law = crate::scene_args::law_of(&scene.clone().check()?)?;
         let reference =
-            stickslip::study::measure(&scene, reference_configuration).map_err(|failed| {
+            stickslip::study::measure(&scene, &law, reference_configuration).map_err(|failed| {
                 CliError::VerificationReference {
                     scene: name,
                     source: Box::new(failed),
                 }
             })?;
         for &tolerance in tolerances {
-            match verify(&scene, tolerance, &front, &reference) {
+            match verify(&scene, &law, tolerance, &front, &reference) {
                 Ok(v) => {
                     let holds = v.holds(tolerance);
                     failures += usize::from(!holds);

@@ -14,15 +14,16 @@
 //! they are the law's tangent, which StickSlipBeam's `external.coupling = signed` solves
 //! within its internal steps (see `stickslip::contact`).
 
+use crate::declare::{
+    choice_parameter, non_negative, real_input, real_output, real_parameter, weights_parameter,
+};
 use crate::model::{Model, ModelInfo};
-use crate::networks::{weights_name, NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
+use crate::networks::{NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use crate::variables::{
-    choice_at, Access, ArrayVariable, Causality, ChoiceType, Dependencies, DependencyKind,
-    InitialDependencies, Variability, Variable,
+    ArrayVariable, Dependencies, DependencyKind, InitialDependencies, Variable,
 };
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-use stickslip::choice::Choice;
 use stickslip::friction::{ExponentialLaw, FrictionLaw, LawChoice};
 use stickslip::neural::NeuralError;
 use stickslip::scene::{Scene, SceneError};
@@ -129,7 +130,9 @@ impl NeuralFriction {
             }
             LawChoice::Neural => {
                 let mut features = std::mem::take(&mut self.scratch);
-                let network = self.networks.get(&s.weights)?;
+                // Never shared (this model hands its networks to no one), so evaluated in
+                // place, with the network's own scratch buffers.
+                let network = std::sync::Arc::make_mut(self.networks.get(&s.weights)?);
                 let model = network.model();
                 let velocity =
                     model.feature_with_role(stickslip::neural::FeatureRole::SlidingVelocity);
@@ -191,69 +194,6 @@ impl NeuralFriction {
     }
 }
 
-macro_rules! parameter {
-    ($vr:expr, $name:expr, $unit:expr, $description:expr, $field:ident) => {
-        Variable {
-            name: $name,
-            value_reference: $vr,
-            causality: Causality::Parameter,
-            variability: Variability::Fixed,
-            description: $description,
-            access: Access::Real {
-                unit: $unit,
-                get: |m: &NeuralFriction| m.settings.$field,
-                set: Some(|m: &mut NeuralFriction, v: f64| {
-                    m.settings.$field = v;
-                    Ok(())
-                }),
-            },
-            depends_on: None,
-        }
-    };
-}
-
-macro_rules! input {
-    ($vr:expr, $name:expr, $unit:expr, $description:expr, |$m:ident| $field:expr) => {
-        Variable {
-            name: $name,
-            value_reference: $vr,
-            causality: Causality::Input,
-            variability: Variability::Continuous,
-            description: $description,
-            access: Access::Real {
-                unit: $unit,
-                get: |$m: &NeuralFriction| $field,
-                set: Some(|$m: &mut NeuralFriction, v: f64| {
-                    $field = v;
-                    Ok(())
-                }),
-            },
-            depends_on: None,
-        }
-    };
-}
-
-macro_rules! output {
-    ($vr:expr, $name:expr, $unit:expr, $description:expr, $depends_on:expr, |$o:ident| $value:expr) => {
-        Variable {
-            name: $name,
-            value_reference: $vr,
-            causality: Causality::Output,
-            variability: Variability::Continuous,
-            description: $description,
-            access: Access::Real {
-                unit: $unit,
-                get: |m: &NeuralFriction| {
-                    let $o = &m.outputs;
-                    $value
-                },
-                set: None,
-            },
-            depends_on: Some($depends_on),
-        }
-    };
-}
-
 const LAW: u32 = 1;
 const STATIC_COEFFICIENT: u32 = 2;
 const KINETIC_COEFFICIENT: u32 = 3;
@@ -313,159 +253,130 @@ const STATIC_LIMIT: Dependencies = Dependencies {
 };
 
 static VARIABLES: &[Variable<NeuralFriction>] = &[
-    Variable {
-        name: "law",
-        value_reference: LAW,
-        causality: Causality::Parameter,
-        variability: Variability::Fixed,
-        description: "Friction law: the network, or the analytical law for comparison",
-        access: Access::Choice {
-            kind: ChoiceType::of::<LawChoice>(),
-            get: |m: &NeuralFriction| m.settings.law.code(),
-            set: Some(|m: &mut NeuralFriction, v: i32| {
-                m.settings.law = choice_at::<LawChoice>(v)?;
-                Ok(())
-            }),
-        },
-        depends_on: None,
-    },
-    parameter!(
+    choice_parameter!(
+        LAW,
+        "law",
+        LawChoice,
+        "Friction law: the network, or the analytical law for comparison",
+        |m: NeuralFriction| m.settings.law
+    ),
+    real_parameter!(
         STATIC_COEFFICIENT,
         "static_coefficient",
         None,
         "Static coefficient mu_s (static limit; exponential law)",
-        static_coefficient
+        |m: NeuralFriction| m.settings.static_coefficient
     ),
-    parameter!(
+    real_parameter!(
         KINETIC_COEFFICIENT,
         "kinetic_coefficient",
         None,
         "Kinetic coefficient mu_k (exponential law)",
-        kinetic_coefficient
+        |m: NeuralFriction| m.settings.kinetic_coefficient
     ),
-    parameter!(
+    real_parameter!(
         DECAY,
         "decay",
         Some("s/m"),
         "Decay alpha (exponential law)",
-        decay
+        |m: NeuralFriction| m.settings.decay
     ),
-    Variable {
-        name: "weights",
-        value_reference: WEIGHTS,
-        causality: Causality::Parameter,
-        variability: Variability::Fixed,
-        description: "Network weights: a file in resources/ or an absolute path",
-        access: Access::String {
-            get: |m: &NeuralFriction| m.settings.weights.clone(),
-            set: Some(|m: &mut NeuralFriction, v: &str| {
-                m.settings.weights = weights_name(v)?;
-                Ok(())
-            }),
-        },
-        depends_on: None,
-    },
-    input!(
+    weights_parameter!(
+        WEIGHTS,
+        "weights",
+        "Network weights: a file in resources/ or an absolute path",
+        |m: NeuralFriction| m.settings.weights
+    ),
+    real_input!(
         SLIDING_VELOCITY,
         "sliding_velocity",
         Some("m/s"),
         "Sliding velocity v_rel = v_b - v_tip",
-        |m| m.settings.sliding_velocity
+        |m: NeuralFriction| m.settings.sliding_velocity
     ),
-    Variable {
-        name: "normal_force",
-        value_reference: NORMAL_FORCE,
-        causality: Causality::Input,
-        variability: Variability::Continuous,
-        description: "Normal force F_n",
-        access: Access::Real {
-            unit: Some("N"),
-            get: |m: &NeuralFriction| m.settings.normal_force,
-            set: Some(|m: &mut NeuralFriction, v: f64| {
-                if v < 0.0 {
-                    return Err(format!("{v} must be >= 0"));
-                }
-                m.settings.normal_force = v;
-                Ok(())
-            }),
-        },
-        depends_on: None,
-    },
-    input!(
+    real_input!(
+        NORMAL_FORCE,
+        "normal_force",
+        Some("N"),
+        "Normal force F_n",
+        |m: NeuralFriction| m.settings.normal_force,
+        check = non_negative
+    ),
+    real_input!(
         EXTRA_FEATURE[0],
         "extra_feature[1]",
         None,
         "First network feature besides velocity and normal force, if any",
-        |m| m.settings.extra_features[0]
+        |m: NeuralFriction| m.settings.extra_features[0]
     ),
-    input!(
+    real_input!(
         EXTRA_FEATURE[1],
         "extra_feature[2]",
         None,
         "Second further network feature, if any",
-        |m| m.settings.extra_features[1]
+        |m: NeuralFriction| m.settings.extra_features[1]
     ),
-    input!(
+    real_input!(
         EXTRA_FEATURE[2],
         "extra_feature[3]",
         None,
         "Third further network feature, if any",
-        |m| m.settings.extra_features[2]
+        |m: NeuralFriction| m.settings.extra_features[2]
     ),
-    input!(
+    real_input!(
         EXTRA_FEATURE[3],
         "extra_feature[4]",
         None,
         "Fourth further network feature, if any",
-        |m| m.settings.extra_features[3]
+        |m: NeuralFriction| m.settings.extra_features[3]
     ),
-    output!(
+    real_output!(
         20,
         "friction_force",
         Some("N"),
         "Kinetic friction force, signed: positive for positive sliding velocity",
         LAW_OUTPUT,
-        |o| o.force
+        |m: NeuralFriction| m.outputs.force
     ),
-    output!(
+    real_output!(
         21,
         "friction_force_magnitude",
         Some("N"),
         "Magnitude of the kinetic friction force",
         LAW_OUTPUT,
-        |o| o.force.abs()
+        |m: NeuralFriction| m.outputs.force.abs()
     ),
-    output!(
+    real_output!(
         22,
         "friction_coefficient",
         None,
         "|friction_force| / normal_force (0 when normal_force = 0)",
         LAW_OUTPUT,
-        |o| o.coefficient
+        |m: NeuralFriction| m.outputs.coefficient
     ),
-    output!(
+    real_output!(
         23,
         "static_limit",
         Some("N"),
         "Static limit mu_s F_n",
         STATIC_LIMIT,
-        |o| o.static_limit
+        |m: NeuralFriction| m.outputs.static_limit
     ),
-    output!(
+    real_output!(
         24,
         "friction_force_slope",
         Some("N.s/m"),
         "dF/dv of friction_force at sliding_velocity (the exponential law: beside its jump at 0)",
         LAW_OUTPUT,
-        |o| o.slope
+        |m: NeuralFriction| m.outputs.slope
     ),
-    output!(
+    real_output!(
         25,
         "evaluated_velocity",
         Some("m/s"),
         "The sliding_velocity the outputs were evaluated at: where friction_force and its slope hold",
         EVALUATED_VELOCITY,
-        |o| o.velocity
+        |m: NeuralFriction| m.outputs.velocity
     ),
 ];
 
@@ -519,7 +430,7 @@ impl Model for NeuralFriction {
         Ok(())
     }
 
-    fn do_step(&mut self, _from: f64, _to: f64, _events: &mut Vec<String>) -> Result<(), String> {
+    fn do_step(&mut self, _to: f64, _events: &mut Vec<String>) -> Result<(), String> {
         self.outputs = self.evaluate().map_err(|e| e.to_string())?;
         Ok(())
     }

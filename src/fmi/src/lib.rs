@@ -11,7 +11,9 @@
 //! - `variables`: the table type each model fills once (names, value references, units,
 //!   accessors);
 //! - `model_description`: generates modelDescription.xml from that table;
-//! - `beam`, `friction`: one small file per model;
+//! - `declare`: the macros both models write their variable rows with;
+//! - `beam` (a folder: variables, build, saved states, the `Model`), `friction`: the
+//!   models;
 //! - `networks`: the neural weights files a model reads from the FMU's `resources/`;
 //! - `version`: FMI 2.0 or 3.0, and the function names of each in the log;
 //! - `instance`: the FMI state machine, logging and FMU state, in plain Rust;
@@ -22,6 +24,7 @@
 //! - `values3`: what an FMI 3.0 Float64 request stands for (time, arrays, scalars).
 
 pub mod beam;
+mod declare;
 pub mod ffi;
 pub mod ffi3;
 pub mod friction;

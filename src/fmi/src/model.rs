@@ -60,22 +60,21 @@ pub trait Model: Send + Sized + 'static {
     /// fmi2ExitInitializationMode). `stop_time` is the experiment's, if defined.
     fn initialize(&mut self, start_time: f64, stop_time: Option<f64>) -> Result<(), String>;
 
-    /// Advances from `from` to `to` (s). `events` collects messages for the
-    /// logEvents category.
-    fn do_step(&mut self, from: f64, to: f64, events: &mut Vec<String>) -> Result<(), String>;
+    /// Advances from where the model is (the instance's time) to `to` (s). `events`
+    /// collects messages for the logEvents category.
+    fn do_step(&mut self, to: f64, events: &mut Vec<String>) -> Result<(), String>;
 
-    /// Advances from `from` towards `to` (s) as `do_step` does, but ends at an internal
+    /// Advances towards `to` (s) as `do_step` does, but ends at an internal
     /// event (for the beam: the end of the internal step in which the contact switched
     /// between stick and slip) and returns its time (s), which is then where the model
     /// is. `None`: no event, the model is at `to` exactly as after `do_step`. A model
     /// without events (the default) never stops early.
     fn do_step_until_event(
         &mut self,
-        from: f64,
         to: f64,
         events: &mut Vec<String>,
     ) -> Result<Option<f64>, String> {
-        self.do_step(from, to, events).map(|()| None)
+        self.do_step(to, events).map(|()| None)
     }
 
     /// Messages for the `logEvents` category produced outside a step (for example the

@@ -1,6 +1,10 @@
-//! The network weights an FMU reads from its `resources/` folder, read once per name.
+//! The network weights an FMU reads from its `resources/` folder, read once per name
+//! and shared from then on (`Arc`): StickSlipBeam hands the loaded network to its law
+//! source (`stickslip::law_source::LawSource`), and `fidelity = auto`'s calibration
+//! runs use that one, never reading the file again.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use stickslip::neural::{NeuralError, NeuralLaw};
 
 /// The weights read at instantiation (the paper's network, see `neural`).
@@ -36,7 +40,7 @@ pub enum NetworkError {
 #[derive(Default)]
 pub struct Networks {
     folder: Option<PathBuf>,
-    loaded: Vec<(String, NeuralLaw)>,
+    loaded: Vec<(String, Arc<NeuralLaw>)>,
 }
 
 impl Networks {
@@ -65,13 +69,15 @@ impl Networks {
         self.loaded.len()
     }
 
-    /// Weights `name`: a file in `resources/`, or an absolute path.
-    pub fn get(&mut self, name: &str) -> Result<&mut NeuralLaw, NetworkError> {
+    /// Weights `name`: a file in `resources/`, or an absolute path. Clone the `Arc` to
+    /// share the network; `Arc::make_mut` evaluates it in place while it is not shared
+    /// (NeuralFriction's evaluations keep scratch buffers in the network).
+    pub fn get(&mut self, name: &str) -> Result<&mut Arc<NeuralLaw>, NetworkError> {
         let k = match self.loaded.iter().position(|(n, _)| n == name) {
             Some(k) => k,
             None => {
                 let law = self.read(name)?;
-                self.loaded.push((name.to_owned(), law));
+                self.loaded.push((name.to_owned(), Arc::new(law)));
                 self.loaded.len() - 1
             }
         };
@@ -80,7 +86,7 @@ impl Networks {
 
     /// The file that weights `name` are read from (it exists): in `resources/`, or the
     /// absolute path itself.
-    pub fn path_of(&self, name: &str) -> Result<PathBuf, NetworkError> {
+    fn path_of(&self, name: &str) -> Result<PathBuf, NetworkError> {
         let path = Path::new(name);
         let full = if path.is_absolute() {
             path.to_path_buf()

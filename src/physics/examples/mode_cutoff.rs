@@ -10,6 +10,7 @@
 
 use std::time::Instant;
 use stickslip::auto::{first_cycle_deviation, paper_front, verification_scenes};
+use stickslip::law_source::LawSource;
 use stickslip::modal::modes_of;
 use stickslip::scene::Scheme;
 use stickslip::stability::cantilever_omega;
@@ -92,8 +93,9 @@ fn main() {
         // The stubby beam's modes reach 3 kHz: 1e-4 s does not resolve them, so it is
         // measured at 2e-5 s too.
         let steps: &[f64] = if stubby { &[1e-4, 2e-5] } else { &[1e-4] };
+        let law = LawSource::resolve(&checked).expect("the scene's law");
         for &dt in steps {
-            let reference = measure(&scene, at(full, dt)).expect("full model runs");
+            let reference = measure(&scene, &law, at(full, dt)).expect("full model runs");
             let model = if stubby {
                 StructuralModel::plane_stress(&checked, 0.005)
             } else {
@@ -111,7 +113,7 @@ fn main() {
             scale * 1e3
         );
             for &n in &modes {
-                let run = measure(&scene, at(reduced(n), dt)).expect("modal model runs");
+                let run = measure(&scene, &law, at(reduced(n), dt)).expect("modal model runs");
                 let e = first_cycle_deviation(&run.tip, &reference);
                 println!(
                 "  {n:>2} modes (f_n {:>8.1} Hz, omega_n dt {:.3}): {:>9.3} um, {:.2e} of the breakaway deflection",

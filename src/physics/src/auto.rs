@@ -95,6 +95,7 @@
 //! [`choose_cached`] keeps the choice per scene and tolerance for the rest of the
 //! process.
 
+use crate::law_source::LawSource;
 use crate::scene::{FidelityLevel, Scene, SceneError};
 use crate::study::{
     measure, Configuration, Failed, FrontPoint, MeasureError, Measured, COMPARISON_INTERVAL,
@@ -298,6 +299,7 @@ pub struct Selection {
 /// Announces and makes one calibration run, counting it.
 fn calibration_run(
     scene: &Scene,
+    law: &LawSource,
     configuration: Configuration,
     what: &str,
     started: Instant,
@@ -310,7 +312,7 @@ fn calibration_run(
         scene.time.end,
         started.elapsed().as_secs_f64()
     ));
-    let measured = measure(scene, configuration).map_err(AutoError::Calibration)?;
+    let measured = measure(scene, law, configuration).map_err(AutoError::Calibration)?;
     *count += 1;
     Ok(measured)
 }
@@ -323,15 +325,17 @@ fn calibration_run(
 /// for days). Rounded up to the comparison interval, which every front step divides.
 pub fn calibration_horizon(
     scene: &Scene,
+    law: &LawSource,
     pilot: Configuration,
     progress: &mut dyn FnMut(&str),
 ) -> Result<f64, AutoError> {
-    horizon_counted(scene, pilot, Instant::now(), &mut 0, progress)
+    horizon_counted(scene, law, pilot, Instant::now(), &mut 0, progress)
 }
 
 /// [`calibration_horizon`], counting its runs into `count`.
 fn horizon_counted(
     scene: &Scene,
+    law: &LawSource,
     pilot: Configuration,
     started: Instant,
     count: &mut usize,
@@ -342,7 +346,7 @@ fn horizon_counted(
     loop {
         let mut short = scene.clone();
         short.time.end = horizon;
-        let run = calibration_run(&short, pilot, ", the pilot", started, count, progress)?;
+        let run = calibration_run(&short, law, pilot, ", the pilot", started, count, progress)?;
         if let Some(second) = run.summary.major_slips.get(1) {
             let needed = HORIZON_MARGIN * second.onset;
             if needed <= horizon || horizon >= end {
@@ -365,10 +369,12 @@ fn affordable(front: &[FrontPoint], next: usize, first_partner: usize) -> bool {
 }
 
 /// Picks the cheapest point of `front` whose first-cycle tip deviation on `scene` is
-/// estimated at or below `tolerance` (m). `progress` hears one line per calibration
-/// run, before it starts, so that a slow calibration shows where it is.
+/// estimated at or below `tolerance` (m); every calibration run uses `law` (the
+/// scene's, resolved once). `progress` hears one line per calibration run, before it
+/// starts, so that a slow calibration shows where it is.
 pub fn choose(
     scene: &Scene,
+    law: &LawSource,
     tolerance: f64,
     front: &[FrontPoint],
     progress: &mut dyn FnMut(&str),
@@ -381,7 +387,14 @@ pub fn choose(
     // The front's mode counts as this scene's spectrum asks for them (`transfer`).
     let front = &crate::transfer::front_for_scene(scene, front);
     let mut count = 0;
-    let horizon = horizon_counted(scene, front[0].configuration, started, &mut count, progress)?;
+    let horizon = horizon_counted(
+        scene,
+        law,
+        front[0].configuration,
+        started,
+        &mut count,
+        progress,
+    )?;
     let mut calibrated = scene.clone();
     calibrated.time.end = horizon;
     let mut runs: Vec<Option<Measured>> = vec![None; front.len()];
@@ -389,6 +402,7 @@ pub fn choose(
         if runs[k].is_none() {
             runs[k] = Some(calibration_run(
                 &calibrated,
+                law,
                 front[k].configuration,
                 "",
                 started,
@@ -475,19 +489,21 @@ pub fn tolerance_of(scene: &Scene) -> f64 {
     scene.fidelity.tolerance.unwrap_or(DEFAULT_TOLERANCE)
 }
 
-/// The choices made in this process, by scene (as JSON, tolerance included) and front.
+/// The choices made in this process, by scene (as JSON, tolerance included), law
+/// ([`LawSource::fingerprint`]: another network is another choice) and front.
 fn cache() -> &'static Mutex<HashMap<String, Selection>> {
     static CACHE: OnceLock<Mutex<HashMap<String, Selection>>> = OnceLock::new();
     CACHE.get_or_init(|| Mutex::new(HashMap::new()))
 }
 
-/// [`choose`] at the scene's own tolerance ([`tolerance_of`]), once per scene, tolerance
-/// and front in the process: later calls (another FMU instance of the same scene, a
+/// [`choose`] at the scene's own tolerance ([`tolerance_of`]), once per scene, law,
+/// tolerance and front in the process: later calls (another FMU instance of the same scene, a
 /// reset) get the first call's choice with `calibration_seconds` = 0 and no runs. The
 /// scene is checked first, so that a bad scene is reported as such, not as a failed
 /// calibration run.
 pub fn choose_cached(
     scene: &Scene,
+    law: &LawSource,
     front: &[FrontPoint],
     progress: &mut dyn FnMut(&str),
 ) -> Result<Selection, AutoError> {
@@ -496,7 +512,7 @@ pub fn choose_cached(
     let mut keyed = scene.clone();
     keyed.fidelity.tolerance = Some(tolerance);
     // A scene that does not serialize is not cached (it is still chosen for).
-    let key = serde_json::to_string(&(&keyed, front)).ok();
+    let key = serde_json::to_string(&(&keyed, law.fingerprint(), front)).ok();
     if let Some(key) = &key {
         let cached = cache().lock().ok().and_then(|c| c.get(key).cloned());
         if let Some(mut choice) = cached {
@@ -506,7 +522,7 @@ pub fn choose_cached(
             return Ok(choice);
         }
     }
-    let choice = choose(&keyed, tolerance, front, progress)?;
+    let choice = choose(&keyed, law, tolerance, front, progress)?;
     if let (Some(key), Ok(mut c)) = (key, cache().lock()) {
         c.insert(key, choice.clone());
     }
@@ -514,17 +530,19 @@ pub fn choose_cached(
 }
 
 /// Resolves `fidelity.level = auto`: the scene with the fidelity, time step and
-/// integrator of the choice (every other field kept), and the choice. A scene with a
-/// concrete level comes back as it is, with no choice.
+/// integrator of the choice (every other field kept), and the choice; the calibration
+/// runs use `law`, the scene's law resolved once. A scene with a concrete level comes
+/// back as it is, with no choice.
 pub fn resolve(
     scene: Scene,
+    law: &LawSource,
     front: &[FrontPoint],
     progress: &mut dyn FnMut(&str),
 ) -> Result<(Scene, Option<Selection>), AutoError> {
     if scene.fidelity.level != FidelityLevel::Auto {
         return Ok((scene, None));
     }
-    let choice = choose_cached(&scene, front, progress)?;
+    let choice = choose_cached(&scene, law, front, progress)?;
     Ok((choice.configuration.apply(&scene), Some(choice)))
 }
 
@@ -622,14 +640,16 @@ impl Verification {
 /// against `reference` (an already measured run of the same scene).
 pub fn verify(
     scene: &Scene,
+    law: &LawSource,
     tolerance: f64,
     front: &[FrontPoint],
     reference: &Measured,
 ) -> Result<Verification, AutoError> {
-    let choice = choose(scene, tolerance, front, &mut |_| {})?;
+    let choice = choose(scene, law, tolerance, front, &mut |_| {})?;
     let front = &crate::transfer::front_for_scene(scene, front);
     let error_of = |configuration: Configuration| -> Result<f64, AutoError> {
-        let run = measure(scene, configuration).map_err(|f| AutoError::Verification(f.reason))?;
+        let run =
+            measure(scene, law, configuration).map_err(|f| AutoError::Verification(f.reason))?;
         Ok(first_cycle_deviation(&run.tip, reference))
     };
     let true_error = error_of(choice.configuration)?;
@@ -647,6 +667,7 @@ pub fn verify(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::friction::ExponentialLaw;
     use crate::scene::Scheme;
     use crate::study::Resolution;
 
@@ -717,7 +738,8 @@ mod tests {
         ));
         let front = [point(1, 1.0, 1.0), point(2, 2.0, 0.5)];
         for tolerance in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-            let e = choose(&Scene::default(), tolerance, &front, &mut |_| {}).unwrap_err();
+            let law = LawSource::Exponential(ExponentialLaw::of(&Scene::default().friction));
+            let e = choose(&Scene::default(), &law, tolerance, &front, &mut |_| {}).unwrap_err();
             assert!(matches!(e, AutoError::Tolerance { .. }), "{e}");
             assert!(e.to_string().contains("tolerance"), "{e}");
         }
@@ -778,10 +800,13 @@ mod tests {
         // A tolerance so loose that the cheapest point meets it.
         scene.fidelity.tolerance = Some(0.5);
         let front = paper_front().unwrap();
+        let law = LawSource::resolve(&scene.clone().check().unwrap()).unwrap();
         let mut lines = Vec::new();
-        let first = choose_cached(&scene, &front, &mut |l| lines.push(l.to_string())).unwrap();
+        let first =
+            choose_cached(&scene, &law, &front, &mut |l| lines.push(l.to_string())).unwrap();
         let announced = lines.len();
-        let second = choose_cached(&scene, &front, &mut |l| lines.push(l.to_string())).unwrap();
+        let second =
+            choose_cached(&scene, &law, &front, &mut |l| lines.push(l.to_string())).unwrap();
         // The first call may find the choice of a parallel test with this scene, but
         // then it too made no run; the second call never runs.
         assert_eq!(announced, first.runs.max(1));
@@ -790,6 +815,11 @@ mod tests {
         assert!(lines.last().unwrap().contains("already made"), "{lines:?}");
         // Another tolerance is another choice.
         scene.fidelity.tolerance = Some(0.4);
-        assert!(choose_cached(&scene, &front, &mut |_| {}).unwrap().runs > 0);
+        assert!(
+            choose_cached(&scene, &law, &front, &mut |_| {})
+                .unwrap()
+                .runs
+                > 0
+        );
     }
 }

@@ -3,10 +3,11 @@
 //! Every law maps a signed sliding velocity v (m/s) and a normal force F_n (N) to the
 //! signed friction force (N) that acts in the direction of v. The contact passes the
 //! belt-relative velocity v = v_b - v_tip, so the force drags the tip toward the belt.
-//! The static limit mu_s F_n is not part of a law: it belongs to the contact.
+//! The static limit mu_s F_n is not part of a law: it belongs to the contact. Which law
+//! a run uses is `crate::law_source::LawSource`.
 
 use crate::choice::Choice;
-use crate::scene::{CheckedScene, Friction, FrictionLawKind};
+use crate::scene::{Friction, FrictionLawKind};
 
 crate::choice! {
     /// The law of a friction model evaluated on its own (the NeuralFriction FMU): the
@@ -148,19 +149,6 @@ pub fn signum_or_zero(v: f64) -> f64 {
         -1.0
     } else {
         0.0
-    }
-}
-
-/// The analytical law a checked scene asks for. `None` for the neural law, which needs
-/// its weights (see `neural`), and for the external one, whose force comes from outside.
-pub fn analytical_law(scene: &CheckedScene) -> Option<Box<dyn FrictionLaw>> {
-    let f = &scene.friction;
-    match f.law {
-        FrictionLawKind::Exponential => Some(Box::new(ExponentialLaw::of(f))),
-        FrictionLawKind::Coulomb => Some(Box::new(CoulombLaw {
-            kinetic_coefficient: f.kinetic_coefficient,
-        })),
-        FrictionLawKind::Neural | FrictionLawKind::External => None,
     }
 }
 

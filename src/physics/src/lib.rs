@@ -5,7 +5,8 @@
 //! (`fidelity`) builds a structural model (`structure`: Hermite beam or Q8 plane stress
 //! from `element` and `mesh` with `banded` solves, or a `modal` reduction of either),
 //! which the `integrator` steps and the `contact` switches between stick and slip under
-//! a `friction` law (analytical, or a trained network from `neural`, inference only).
+//! a `friction` law (analytical, or a trained network from `neural`, inference only),
+//! resolved once per scene by `law_source`.
 //! `simulation` ties these together step by step; `run` runs a scene to its end;
 //! `metrics` reads breakaway, slips and period off a run; `study` measures speed against
 //! accuracy, `transfer` carries a front point's mode count to another scene, and `auto`
@@ -26,6 +27,7 @@ pub mod element;
 pub mod fidelity;
 pub mod friction;
 pub mod integrator;
+pub mod law_source;
 pub mod mesh;
 pub mod metrics;
 pub mod modal;

@@ -1,8 +1,9 @@
-//! A scene run from start to end: the friction law it asks for, the simulation, its
-//! summary and wall time. The command line, the study and `auto` all run scenes this way.
+//! A scene run from start to end under a resolved friction law (`LawSource`): the
+//! simulation, its summary and wall time. The command line, the study and `auto` all run
+//! scenes this way.
 
 use crate::choice::Choice;
-use crate::friction::{analytical_law, FrictionLaw};
+use crate::law_source::LawSource;
 use crate::metrics::Summary;
 use crate::neural::SceneLawError;
 use crate::scene::{CheckedScene, FrictionLawKind};
@@ -34,18 +35,6 @@ fn external_refused() -> String {
     )
 }
 
-/// The friction law a scene asks for: the analytical one, or the neural law with its
-/// weights. `external` is refused: only the FMU has the inputs it reads.
-pub fn friction_law(scene: &CheckedScene) -> Result<Box<dyn FrictionLaw>, RunError> {
-    match analytical_law(scene) {
-        Some(law) => Ok(law),
-        None if scene.friction.law == FrictionLawKind::Neural => {
-            Ok(crate::neural::scene_law(scene)?)
-        }
-        None => Err(RunError::External),
-    }
-}
-
 /// A finished run: samples, summary and wall time.
 pub struct Run {
     pub samples: Vec<Sample>,
@@ -57,9 +46,14 @@ pub struct Run {
     pub dofs: usize,
 }
 
-/// Runs a checked scene to its end time, keeping every `every`-th sample.
-pub fn run_scene(scene: CheckedScene, every: usize) -> Result<Run, RunError> {
-    let law = friction_law(&scene)?;
+/// Runs a checked scene to its end time under `law` (resolved from this scene, or
+/// shared with others of the same friction settings), keeping every `every`-th sample.
+/// `external` is refused: only the FMU has the inputs it reads.
+pub fn run_scene(scene: CheckedScene, law: &LawSource, every: usize) -> Result<Run, RunError> {
+    if law.is_external() {
+        return Err(RunError::External);
+    }
+    let law = law.law()?;
     let started = Instant::now();
     let mut sim = Simulator::new(scene, law)?;
     // The summary's slip phases and major slips need every transition of the run.

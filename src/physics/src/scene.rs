@@ -13,7 +13,7 @@
 //! hold them but a run refuses them: `fidelity.level = auto` (with `fidelity.tolerance`)
 //! is resolved by [`crate::auto::resolve`] into a concrete scene before it runs, and
 //! `friction.law = external` takes its force from the StickSlipBeam FMU's inputs.
-//! `StructuralModel::build` refuses an unresolved auto and `run::friction_law` refuses
+//! `StructuralModel::build` refuses an unresolved auto and `run::run_scene` refuses
 //! external, each with a message that says so.
 //!
 //! `Scene::default()` is the paper's scene (Vater, Stender, Hoffmann, PAMM 2023,
@@ -104,7 +104,7 @@ crate::choice! {
         /// any other friction FMU): a magnitude `external.kinetic_force` or a signed
         /// tangent, as `external.coupling` says (`simulation::ExternalKinetic`), and
         /// `external.static_limit`. Only a run that has those inputs can honour it: a
-        /// stand-alone run refuses it (`run::friction_law`).
+        /// stand-alone run refuses it (`run::run_scene`).
         External = "external": "inputs external.*: the kinetic force as external.coupling says, and external.static_limit",
     }
 }

@@ -20,6 +20,7 @@
 //! tabulating it: 1 to 25 ms for the shipped networks), as [`run_scene`] times it.
 
 use crate::choice::Choice;
+use crate::law_source::LawSource;
 use crate::metrics::Summary;
 use crate::run::{run_scene, RunError};
 use crate::scene::{CheckedScene, FidelityLevel, Inference, ModalBasis, Scene, SceneError, Scheme};
@@ -298,8 +299,13 @@ pub struct Failed {
     pub reason: MeasureError,
 }
 
-/// Runs `configuration` on `scene` (checked), timing it.
-pub fn measure(scene: &Scene, configuration: Configuration) -> Result<Measured, Failed> {
+/// Runs `configuration` on `scene` (checked) under `law` (the scene's, resolved once for
+/// every configuration; a configuration's inference replaces the law's), timing it.
+pub fn measure(
+    scene: &Scene,
+    law: &LawSource,
+    configuration: Configuration,
+) -> Result<Measured, Failed> {
     let failed = |reason: MeasureError| Failed {
         configuration: Box::new(configuration),
         reason,
@@ -317,7 +323,8 @@ pub fn measure(scene: &Scene, configuration: Configuration) -> Result<Measured, 
     let every = every.round() as usize;
     // Every step is kept so that the summary (corridor, slip detection) does not depend
     // on the time step through its sampling.
-    let run = run_scene(checked, 1).map_err(|e| failed(e.into()))?;
+    let law = law.with_inference(checked.friction.inference);
+    let run = run_scene(checked, &law, 1).map_err(|e| failed(e.into()))?;
     let tip = run
         .samples
         .iter()

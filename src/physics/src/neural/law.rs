@@ -14,8 +14,8 @@
 //! # As the beam's friction law
 //! `FrictionLaw::sliding_force(v, F_n)` needs a feature with role `sliding_velocity` and
 //! one with role `normal_force`; every other feature must be given a fixed value with
-//! `with_fixed_feature`. `NeuralLaw::into_friction_law` (and `load_friction_law`) check
-//! this and refuse the model otherwise. A `NeuralLaw` that has not passed that check
+//! `with_fixed_feature`. `NeuralLaw::into_friction_law` (which `LawSource::law` calls)
+//! checks this and refuses the model otherwise. A `NeuralLaw` that has not passed that check
 //! returns NaN from `sliding_force`.
 
 use std::path::Path;

@@ -7,8 +7,8 @@
 //!   vectorisable tanh, the slope by forward mode), in f64 or f32;
 //! - `weights`: the self-describing JSON weights file; `law`: `NeuralLaw`, the trained
 //!   model as a `crate::friction::FrictionLaw`;
-//! - `inference`: the law as `friction.inference` asks (exact, f32, table); `table`: the
-//!   network tabulated at initialisation, with its verified error;
+//! - `table`: the network tabulated at initialisation, with its verified error (the
+//!   law as `friction.inference` asks is built by `crate::law_source`);
 //! - `error`: `NeuralError`, why a weights file or an evaluation was refused.
 //!
 //! Training (data, CSV, backpropagation, L-BFGS, the objective, search) lives in the
@@ -44,57 +44,17 @@
 
 mod error;
 pub mod forward;
-pub mod inference;
 pub mod law;
 pub mod network;
 pub mod table;
 pub mod weights;
-
-use std::path::Path;
 
 pub use error::NeuralError;
 pub use law::NeuralLaw;
 pub use network::Activation;
 pub use weights::{FeatureRole, NeuralModel, StopReason, SyntheticSpec, Variant};
 
-use crate::friction::FrictionLaw;
-use crate::scene::CheckedScene;
-
 pub use law::{PAPER_PLAIN_JSON, PAPER_SIGNED_JSON};
-
-/// The shipped model of `variant` as the beam's friction law.
-pub fn default_friction_law(variant: Variant) -> Result<Box<dyn FrictionLaw>, NeuralError> {
-    match variant {
-        Variant::Plain => NeuralLaw::paper_default()?,
-        Variant::Signed => NeuralLaw::paper_signed()?,
-    }
-    .into_friction_law()
-}
-
-/// A weights file as the beam's friction law; refused (with the reason) if the model's
-/// features are not exactly what the beam supplies (sliding velocity, normal force).
-/// For models with further features use `NeuralLaw::from_file(..)?.with_fixed_feature(..)`.
-pub fn load_friction_law(path: &Path) -> Result<Box<dyn FrictionLaw>, NeuralError> {
-    NeuralLaw::from_file(path)?.into_friction_law()
-}
-
-/// The neural law a checked scene asks for: its weights file (`friction.weights`), or the
-/// shipped plain-variant weights (the paper's model) when none is given, evaluated as
-/// `friction.inference` asks.
-pub fn scene_law(scene: &CheckedScene) -> Result<Box<dyn FrictionLaw>, SceneLawError> {
-    let inference = scene.friction.inference;
-    match &scene.friction.weights {
-        Some(path) => NeuralLaw::from_file(Path::new(path))
-            .and_then(|law| inference::friction_law(law, inference, scene.loading.normal_force))
-            .map_err(|source| SceneLawError::Weights {
-                path: path.clone(),
-                source,
-            }),
-        None => NeuralLaw::paper_default()
-            .and_then(|law| inference::friction_law(law, inference, scene.loading.normal_force))
-            .map_err(SceneLawError::Shipped),
-    }
-}
 
 /// Why a scene's neural law could not be built.
 #[derive(Debug, thiserror::Error)]

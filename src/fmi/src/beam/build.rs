@@ -1,0 +1,127 @@
+//! Building the simulation from the parameters: the checked scene (with `fidelity =
+//! auto` resolved), its friction law (`LawSource`, the loaded network shared) and the
+//! simulator.
+
+use super::{Running, StickSlipBeam};
+use crate::networks::NetworkError;
+use stickslip::auto::AutoError;
+use stickslip::law_source::{LawSource, NetworkOrigin};
+use stickslip::neural::SceneLawError;
+use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Scene, SceneError};
+use stickslip::simulation::{SimulationError, Simulator};
+use stickslip::study::Configuration;
+
+/// Why the simulation could not be built from the parameters (the `Model` methods log
+/// the message).
+#[derive(Debug, thiserror::Error)]
+pub(super) enum BuildError {
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error(transparent)]
+    Auto(#[from] AutoError),
+    #[error(transparent)]
+    Network(#[from] NetworkError),
+    /// The weights are not a friction law of the beam (wrong features), worded
+    /// "friction.weights = {name}: {reason}".
+    #[error(transparent)]
+    NotAFrictionLaw(#[from] SceneLawError),
+    #[error(transparent)]
+    Simulation(#[from] SimulationError),
+}
+
+impl StickSlipBeam {
+    /// The scene of the current settings, checked, and the law it runs. With `fidelity =
+    /// auto` the law is resolved first (the network read once), so that the calibration
+    /// runs use it; otherwise after the check, so that a bad parameter is reported as
+    /// such before a weights file is read.
+    fn checked_scene(
+        &mut self,
+        start_time: f64,
+        stop_time: Option<f64>,
+    ) -> Result<(CheckedScene, LawSource), BuildError> {
+        let mut scene = self.settings.scene.clone();
+        let inputs = &self.settings.inputs;
+        scene.loading.belt_speed = inputs.belt_speed;
+        scene.loading.normal_force = inputs.normal_force;
+        if let Some(stop) = stop_time {
+            scene.time.end = (stop - start_time).max(scene.time.step);
+        }
+        if scene.fidelity.level == FidelityLevel::Auto {
+            let law = self.law_source(&scene)?;
+            let scene = self.auto_choice(&scene, &law)?.apply(&scene).check()?;
+            // The choice may name an evaluation of the network (the shipped front does
+            // not): the law follows the scene that runs.
+            let law = law.with_inference(scene.friction.inference);
+            return Ok((scene, law));
+        }
+        let scene = scene.check()?;
+        let law = self.law_source(&scene)?;
+        Ok((scene, law))
+    }
+
+    /// The law of `scene`'s friction settings, with the network of friction.weights (read
+    /// once per name by `networks`, then shared) for the neural law.
+    fn law_source(&mut self, scene: &Scene) -> Result<LawSource, BuildError> {
+        let name = &self.settings.weights;
+        let networks = &mut self.networks;
+        let law = LawSource::with_network(&scene.friction, scene.loading.normal_force, || {
+            let network = networks.get(name)?.clone();
+            Ok::<_, NetworkError>((network, NetworkOrigin::Weights(name.clone())))
+        })?;
+        Ok(law)
+    }
+
+    /// The `auto` choice for `scene` at its tolerance, under `law`. The choice is kept by
+    /// `stickslip::auto` for the process, keyed by scene and law: the calibration runs
+    /// the scene several times, and another instance (or this one after a reset) of the
+    /// same scene and network gets the same choice without them.
+    fn auto_choice(&mut self, scene: &Scene, law: &LawSource) -> Result<Configuration, BuildError> {
+        // The calibration runs stand alone, without this FMU's inputs: with the external
+        // model they run the exponential law of the scene's coefficients instead. With
+        // the neural law they run the network of friction.weights, the one this FMU
+        // will run (not the scene's default, the shipped plain network).
+        let mut calibrated = scene.clone();
+        if calibrated.friction.law == FrictionLawKind::External {
+            calibrated.friction.law = FrictionLawKind::Exponential;
+        }
+        let law = law.stand_alone();
+        let front = stickslip::auto::paper_front()?;
+        let mut progress = Vec::new();
+        let choice = stickslip::auto::choose_cached(&calibrated, &law, &front, &mut |line| {
+            progress.push(line.to_string())
+        });
+        // The progress lines are logged whether or not a choice came of them.
+        self.auto_log.append(&mut progress);
+        let choice = choice?;
+        let tolerance = stickslip::auto::tolerance_of(&calibrated);
+        self.auto_log
+            .push(stickslip::auto::describe(&choice, tolerance));
+        Ok(choice.configuration)
+    }
+
+    /// Builds the simulation unless it is already built from the current settings.
+    pub(super) fn ensure_running(
+        &mut self,
+        start_time: f64,
+        stop_time: Option<f64>,
+    ) -> Result<(), BuildError> {
+        if let Some(running) = &self.running {
+            if running.built_from == self.settings {
+                return Ok(());
+            }
+        }
+        let (scene, law) = self.checked_scene(start_time, stop_time)?;
+        // The inputs replace the law while the external model is on; the simulator
+        // still holds a law, the exponential one of the scene's coefficients.
+        let mut simulator = Simulator::new(scene, law.law()?)?;
+        if law.is_external() {
+            simulator.set_external_friction(Some(self.external_friction()));
+        }
+        self.running = Some(Running {
+            built_from: self.settings.clone(),
+            simulator,
+            start_time,
+        });
+        Ok(())
+    }
+}

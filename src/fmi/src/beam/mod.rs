@@ -1,0 +1,222 @@
+//! StickSlipBeam: the scene's beam, contact and friction law as an FMU.
+//!
+//! Parameters are the scene's fields under the scene file's names (`geometry.length`,
+//! `fidelity.level`, ...), checked together at fmi2ExitInitializationMode with the
+//! scene's messages; the choices are the scene's choice enums, set by their codes. The
+//! belt speed and normal force are inputs. `friction.law = external` takes the kinetic
+//! force and the static limit (`external.static_limit`) from further inputs, held over
+//! each communication step, so that the beam can be coupled to NeuralFriction.fmu or any
+//! other friction FMU. How it reads the kinetic force is `external.coupling`:
+//! - `magnitude` (the default): `external.kinetic_force` along v_rel, right for laws
+//!   F(v) = sign(v) g(|v|) (exponential, Coulomb, the signed network), whose jump at
+//!   v = 0 the beam places itself;
+//! - `signed`: the law's tangent at the velocity the model was evaluated at,
+//!   `external.friction_force` + `external.friction_slope` (v -
+//!   `external.sliding_velocity`), solved within each internal step, for smooth signed
+//!   laws such as the paper's plain network (see `stickslip::contact`, and the README's
+//!   co-simulation section for the coupling errors).
+//!
+//! `fidelity.level = auto` is resolved by the `auto` module at
+//! fmi2ExitInitializationMode.
+//!
+//! The FMU steps at `time.step` and ends each communication step with one shorter step
+//! when the communication point is not on that grid (`Simulator::advance_to`).
+//!
+//! Rooms: `variables`, the variable table (value references are part of saved states
+//! and SSP files: never renumber); `build`, the simulation built from the parameters;
+//! `saved`, the FMU state and the migration of versions 1 to 3; `model`, the `Model`
+//! implementation that the FMI layer drives.
+
+mod build;
+mod model;
+mod saved;
+mod variables;
+
+use crate::networks::{Networks, DEFAULT_WEIGHTS};
+use serde::{Deserialize, Serialize};
+use stickslip::contact::ContactState;
+use stickslip::scene::{FrictionLawKind, Scene};
+use stickslip::simulation::{
+    ExternalCoupling, ExternalFriction, ExternalKinetic, Simulator, RECENT_TRANSITIONS,
+};
+
+/// Inputs of the beam (SI units).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BeamInputs {
+    pub belt_speed: f64,
+    pub normal_force: f64,
+    pub kinetic_force: f64,
+    pub static_limit: f64,
+    /// The signed coupling's inputs; absent from states saved before it (version 3 and
+    /// earlier), where they read as 0.
+    #[serde(default)]
+    pub friction_force: f64,
+    #[serde(default)]
+    pub friction_slope: f64,
+    #[serde(default)]
+    pub sliding_velocity: f64,
+}
+
+/// Everything set from outside: parameters and inputs. The friction model and the
+/// fidelity level (`auto` included) are the scene's own fields.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Settings {
+    scene: Scene,
+    weights: String,
+    /// Absent from states saved before it: the magnitude coupling they ran.
+    #[serde(default)]
+    coupling: ExternalCoupling,
+    inputs: BeamInputs,
+}
+
+/// Start value of fidelity.tolerance (m): the physics crate's default, which a scene
+/// file or the command line without a tolerance gets as well.
+pub const DEFAULT_FIDELITY_TOLERANCE: f64 = stickslip::auto::DEFAULT_TOLERANCE;
+
+impl Default for Settings {
+    fn default() -> Self {
+        let mut scene = Scene::default();
+        scene.fidelity.tolerance = Some(DEFAULT_FIDELITY_TOLERANCE);
+        let f = &scene.friction;
+        let inputs = BeamInputs {
+            belt_speed: scene.loading.belt_speed,
+            normal_force: scene.loading.normal_force,
+            kinetic_force: f.kinetic_coefficient * scene.loading.normal_force,
+            static_limit: f.static_coefficient * scene.loading.normal_force,
+            friction_force: 0.0,
+            friction_slope: 0.0,
+            sliding_velocity: 0.0,
+        };
+        Self {
+            scene,
+            weights: DEFAULT_WEIGHTS.into(),
+            coupling: ExternalCoupling::default(),
+            inputs,
+        }
+    }
+}
+
+/// The running simulation and the settings it was built from.
+struct Running {
+    built_from: Settings,
+    simulator: Simulator,
+    /// Time (s) at which the simulation's t = 0 lies.
+    start_time: f64,
+}
+
+pub struct StickSlipBeam {
+    settings: Settings,
+    networks: Networks,
+    /// `auto` choices not yet logged.
+    auto_log: Vec<String>,
+    running: Option<Running>,
+    /// fmi2ExitInitializationMode has built the simulation the steps use.
+    initialized: bool,
+}
+
+impl StickSlipBeam {
+    /// How many networks this instance has read: zero unless a law needed one.
+    pub fn networks_read(&self) -> usize {
+        self.networks.read_count()
+    }
+
+    /// fmi2DoStep / fmi3DoStep: advances the simulation to `to` (s, FMU clock), or,
+    /// with `stop_at_switch`, until the end of the internal step in which the contact
+    /// switched, returning that time (see `Simulator::advance_until_switch`). Every
+    /// transition made is listed in `events`.
+    fn advance(
+        &mut self,
+        to: f64,
+        stop_at_switch: bool,
+        events: &mut Vec<String>,
+    ) -> Result<Option<f64>, String> {
+        let Some(running) = &mut self.running else {
+            return Err("the simulation was not initialised".into());
+        };
+        let before = running.simulator.state().transition_count;
+        let target = to - running.start_time;
+        let result = if stop_at_switch {
+            running.simulator.advance_until_switch(target)
+        } else {
+            running.simulator.advance_to(target).map(|()| None)
+        };
+        // The simulator keeps at least the last RECENT_TRANSITIONS transitions, so a step
+        // that made no more than that lists them all.
+        let made = running.simulator.state().transition_count - before;
+        let kept = running.simulator.transitions();
+        let listed = kept.len().min(usize::try_from(made).unwrap_or(usize::MAX));
+        if made > listed as u64 {
+            events.push(format!(
+                "{} transitions of this step before t = {:.6} s are not listed: the simulation keeps only its last {} to {} transitions",
+                made - listed as u64,
+                kept[kept.len() - listed].time + running.start_time,
+                RECENT_TRANSITIONS,
+                2 * RECENT_TRANSITIONS
+            ));
+        }
+        for t in &kept[kept.len() - listed..] {
+            let to_state = match t.to {
+                ContactState::Stick => "stick",
+                ContactState::Slip => "slip",
+            };
+            events.push(format!(
+                "t = {:.6} s: {to_state}",
+                t.time + running.start_time
+            ));
+        }
+        let switched = result.map_err(|e| e.to_string())?;
+        // The switch time on the FMU's clock; a switch in the step landing on `to` ends
+        // there exactly, as a step without one does.
+        Ok(switched.map(|at| {
+            if at == target {
+                to
+            } else {
+                at + running.start_time
+            }
+        }))
+    }
+
+    fn external_friction(&self) -> ExternalFriction {
+        let inputs = &self.settings.inputs;
+        ExternalFriction {
+            kinetic: match self.settings.coupling {
+                ExternalCoupling::Magnitude => ExternalKinetic::Magnitude(inputs.kinetic_force),
+                ExternalCoupling::Signed => ExternalKinetic::Signed {
+                    force: inputs.friction_force,
+                    slope: inputs.friction_slope,
+                    velocity: inputs.sliding_velocity,
+                },
+            },
+            static_limit: inputs.static_limit,
+        }
+    }
+
+    /// Passes the current inputs to a running simulation.
+    fn apply_inputs(&mut self) {
+        let external = (self.settings.scene.friction.law == FrictionLawKind::External)
+            .then(|| self.external_friction());
+        let inputs = self.settings.inputs.clone();
+        if let Some(running) = &mut self.running {
+            let s = &mut running.simulator;
+            s.set_belt_speed(inputs.belt_speed);
+            s.set_normal_force(inputs.normal_force);
+            s.set_external_friction(external);
+            // After initialisation inputs only drive the steps to come. Before it, they
+            // also shape the start (the quasi-static start moves at the belt speed), so
+            // the simulation is rebuilt from them at fmi2ExitInitializationMode.
+            if self.initialized {
+                running.built_from.inputs = inputs;
+            }
+        }
+    }
+
+    fn sample(&self) -> Option<stickslip::simulation::Sample> {
+        self.running.as_ref().map(|r| r.simulator.sample())
+    }
+
+    fn output(&self, read: fn(&stickslip::simulation::Sample) -> f64) -> f64 {
+        self.sample().map(|s| read(&s)).unwrap_or(0.0)
+    }
+}

@@ -1,0 +1,252 @@
+//! The FMU state of StickSlipBeam (`Model::save`, `Model::restore`) and the states of
+//! versions 1 and 2, migrated to the current form (version 3) when read.
+
+use super::{BeamInputs, Settings, StickSlipBeam, DEFAULT_FIDELITY_TOLERANCE};
+use serde::{Deserialize, Serialize};
+use stickslip::scene::{FidelityLevel, FrictionLawKind, Scene};
+use stickslip::simulation::{ExternalCoupling, SimulationState};
+
+/// Saved form (FMU state). Its size does not grow with simulated time: the
+/// simulation's state is a fixed number of values for a given model, and the
+/// transitions are kept as their count (`SimulationState::transition_count`).
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Saved {
+    settings: Settings,
+    initialized: bool,
+    running: Option<SavedRun>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SavedRun {
+    built_from: Settings,
+    start_time: f64,
+    state: SimulationState,
+}
+
+/// The transitions that state versions 1 and 2 listed beside the simulation state: every
+/// one since the start, so that those states grew with simulated time. Version 3 keeps
+/// only their count, which the list must agree with.
+fn check_listed_transitions(
+    state: &SimulationState,
+    transitions: &[stickslip::contact::Transition],
+) -> Result<(), String> {
+    if transitions.len() as u64 == state.transition_count {
+        Ok(())
+    } else {
+        Err(format!(
+            "{} transitions listed, the count says {}",
+            transitions.len(),
+            state.transition_count
+        ))
+    }
+}
+
+/// The running simulation as state version 2 saved it.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SavedRunV2 {
+    built_from: Settings,
+    start_time: f64,
+    state: SimulationState,
+    transitions: Vec<stickslip::contact::Transition>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SavedV2 {
+    settings: Settings,
+    initialized: bool,
+    running: Option<SavedRunV2>,
+}
+
+impl TryFrom<SavedV2> for Saved {
+    type Error = String;
+
+    fn try_from(v2: SavedV2) -> Result<Self, String> {
+        let running = match v2.running {
+            Some(run) => {
+                check_listed_transitions(&run.state, &run.transitions)?;
+                Some(SavedRun {
+                    built_from: run.built_from,
+                    start_time: run.start_time,
+                    state: run.state,
+                })
+            }
+            None => None,
+        };
+        Ok(Saved {
+            settings: v2.settings,
+            initialized: v2.initialized,
+            running,
+        })
+    }
+}
+
+/// Settings as FMU state version 1 saved them: the friction model, the auto flag and
+/// the tolerance beside the scene instead of in it.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SettingsV1 {
+    scene: Scene,
+    friction_model: FrictionLawKind,
+    weights: String,
+    inputs: BeamInputs,
+    #[serde(default)]
+    fidelity_auto: bool,
+    #[serde(default = "default_tolerance_v1")]
+    fidelity_tolerance: f64,
+}
+
+fn default_tolerance_v1() -> f64 {
+    DEFAULT_FIDELITY_TOLERANCE
+}
+
+impl From<SettingsV1> for Settings {
+    /// The version-1 FMU ran `friction_model` whatever the scene's law said, and with
+    /// `fidelity_auto` replaced the scene's level by the auto choice.
+    fn from(v1: SettingsV1) -> Self {
+        let mut scene = v1.scene;
+        scene.friction.law = v1.friction_model;
+        scene.fidelity.tolerance = Some(v1.fidelity_tolerance);
+        if v1.fidelity_auto {
+            scene.fidelity.level = FidelityLevel::Auto;
+        }
+        Settings {
+            scene,
+            weights: v1.weights,
+            coupling: ExternalCoupling::default(),
+            inputs: v1.inputs,
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SavedV1 {
+    settings: SettingsV1,
+    initialized: bool,
+    running: Option<SavedRunV1>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SavedRunV1 {
+    built_from: SettingsV1,
+    start_time: f64,
+    state: SimulationState,
+    transitions: Vec<stickslip::contact::Transition>,
+}
+
+impl TryFrom<SavedV1> for Saved {
+    type Error = String;
+
+    fn try_from(v1: SavedV1) -> Result<Self, String> {
+        Saved::try_from(SavedV2 {
+            settings: v1.settings.into(),
+            initialized: v1.initialized,
+            running: v1.running.map(|run| SavedRunV2 {
+                built_from: run.built_from.into(),
+                start_time: run.start_time,
+                state: run.state,
+                transitions: run.transitions,
+            }),
+        })
+    }
+}
+
+impl StickSlipBeam {
+    /// [`crate::model::Model::save`]: the settings and the running simulation's state.
+    pub(super) fn saved(&self) -> serde_json::Value {
+        let saved = Saved {
+            settings: self.settings.clone(),
+            initialized: self.initialized,
+            running: self.running.as_ref().map(|r| SavedRun {
+                built_from: r.built_from.clone(),
+                start_time: r.start_time,
+                state: r.simulator.state().clone(),
+            }),
+        };
+        serde_json::to_value(saved).unwrap_or(serde_json::Value::Null)
+    }
+
+    /// [`crate::model::Model::restore`]: a state of any version (1 to 3, migrated to the
+    /// current form), with the simulation rebuilt (or kept) and its state loaded.
+    pub(super) fn restore_saved(
+        &mut self,
+        saved: serde_json::Value,
+        version: u32,
+        time: f64,
+    ) -> Result<(), String> {
+        let malformed =
+            |e: serde_json::Error| format!("saved StickSlipBeam state is malformed: {e}");
+        let saved: Saved = match version {
+            1 => Saved::try_from(serde_json::from_value::<SavedV1>(saved).map_err(malformed)?)?,
+            2 => Saved::try_from(serde_json::from_value::<SavedV2>(saved).map_err(malformed)?)?,
+            _ => serde_json::from_value(saved).map_err(malformed)?,
+        };
+        if let Some(run) = &saved.running {
+            // fmi2DoStep lands the simulation exactly on each communication point, so the
+            // two clocks agree to rounding; half a time step separates rounding from a
+            // crafted gap that the next step would have to integrate through.
+            let simulated = run.start_time + run.state.time;
+            let half_step = 0.5 * run.built_from.scene.time.step;
+            let agree = (simulated - time).abs() <= half_step;
+            if !(simulated.is_finite() && half_step.is_finite() && agree) {
+                return Err(format!(
+                    "the state's simulation is at t = {simulated} s but its FMU time is {time} s; the two clocks must agree"
+                ));
+            }
+        }
+        let Some(run) = saved.running else {
+            self.settings = saved.settings;
+            self.running = None;
+            self.initialized = false;
+            return Ok(());
+        };
+        // Build (or keep) the simulation of the saved settings, then load its state; on
+        // failure the model is left as it was.
+        let previous_settings = std::mem::replace(&mut self.settings, run.built_from.clone());
+        let mut previous_running = self.running.take();
+        let reusable = previous_running.as_ref().is_some_and(|r| {
+            r.built_from.scene == run.built_from.scene
+                && r.built_from.weights == run.built_from.weights
+        });
+        let built = if reusable {
+            self.running = previous_running.take();
+            Ok(())
+        } else {
+            let stop = Some(run.start_time + run.built_from.scene.time.end);
+            self.ensure_running(run.start_time, stop)
+                .map_err(|e| e.to_string())
+        };
+        let restored = built.and_then(|()| {
+            let running = self.running.as_mut().ok_or("no simulation")?;
+            running
+                .simulator
+                .restore(run.state)
+                .map_err(|e| e.to_string())?;
+            running.start_time = run.start_time;
+            Ok::<(), String>(())
+        });
+        match restored {
+            Ok(()) => {
+                self.initialized = saved.initialized;
+                self.settings = saved.settings;
+                if let Some(running) = &mut self.running {
+                    running.built_from = run.built_from;
+                }
+                self.apply_inputs();
+                Ok(())
+            }
+            Err(reason) => {
+                self.settings = previous_settings;
+                if !reusable {
+                    self.running = previous_running;
+                }
+                Err(reason)
+            }
+        }
+    }
+}

@@ -1,0 +1,177 @@
+//! The macros both models write their variable tables with (`beam::variables`,
+//! `friction`): one row of [`crate::variables::Variable`] per call, from the value
+//! reference, the name, the unit, the description and the place in the model that
+//! holds the value, written `|m: Model| m.place`.
+//!
+//! Rows that fit none of these (a String, a Boolean, a parameter with its own check)
+//! are written out as `Variable { .. }` in the table itself.
+
+/// One row: what every macro below shares.
+macro_rules! row {
+    ($vr:expr, $name:expr, $causality:ident, $variability:ident, $description:expr, $access:expr, $depends_on:expr) => {
+        $crate::variables::Variable {
+            name: $name,
+            value_reference: $vr,
+            causality: $crate::variables::Causality::$causality,
+            variability: $crate::variables::Variability::$variability,
+            description: $description,
+            access: $access,
+            depends_on: $depends_on,
+        }
+    };
+}
+
+/// A Real parameter (`fixed`), read and written at the place.
+macro_rules! real_parameter {
+    ($vr:expr, $name:expr, $unit:expr, $description:expr, |$m:ident: $model:ty| $place:expr) => {
+        $crate::declare::row!(
+            $vr,
+            $name,
+            Parameter,
+            Fixed,
+            $description,
+            $crate::variables::Access::Real {
+                unit: $unit,
+                get: |$m: &$model| $place,
+                set: Some(|$m: &mut $model, v: f64| {
+                    $place = v;
+                    Ok(())
+                }),
+            },
+            None
+        )
+    };
+}
+
+/// A parameter holding a choice `$choice`: its codes, words and the value's code are
+/// all read off the choice.
+macro_rules! choice_parameter {
+    ($vr:expr, $name:expr, $choice:ty, $description:expr, |$m:ident: $model:ty| $place:expr) => {
+        $crate::declare::row!(
+            $vr,
+            $name,
+            Parameter,
+            Fixed,
+            $description,
+            $crate::variables::Access::Choice {
+                kind: $crate::variables::ChoiceType::of::<$choice>(),
+                get: |$m: &$model| {
+                    use ::stickslip::choice::Choice as _;
+                    $place.code()
+                },
+                set: Some(|$m: &mut $model, v: i32| {
+                    $place = $crate::variables::choice_at::<$choice>(v)?;
+                    Ok(())
+                }),
+            },
+            None
+        )
+    };
+}
+
+/// A count parameter (FMI Integer from 1 to `$max`) held as a `usize`.
+macro_rules! count_parameter {
+    ($vr:expr, $name:expr, $max:expr, $description:expr, |$m:ident: $model:ty| $place:expr) => {
+        $crate::declare::row!(
+            $vr,
+            $name,
+            Parameter,
+            Fixed,
+            $description,
+            $crate::variables::Access::Integer {
+                min: 1,
+                max: $max,
+                get: |$m: &$model| $place as i32,
+                set: Some(|$m: &mut $model, v: i32| {
+                    $place = v as usize;
+                    Ok(())
+                }),
+            },
+            None
+        )
+    };
+}
+
+/// A Real input (`continuous`), read and written at the place. `check` refuses a value
+/// before it is written; `then` runs after it is (both optional, in this order).
+macro_rules! real_input {
+    ($vr:expr, $name:expr, $unit:expr, $description:expr, |$m:ident: $model:ty| $place:expr
+        $(, check = $check:expr)? $(, then = $then:expr)? $(,)?) => {
+        $crate::declare::row!(
+            $vr,
+            $name,
+            Input,
+            Continuous,
+            $description,
+            $crate::variables::Access::Real {
+            unit: $unit,
+            get: |$m: &$model| $place,
+            set: Some(|$m: &mut $model, v: f64| {
+                $(
+                    let check: fn(f64) -> Result<(), String> = $check;
+                    check(v)?;
+                )?
+                $place = v;
+                $($then;)?
+                Ok(())
+            }),
+        },
+            None
+        )
+    };
+}
+
+/// A Real output (`continuous`), read off the model, depending on `$depends_on`.
+macro_rules! real_output {
+    ($vr:expr, $name:expr, $unit:expr, $description:expr, $depends_on:expr, |$m:ident: $model:ty| $value:expr) => {
+        $crate::declare::row!(
+            $vr,
+            $name,
+            Output,
+            Continuous,
+            $description,
+            $crate::variables::Access::Real {
+                unit: $unit,
+                get: |$m: &$model| $value,
+                set: None,
+            },
+            Some($depends_on)
+        )
+    };
+}
+
+/// A weights parameter (String): the name of a network file, refused when blank
+/// (`networks::weights_name`; whether the file exists is checked when it is read).
+macro_rules! weights_parameter {
+    ($vr:expr, $name:expr, $description:expr, |$m:ident: $model:ty| $place:expr) => {
+        $crate::declare::row!(
+            $vr,
+            $name,
+            Parameter,
+            Fixed,
+            $description,
+            $crate::variables::Access::String {
+                get: |$m: &$model| $place.clone(),
+                set: Some(|$m: &mut $model, v: &str| {
+                    $place = $crate::networks::weights_name(v)?;
+                    Ok(())
+                }),
+            },
+            None
+        )
+    };
+}
+
+/// An input's check: the value must not be negative (a force, a magnitude).
+pub fn non_negative(v: f64) -> Result<(), String> {
+    if v < 0.0 {
+        Err(format!("{v} must be >= 0"))
+    } else {
+        Ok(())
+    }
+}
+
+pub(crate) use {
+    choice_parameter, count_parameter, real_input, real_output, real_parameter, row,
+    weights_parameter,
+};
