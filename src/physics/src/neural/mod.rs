@@ -47,6 +47,7 @@ pub mod forward;
 pub mod inference;
 pub mod law;
 pub mod network;
+pub mod onnx;
 pub mod table;
 pub mod weights;
 
