@@ -1,7 +1,7 @@
 //! Writes the seed inputs of every fuzz target into `fuzz/corpus/<target>/seed-*`:
 //! real serialized FMU states from short runs of both FMUs, weights files derived from
-//! the shipped ones, scene files as the CLI accepts them, and training CSV files. Every
-//! seed is checked to be accepted by the code it is for, so the fuzzer starts from
+//! the shipped ones, small ONNX networks, scene files as the CLI accepts them, and
+//! training CSV files. Every seed is checked to be accepted by the code it is for, so the fuzzer starts from
 //! valid inputs.
 //!
 //! `cargo run --release --manifest-path fuzz/Cargo.toml --example seeds`
@@ -372,9 +372,19 @@ fn training_csv() {
     }
 }
 
+/// Small networks in the forms PyTorch and skl2onnx export (`stickslip_tests::onnx`).
+fn onnx() {
+    for (name, bytes) in stickslip_tests::onnx::fuzz_seeds() {
+        stickslip::neural::onnx::read_onnx(&bytes, &name)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        write("onnx", &name, &bytes);
+    }
+}
+
 fn main() {
     fmu_states();
     weights();
+    onnx();
     scenes();
     training_csv();
 }

@@ -450,3 +450,54 @@ pub fn export(model: &NeuralModel, exporter: Exporter, single: bool) -> Onnx {
         metadata: metadata(model),
     }
 }
+
+/// `model` cut to layers [d, hidden..., 1] (rows and columns of its own weights, so the
+/// numbers are realistic) with `activation`.
+pub fn cut(model: &NeuralModel, hidden: &[usize], activation: Activation) -> NeuralModel {
+    let mut m = model.clone();
+    let mut sizes = vec![m.features.len()];
+    sizes.extend_from_slice(hidden);
+    sizes.push(1);
+    m.layers = sizes
+        .windows(2)
+        .enumerate()
+        .map(|(l, io)| {
+            let source = &model.layers[l.min(model.layers.len() - 1)];
+            stickslip::neural::weights::LayerWeights {
+                weights: (0..io[1])
+                    .map(|o| (0..io[0]).map(|i| source.weights[o][i]).collect())
+                    .collect(),
+                biases: source.biases[..io[1]].to_vec(),
+            }
+        })
+        .collect();
+    m.layer_sizes = sizes;
+    m.activation = activation;
+    m
+}
+
+/// The seed inputs of the `onnx` fuzz target (fuzz/seeds.rs writes them): small
+/// networks cut from the shipped ones, in each exporter's form and precision, one
+/// without metadata; each under 2 kB.
+pub fn fuzz_seeds() -> Vec<(String, Vec<u8>)> {
+    use stickslip::neural::NeuralLaw;
+    let plain = NeuralLaw::paper_default().unwrap().model().clone();
+    let signed = NeuralLaw::paper_signed().unwrap().model().clone();
+    let cases = [
+        ("torch-f64-tanh-2-4-1", cut(&plain, &[4], Activation::Tanh), Exporter::Torch, false),
+        ("torch-f32-sigmoid-2-3-2-1", cut(&plain, &[3, 2], Activation::Sigmoid), Exporter::Torch, true),
+        ("skl-f32-relu-2-4-1", cut(&plain, &[4], Activation::Relu), Exporter::Skl, true),
+        ("skl-f64-linear-2-1", cut(&plain, &[], Activation::Tanh), Exporter::Skl, false),
+        ("torch-f64-signed-2-3-1", cut(&signed, &[3], Activation::Tanh), Exporter::Torch, false),
+    ];
+    let mut seeds: Vec<(String, Vec<u8>)> = cases
+        .iter()
+        .map(|(name, model, exporter, single)| {
+            (format!("{name}.onnx"), export(model, *exporter, *single).encode())
+        })
+        .collect();
+    let mut bare = export(&cut(&plain, &[2], Activation::Tanh), Exporter::Torch, false);
+    bare.metadata.clear();
+    seeds.push(("torch-f64-no-metadata-2-2-1.onnx".into(), bare.encode()));
+    seeds
+}
