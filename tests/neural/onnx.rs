@@ -7,7 +7,9 @@ use stickslip::neural::onnx::{
 };
 use stickslip::neural::weights::LayerWeights;
 use stickslip::neural::{FeatureRole, NeuralLaw, NeuralModel};
-use stickslip_tests::onnx::{export, Attribute, Data, Exporter, Node, Onnx, Value, DOUBLE, FLOAT16};
+use stickslip_tests::onnx::{
+    export, Attribute, Data, Exporter, Node, Onnx, Value, DOUBLE, FLOAT16,
+};
 
 fn paper(signed: bool) -> NeuralModel {
     let law = if signed {
@@ -121,7 +123,13 @@ fn f32_exports_import_the_rounded_network() {
         let model = paper(signed);
         let largest = points(&model)
             .iter()
-            .map(|p| NeuralLaw::new(model.clone()).unwrap().evaluate(p).unwrap().abs())
+            .map(|p| {
+                NeuralLaw::new(model.clone())
+                    .unwrap()
+                    .evaluate(p)
+                    .unwrap()
+                    .abs()
+            })
             .fold(0.0, f64::max);
         for exporter in [Exporter::Torch, Exporter::Skl] {
             let what = format!("{exporter:?} f32, signed {signed}");
@@ -147,14 +155,18 @@ fn small() -> NeuralModel {
     let sizes = [2usize, 4, 3, 1];
     let mut seed = 1u64;
     let mut next = || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
     };
     model.layer_sizes = sizes.to_vec();
     model.layers = sizes
         .windows(2)
         .map(|p| LayerWeights {
-            weights: (0..p[1]).map(|_| (0..p[0]).map(|_| next()).collect()).collect(),
+            weights: (0..p[1])
+                .map(|_| (0..p[0]).map(|_| next()).collect())
+                .collect(),
             biases: (0..p[1]).map(|_| next()).collect(),
         })
         .collect();
@@ -259,7 +271,10 @@ fn a_second_graph_input_is_refused() {
         width: Some(1),
     });
     let message = refused(&onnx);
-    assert!(message.contains("2 inputs") && message.contains("temperature"), "{message}");
+    assert!(
+        message.contains("2 inputs") && message.contains("temperature"),
+        "{message}"
+    );
 }
 
 #[test]
@@ -292,11 +307,17 @@ fn a_wrong_dtype_is_refused_by_name() {
     let mut onnx = export(&small(), Exporter::Torch, true);
     onnx.initializer("W0").data_type = Some(FLOAT16);
     let message = refused(&onnx);
-    assert!(message.contains("tensor 'W0' has data type FLOAT16 (10)"), "{message}");
+    assert!(
+        message.contains("tensor 'W0' has data type FLOAT16 (10)"),
+        "{message}"
+    );
     let mut onnx = export(&small(), Exporter::Torch, true);
     onnx.inputs[0].elem_type = 6;
     let message = refused(&onnx);
-    assert!(message.contains("graph input 'input' has data type INT32 (6)"), "{message}");
+    assert!(
+        message.contains("graph input 'input' has data type INT32 (6)"),
+        "{message}"
+    );
 }
 
 #[test]
@@ -334,7 +355,8 @@ fn unsupported_attributes_and_structures_are_refused_with_reasons() {
     );
 
     let mut onnx = export(&small(), Exporter::Torch, false);
-    onnx.nodes.push(Node::new("Sigmoid", "squash", &["force"], "squashed"));
+    onnx.nodes
+        .push(Node::new("Sigmoid", "squash", &["force"], "squashed"));
     onnx.outputs[0].name = "squashed".into();
     let message = refused(&onnx);
     assert!(
@@ -343,8 +365,10 @@ fn unsupported_attributes_and_structures_are_refused_with_reasons() {
     );
 
     let mut onnx = export(&small(), Exporter::Torch, false);
-    onnx.nodes.retain(|n| n.name != "unscale" && n.name != "shift");
-    onnx.nodes.push(Node::new("Sigmoid", "squash", &["z2"], "force"));
+    onnx.nodes
+        .retain(|n| n.name != "unscale" && n.name != "shift");
+    onnx.nodes
+        .push(Node::new("Sigmoid", "squash", &["z2"], "force"));
     let message = refused(&onnx);
     assert!(
         message.contains("output layer ends with activation 'squash' (Sigmoid)"),
@@ -387,7 +411,10 @@ fn features_come_from_metadata_or_options() {
     assert_eq!(imported.features[1].name, "F_n");
     assert_eq!(imported.features[1].max, 150.0);
     assert_eq!(imported.layers, model.layers);
-    assert!(NeuralLaw::new(imported).unwrap().into_friction_law().is_ok());
+    assert!(NeuralLaw::new(imported)
+        .unwrap()
+        .into_friction_law()
+        .is_ok());
     let options = OnnxImport {
         features: Some(features[..1].to_vec()),
         ..OnnxImport::named("bare.onnx")
@@ -433,8 +460,11 @@ fn fuzz_seeds_import() {
         import_onnx(&bytes, &options).unwrap_or_else(|e| panic!("{e}"));
         assert!(bytes.len() < 2048, "{name}: {} bytes", bytes.len());
         if let Some(dir) = std::env::var_os("STICKSLIP_ONNX_SEEDS") {
-            std::fs::write(std::path::Path::new(&dir).join(format!("seed-{name}")), &bytes)
-                .unwrap();
+            std::fs::write(
+                std::path::Path::new(&dir).join(format!("seed-{name}")),
+                &bytes,
+            )
+            .unwrap();
         }
     }
 }

@@ -371,8 +371,14 @@ pub fn export(model: &NeuralModel, exporter: Exporter, single: bool) -> Onnx {
     } else {
         initializers.push(Tensor::new("mean", &[d], data(means), raw));
         initializers.push(Tensor::new("std", &[d], data(stds), raw));
-        current = step(&mut nodes, Node::new("Sub", "sub", &[&current, "mean"], "centred"));
-        current = step(&mut nodes, Node::new("Div", "div", &[&current, "std"], "standard"));
+        current = step(
+            &mut nodes,
+            Node::new("Sub", "sub", &[&current, "mean"], "centred"),
+        );
+        current = step(
+            &mut nodes,
+            Node::new("Div", "div", &[&current, "std"], "standard"),
+        );
     }
     let activation = match model.activation {
         Activation::Tanh => "Tanh",
@@ -383,7 +389,12 @@ pub fn export(model: &NeuralModel, exporter: Exporter, single: bool) -> Onnx {
     for (l, layer) in model.layers.iter().enumerate() {
         let (n, k) = (layer.weights.len(), layer.weights[0].len());
         let (w, b) = (format!("W{l}"), format!("b{l}"));
-        initializers.push(Tensor::new(&b, &[n as i64], data(layer.biases.clone()), raw));
+        initializers.push(Tensor::new(
+            &b,
+            &[n as i64],
+            data(layer.biases.clone()),
+            raw,
+        ));
         let z = format!("z{l}");
         match exporter {
             Exporter::Torch => {
@@ -405,24 +416,55 @@ pub fn export(model: &NeuralModel, exporter: Exporter, single: bool) -> Onnx {
                     &mut nodes,
                     Node::new("MatMul", &format!("matmul{l}"), &[&current, &w], &product),
                 );
-                current = step(&mut nodes, Node::new("Add", &format!("add{l}"), &[&current, &b], &z));
+                current = step(
+                    &mut nodes,
+                    Node::new("Add", &format!("add{l}"), &[&current, &b], &z),
+                );
             }
         }
         if l < last {
             current = step(
                 &mut nodes,
-                Node::new(activation, &format!("act{l}"), &[&current], &format!("a{l}")),
+                Node::new(
+                    activation,
+                    &format!("act{l}"),
+                    &[&current],
+                    &format!("a{l}"),
+                ),
             );
         }
     }
-    initializers.push(Tensor::new("out_std", &[1], data(vec![model.target.output_std]), raw));
-    initializers.push(Tensor::new("out_mean", &[1], data(vec![model.target.output_mean]), raw));
-    current = step(&mut nodes, Node::new("Mul", "unscale", &[&current, "out_std"], "scaled_out"));
-    let tail = if exporter == Exporter::Skl { "shifted" } else { "force" };
-    current = step(&mut nodes, Node::new("Add", "shift", &[&current, "out_mean"], tail));
+    initializers.push(Tensor::new(
+        "out_std",
+        &[1],
+        data(vec![model.target.output_std]),
+        raw,
+    ));
+    initializers.push(Tensor::new(
+        "out_mean",
+        &[1],
+        data(vec![model.target.output_mean]),
+        raw,
+    ));
+    current = step(
+        &mut nodes,
+        Node::new("Mul", "unscale", &[&current, "out_std"], "scaled_out"),
+    );
+    let tail = if exporter == Exporter::Skl {
+        "shifted"
+    } else {
+        "force"
+    };
+    current = step(
+        &mut nodes,
+        Node::new("Add", "shift", &[&current, "out_mean"], tail),
+    );
     if exporter == Exporter::Skl {
         initializers.push(Tensor::new("shape", &[2], Data::I64(vec![-1, 1]), false));
-        step(&mut nodes, Node::new("Reshape", "reshape", &[&current, "shape"], "force"));
+        step(
+            &mut nodes,
+            Node::new("Reshape", "reshape", &[&current, "shape"], "force"),
+        );
     }
     let (producer, opsets) = match exporter {
         Exporter::Torch => (("pytorch", "2.5.0"), vec![(String::new(), 17)]),
@@ -440,7 +482,11 @@ pub fn export(model: &NeuralModel, exporter: Exporter, single: bool) -> Onnx {
         inputs: vec![Value {
             name: "input".into(),
             elem_type: elem,
-            width: if exporter == Exporter::Torch { Some(d) } else { None },
+            width: if exporter == Exporter::Torch {
+                Some(d)
+            } else {
+                None
+            },
         }],
         outputs: vec![Value {
             name: "force".into(),
@@ -484,16 +530,44 @@ pub fn fuzz_seeds() -> Vec<(String, Vec<u8>)> {
     let plain = NeuralLaw::paper_default().unwrap().model().clone();
     let signed = NeuralLaw::paper_signed().unwrap().model().clone();
     let cases = [
-        ("torch-f64-tanh-2-4-1", cut(&plain, &[4], Activation::Tanh), Exporter::Torch, false),
-        ("torch-f32-sigmoid-2-3-2-1", cut(&plain, &[3, 2], Activation::Sigmoid), Exporter::Torch, true),
-        ("skl-f32-relu-2-4-1", cut(&plain, &[4], Activation::Relu), Exporter::Skl, true),
-        ("skl-f64-linear-2-1", cut(&plain, &[], Activation::Tanh), Exporter::Skl, false),
-        ("torch-f64-signed-2-3-1", cut(&signed, &[3], Activation::Tanh), Exporter::Torch, false),
+        (
+            "torch-f64-tanh-2-4-1",
+            cut(&plain, &[4], Activation::Tanh),
+            Exporter::Torch,
+            false,
+        ),
+        (
+            "torch-f32-sigmoid-2-3-2-1",
+            cut(&plain, &[3, 2], Activation::Sigmoid),
+            Exporter::Torch,
+            true,
+        ),
+        (
+            "skl-f32-relu-2-4-1",
+            cut(&plain, &[4], Activation::Relu),
+            Exporter::Skl,
+            true,
+        ),
+        (
+            "skl-f64-linear-2-1",
+            cut(&plain, &[], Activation::Tanh),
+            Exporter::Skl,
+            false,
+        ),
+        (
+            "torch-f64-signed-2-3-1",
+            cut(&signed, &[3], Activation::Tanh),
+            Exporter::Torch,
+            false,
+        ),
     ];
     let mut seeds: Vec<(String, Vec<u8>)> = cases
         .iter()
         .map(|(name, model, exporter, single)| {
-            (format!("{name}.onnx"), export(model, *exporter, *single).encode())
+            (
+                format!("{name}.onnx"),
+                export(model, *exporter, *single).encode(),
+            )
         })
         .collect();
     let mut bare = export(&cut(&plain, &[2], Activation::Tanh), Exporter::Torch, false);

@@ -203,7 +203,7 @@ pub fn neural_model(network: &OnnxNetwork, options: &OnnxImport) -> Result<Neura
     };
     model.validate(source_name)?;
     let bound = output_bound(&model);
-    if !(bound < 1e300) {
+    if overflows(bound) {
         return Err(OnnxError::Overflow {
             source_name: source_name.to_string(),
             bound,
@@ -212,13 +212,20 @@ pub fn neural_model(network: &OnnxNetwork, options: &OnnxImport) -> Result<Neura
     Ok(model)
 }
 
+/// Bounds at or above this (or NaN) count as overflow: far enough below f64::MAX
+/// (1.8e308) for any summation order's rounding.
+const LIMIT: f64 = 1e300;
+
+fn overflows(bound: f64) -> bool {
+    bound.is_nan() || bound >= LIMIT
+}
+
 /// An upper bound of |force| over the training box by interval arithmetic on absolute
 /// values: |z_o| <= sum_i |w_oi| |a_i| + |b_o|, tanh and sigmoid bounded by 1, relu by
 /// its input's bound. Rounding is monotonic, so where this bound is finite with margin
 /// (below 1e300), every evaluation in the box is finite too, whatever the summation
 /// order; a pre-activation bound of 1e300 or more counts as overflow.
 fn output_bound(model: &NeuralModel) -> f64 {
-    const LIMIT: f64 = 1e300;
     let mut bounds: Vec<f64> = model
         .features
         .iter()
@@ -229,7 +236,7 @@ fn output_bound(model: &NeuralModel) -> f64 {
         .collect();
     let last = model.layers.len() - 1;
     for (l, layer) in model.layers.iter().enumerate() {
-        if bounds.iter().any(|b| !(*b < LIMIT)) {
+        if bounds.iter().any(|&b| overflows(b)) {
             // An overflowing sum could be inf - inf = NaN before a bounded tanh.
             return f64::INFINITY;
         }
@@ -242,7 +249,7 @@ fn output_bound(model: &NeuralModel) -> f64 {
                 .sum::<f64>()
                 + b.abs();
             next.push(match (l == last, model.activation) {
-                (false, Activation::Tanh | Activation::Sigmoid) if z < LIMIT => z.min(1.0),
+                (false, Activation::Tanh | Activation::Sigmoid) if !overflows(z) => z.min(1.0),
                 _ => z,
             });
         }
