@@ -17,7 +17,7 @@
 use libfuzzer_sys::fuzz_target;
 use nalgebra::DMatrix;
 use stickslip::neural::onnx::{describe, read_onnx, FeatureInfo, OnnxImport};
-use stickslip::neural::{FeatureRole, NeuralLaw};
+use stickslip::neural::NeuralLaw;
 
 fuzz_target!(|data: &[u8]| {
     let Ok(network) = read_onnx(data, "fuzz.onnx") else {
@@ -30,13 +30,7 @@ fuzz_target!(|data: &[u8]| {
             let generic = OnnxImport {
                 features: Some(
                     (0..network.input_mean.len())
-                        .map(|k| FeatureInfo {
-                            name: format!("x{k}"),
-                            unit: String::new(),
-                            role: FeatureRole::Other,
-                            min: -1.0,
-                            max: 1.0,
-                        })
+                        .map(|k| FeatureInfo::other(format!("x{k}"), -1.0, 1.0))
                         .collect(),
                 ),
                 ..options
@@ -50,22 +44,7 @@ fuzz_target!(|data: &[u8]| {
     let law = NeuralLaw::new(model.clone())
         .unwrap_or_else(|e| panic!("an imported model is not a valid law: {e}"));
 
-    let probes: Vec<Vec<f64>> = (0..6)
-        .map(|k| {
-            model
-                .features
-                .iter()
-                .map(|f| match k {
-                    0 => f.min,
-                    1 => f.max,
-                    2 => 0.5 * f.min + 0.5 * f.max,
-                    3 => 0.0,
-                    4 => -1e300,
-                    _ => f64::MAX,
-                })
-                .collect()
-        })
-        .collect();
+    let probes: Vec<Vec<f64>> = stickslip_fuzz::probes(&model);
     let mut single = law.clone();
     for x in &probes {
         let force = single
@@ -79,5 +58,8 @@ fuzz_target!(|data: &[u8]| {
         .evaluate_batch(&batch)
         .unwrap_or_else(|e| panic!("evaluate_batch refuses finite features: {e}"));
     assert_eq!(forces.len(), probes.len());
-    assert!(forces.iter().all(|f| f.is_finite()), "batch forces {forces:?}");
+    assert!(
+        forces.iter().all(|f| f.is_finite()),
+        "batch forces {forces:?}"
+    );
 });

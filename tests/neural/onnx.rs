@@ -446,13 +446,7 @@ fn fuzz_seeds_import() {
         let options = OnnxImport {
             features: network.metadata.is_empty().then(|| {
                 (0..2)
-                    .map(|k| FeatureInfo {
-                        name: format!("x{k}"),
-                        unit: String::new(),
-                        role: FeatureRole::Other,
-                        min: -1.0,
-                        max: 1.0,
-                    })
+                    .map(|k| FeatureInfo::other(format!("x{k}"), -1.0, 1.0))
                     .collect()
             }),
             ..OnnxImport::named(name.as_str())

@@ -34,6 +34,20 @@ pub struct FeatureInfo {
     pub max: f64,
 }
 
+impl FeatureInfo {
+    /// A feature with no unit and the role other (neither supplied by the beam), e.g.
+    /// for a network whose inputs are not described.
+    pub fn other(name: impl Into<String>, min: f64, max: f64) -> FeatureInfo {
+        FeatureInfo {
+            name: name.into(),
+            unit: String::new(),
+            role: FeatureRole::Other,
+            min,
+            max,
+        }
+    }
+}
+
 /// The network output.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
