@@ -1,7 +1,7 @@
 //! Writes the seed inputs of every fuzz target into `fuzz/corpus/<target>/seed-*`:
 //! real serialized FMU states from short runs of both FMUs, weights files derived from
-//! the shipped ones, scene files as the CLI accepts them, and training CSV files. Every
-//! seed is checked to be accepted by the code it is for, so the fuzzer starts from
+//! the shipped ones, small ONNX networks, scene files as the CLI accepts them, and
+//! training CSV files. Every seed is checked to be accepted by the code it is for, so the fuzzer starts from
 //! valid inputs.
 //!
 //! `cargo run --release --manifest-path fuzz/Cargo.toml --example seeds`
@@ -9,20 +9,20 @@
 //! same files.
 
 use std::path::{Path, PathBuf};
-use stickslip_fmi::beam::StickSlipBeam;
-use stickslip_fmi::friction::NeuralFriction;
-use stickslip_fmi::instance::{Instance, Mode, SavedState};
-use stickslip_fmi::model::Model;
-use stickslip_train::data::Synthetic;
-use stickslip_train::csv::{read_csv_file, ColumnSelection};
-use stickslip::neural::weights::LayerWeights;
 use stickslip::neural::{
     Activation, FeatureRole, NeuralLaw, NeuralModel, SyntheticSpec, PAPER_PLAIN_JSON,
     PAPER_SIGNED_JSON,
 };
 use stickslip::scene::Scene;
+use stickslip_fmi::beam::StickSlipBeam;
+use stickslip_fmi::friction::NeuralFriction;
+use stickslip_fmi::instance::{Instance, Mode, SavedState};
+use stickslip_fmi::model::Model;
 use stickslip_fuzz::resources;
+use stickslip_tests::onnx::cut;
 use stickslip_tests::vr;
+use stickslip_train::csv::{read_csv_file, ColumnSelection};
+use stickslip_train::data::Synthetic;
 
 fn corpus(target: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -190,46 +190,20 @@ fn fmu_states() {
     );
 }
 
-/// A small model with the shipped model's metadata: layers [d, hidden..., 1] filled
-/// from the shipped weights (rows and columns cut), so the numbers are realistic.
-fn shrink(shipped: &NeuralModel, hidden: &[usize], activation: Activation) -> NeuralModel {
-    let mut m = shipped.clone();
-    let d = m.features.len();
-    let mut sizes = vec![d];
-    sizes.extend_from_slice(hidden);
-    sizes.push(1);
-    m.layers = sizes
-        .windows(2)
-        .enumerate()
-        .map(|(l, io)| {
-            let source = &shipped.layers[l.min(shipped.layers.len() - 1)];
-            LayerWeights {
-                weights: (0..io[1])
-                    .map(|o| (0..io[0]).map(|i| source.weights[o][i]).collect())
-                    .collect(),
-                biases: source.biases[..io[1]].to_vec(),
-            }
-        })
-        .collect();
-    m.layer_sizes = sizes;
-    m.activation = activation;
-    m
-}
-
 fn weights() {
     let plain = NeuralModel::from_json(PAPER_PLAIN_JSON, "paper-plain").unwrap();
     let signed = NeuralModel::from_json(PAPER_SIGNED_JSON, "paper-signed").unwrap();
     let mut models = vec![
-        ("plain-tanh-2-4-1", shrink(&plain, &[4], Activation::Tanh)),
-        ("plain-linear-2-1", shrink(&plain, &[], Activation::Tanh)),
+        ("plain-tanh-2-4-1", cut(&plain, &[4], Activation::Tanh)),
+        ("plain-linear-2-1", cut(&plain, &[], Activation::Tanh)),
         (
             "signed-sigmoid-2-3-2-1",
-            shrink(&signed, &[3, 2], Activation::Sigmoid),
+            cut(&signed, &[3, 2], Activation::Sigmoid),
         ),
-        ("signed-relu-2-2-1", shrink(&signed, &[2], Activation::Relu)),
+        ("signed-relu-2-2-1", cut(&signed, &[2], Activation::Relu)),
     ];
     // A third feature (role other): loads, but is not the beam's friction law.
-    let mut three = shrink(&plain, &[2], Activation::Tanh);
+    let mut three = cut(&plain, &[2], Activation::Tanh);
     let mut temperature = three.features[1].clone();
     temperature.name = "temperature".into();
     temperature.unit = "K".into();
@@ -247,7 +221,7 @@ fn weights() {
         write("weights", &format!("{name}.json"), text.as_bytes());
     }
     // One compact (single-line) file.
-    let compact = serde_json::to_string(&shrink(&signed, &[3], Activation::Tanh)).unwrap();
+    let compact = serde_json::to_string(&cut(&signed, &[3], Activation::Tanh)).unwrap();
     NeuralLaw::from_json(&compact, "compact").unwrap();
     write("weights", "signed-compact.json", compact.as_bytes());
 }
@@ -365,9 +339,18 @@ fn training_csv() {
     }
 }
 
+/// Small networks in the forms PyTorch and skl2onnx export (`stickslip_tests::onnx`).
+fn onnx() {
+    for (name, bytes) in stickslip_tests::onnx::fuzz_seeds() {
+        stickslip::neural::onnx::read_onnx(&bytes, &name).unwrap_or_else(|e| panic!("{name}: {e}"));
+        write("onnx", &name, &bytes);
+    }
+}
+
 fn main() {
     fmu_states();
     weights();
+    onnx();
     scenes();
     training_csv();
 }

@@ -2,12 +2,13 @@
 # Fuzzes every parser of outside bytes with cargo fuzz (libFuzzer):
 #   fmu_state     serialized FMU state (fmi2DeSerializeFMUstate + fmi2SetFMUstate)
 #   weights       neural weights file (NeuralLaw::from_file / from_json)
+#   onnx          ONNX network (stickslip::neural::onnx::read_onnx / import_onnx)
 #   scene         scene file (stickslip simulate --scene FILE)
 #   training_csv  training CSV (stickslip train --data FILE.csv)
 #
-# Usage: scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]   (default: 120 s, all four)
+# Usage: scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]   (default: 120 s, all five)
 #
-# First writes the seed inputs (fuzz/seeds.rs: real FMU states, small weights files,
+# First writes the seed inputs (fuzz/seeds.rs: real FMU states, small weights files, ONNX networks,
 # scenes, CSV files) into fuzz/corpus/<target>/. Then runs the targets one after the
 # other, one process each, minimises each kept corpus with `cargo fuzz cmin`, writes
 # the seeds back, and prints per target the executions, executions per second,
@@ -37,7 +38,7 @@ shift || true
 if [ $# -gt 0 ]; then
     targets=("$@")
 else
-    targets=(fmu_state weights scene training_csv)
+    targets=(fmu_state weights onnx scene training_csv)
 fi
 case "$seconds" in
 '' | *[!0-9]*)
@@ -69,6 +70,7 @@ max_len() {
     case "$1" in
     fmu_state) echo 16384 ;;
     weights) echo 8192 ;;
+    onnx) echo 4096 ;;
     scene) echo 4096 ;;
     training_csv) echo 8192 ;;
     *) echo 4096 ;;

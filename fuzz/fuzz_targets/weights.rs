@@ -34,25 +34,8 @@ fuzz_target!(|data: &[u8]| {
         .unwrap_or_else(|e| panic!("a written model does not load: {e}"));
     assert_eq!(back, model, "a written model loads back different");
 
-    // Probe vectors: per feature its training minimum, maximum, middle, zero, and values
-    // far outside; all finite.
     let d = model.features.len();
-    let probes: Vec<Vec<f64>> = (0..6)
-        .map(|k| {
-            model
-                .features
-                .iter()
-                .map(|f| match k {
-                    0 => f.min,
-                    1 => f.max,
-                    2 => 0.5 * f.min + 0.5 * f.max,
-                    3 => 0.0,
-                    4 => -1e300,
-                    _ => f64::MAX,
-                })
-                .collect()
-        })
-        .collect();
+    let probes: Vec<Vec<f64>> = stickslip_fuzz::probes(&model);
     let mut single = law.clone();
     for x in &probes {
         assert!(

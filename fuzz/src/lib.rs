@@ -12,6 +12,27 @@ use stickslip::scene::{
     plane_stress_divisions, FidelityLevel, Friction, Loading, ModalBasis, Scene, Time,
 };
 
+/// Probe feature vectors for a loaded model: per feature its training minimum,
+/// maximum, middle, zero, and values far outside (-1e300, f64::MAX); all finite.
+pub fn probes(model: &stickslip::neural::NeuralModel) -> Vec<Vec<f64>> {
+    (0..6)
+        .map(|k| {
+            model
+                .features
+                .iter()
+                .map(|f| match k {
+                    0 => f.min,
+                    1 => f.max,
+                    2 => 0.5 * f.min + 0.5 * f.max,
+                    3 => 0.0,
+                    4 => -1e300,
+                    _ => f64::MAX,
+                })
+                .collect()
+        })
+        .collect()
+}
+
 /// The shipped weights folder, standing in for an unpacked FMU's `resources/`.
 pub fn resources() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../weights")

@@ -6,6 +6,7 @@ use stickslip_fmi::model::Model;
 
 pub mod bench;
 pub mod fmi_log;
+pub mod onnx;
 
 /// The workspace root.
 pub fn workspace_root() -> PathBuf {

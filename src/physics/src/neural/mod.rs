@@ -46,6 +46,7 @@ mod error;
 pub mod forward;
 pub mod law;
 pub mod network;
+pub mod onnx;
 pub mod table;
 pub mod weights;
 
