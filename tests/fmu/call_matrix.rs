@@ -24,7 +24,7 @@ use stickslip::choice::Choice;
 use stickslip::friction::LawChoice;
 use stickslip::scene::FidelityLevel;
 use stickslip_fmi::beam::StickSlipBeam;
-use stickslip_fmi::ffi::*;
+use stickslip_fmi::ffi2::*;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::FmuKind;
 
