@@ -7,6 +7,7 @@ use super::{
 };
 use crate::boundary::{each, values, with_component};
 use libc::size_t;
+use std::ffi::c_int;
 
 /// The NULL-argument message's names of the array arguments.
 const ARGUMENTS: &str = "vr or value";
@@ -92,12 +93,8 @@ macro_rules! setter {
 
 setter!(fmi2SetReal, fmi2Real, set_real, |v: f64| v);
 setter!(fmi2SetInteger, fmi2Integer, set_integer, |v: i32| v);
-setter!(
-    fmi2SetBoolean,
-    fmi2Boolean,
-    set_boolean,
-    |v: fmi2Boolean| v != FMI2_FALSE
-);
+setter!(fmi2SetBoolean, fmi2Boolean, set_boolean, |v: c_int| v
+    != FMI2_FALSE);
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetString(
