@@ -248,8 +248,25 @@ pub(crate) unsafe fn set_debug_logging(
     }
 }
 
+/// Exports `$name(instance)`, an FMI function with no argument but the instance whose
+/// work is the instance's method `$method`, a change of mode.
+macro_rules! mode_change {
+    ($(#[$doc:meta])* $name:ident => $method:ident) => {
+        $(#[$doc])*
+        #[no_mangle]
+        pub unsafe extern "C" fn $name(instance: *mut std::ffi::c_void) -> std::ffi::c_int {
+            unsafe {
+                $crate::boundary::change_mode(instance, stringify!($name), |any| {
+                    $crate::boundary::each!(any, i => i.$method())
+                })
+            }
+        }
+    };
+}
+pub(crate) use mode_change;
+
 /// A call that only changes the mode (and has no arguments besides the instance).
-pub(crate) unsafe fn mode_change(
+pub(crate) unsafe fn change_mode(
     c: *mut c_void,
     call: &'static str,
     change: fn(&mut AnyInstance) -> CallResult<()>,

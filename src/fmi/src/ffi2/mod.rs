@@ -274,32 +274,9 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
     }
 }
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status {
-    unsafe {
-        mode_change(
-            c,
-            "fmi2EnterInitializationMode",
-            |any| each!(any, i => i.enter_initialization_mode()),
-        )
-    }
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
-    unsafe {
-        mode_change(
-            c,
-            "fmi2ExitInitializationMode",
-            |any| each!(any, i => i.exit_initialization_mode()),
-        )
-    }
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
-    unsafe { mode_change(c, "fmi2Terminate", |any| each!(any, i => i.terminate())) }
-}
+mode_change!(fmi2EnterInitializationMode => enter_initialization_mode);
+mode_change!(fmi2ExitInitializationMode => exit_initialization_mode);
+mode_change!(fmi2Terminate => terminate);
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {

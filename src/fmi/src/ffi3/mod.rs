@@ -298,7 +298,8 @@ pub unsafe extern "C" fn fmi3FreeInstance(instance: fmi3Instance) {
 }
 
 /// fmi3EnterInitializationMode: FMI 2.0's fmi2SetupExperiment and
-/// fmi2EnterInitializationMode in one call. The tolerance is not used: the step size is a parameter.
+/// fmi2EnterInitializationMode in one call. The tolerance is not used: the step size is
+/// a parameter.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3EnterInitializationMode(
     instance: fmi3Instance,
@@ -319,57 +320,25 @@ pub unsafe extern "C" fn fmi3EnterInitializationMode(
     }
 }
 
-#[no_mangle]
-pub unsafe extern "C" fn fmi3ExitInitializationMode(instance: fmi3Instance) -> fmi3Status {
-    // With eventModeUsed into Event Mode, otherwise straight to Step Mode (FMI 3.0, 4.2).
-    unsafe {
-        mode_change(
-            instance,
-            "fmi3ExitInitializationMode",
-            |any| each!(any, i => i.exit_initialization_mode()),
-        )
-    }
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3Terminate(instance: fmi3Instance) -> fmi3Status {
-    unsafe {
-        mode_change(
-            instance,
-            "fmi3Terminate",
-            |any| each!(any, i => i.terminate()),
-        )
-    }
-}
+mode_change!(
+    /// With eventModeUsed into Event Mode, otherwise straight to Step Mode (FMI 3.0, 4.2).
+    fmi3ExitInitializationMode => exit_initialization_mode
+);
+mode_change!(fmi3Terminate => terminate);
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi3Reset(instance: fmi3Instance) -> fmi3Status {
     unsafe { boundary::reset(instance, "fmi3Reset") }
 }
 
-/// fmi3EnterEventMode: from Step Mode into Event Mode (only with eventModeUsed).
-#[no_mangle]
-pub unsafe extern "C" fn fmi3EnterEventMode(instance: fmi3Instance) -> fmi3Status {
-    unsafe {
-        mode_change(
-            instance,
-            "fmi3EnterEventMode",
-            |any| each!(any, i => i.enter_event_mode()),
-        )
-    }
-}
-
-/// fmi3EnterStepMode: from Event Mode back into Step Mode.
-#[no_mangle]
-pub unsafe extern "C" fn fmi3EnterStepMode(instance: fmi3Instance) -> fmi3Status {
-    unsafe {
-        mode_change(
-            instance,
-            "fmi3EnterStepMode",
-            |any| each!(any, i => i.enter_step_mode()),
-        )
-    }
-}
+mode_change!(
+    /// fmi3EnterEventMode: from Step Mode into Event Mode (only with eventModeUsed).
+    fmi3EnterEventMode => enter_event_mode
+);
+mode_change!(
+    /// fmi3EnterStepMode: from Event Mode back into Step Mode.
+    fmi3EnterStepMode => enter_step_mode
+);
 
 /// fmi3UpdateDiscreteStates: settles at once (no discrete state of these models depends
 /// on the inputs set in Event Mode), with no next time event.

@@ -26,6 +26,25 @@ fn values_match(component: &mut Component, call: &str, nvr: size_t, nValues: siz
     false
 }
 
+/// Runs `body` on the instance's component after checking that nValues is what scalar
+/// variables need.
+unsafe fn with_values(
+    instance: fmi3Instance,
+    call: &'static str,
+    nvr: size_t,
+    n_values: size_t,
+    body: impl FnOnce(&mut Component) -> Status,
+) -> fmi3Status {
+    unsafe {
+        with_component(instance, call, |component| {
+            if !values_match(component, call, nvr, n_values) {
+                return Status::Error;
+            }
+            body(component)
+        })
+    }
+}
+
 /// fmi3GetFloat64: besides scalars, `time` and array variables, whose values take more
 /// than one slot of `values` (`values3`), so nValues is checked there.
 #[no_mangle]
@@ -88,10 +107,7 @@ macro_rules! scalars {
         ) -> fmi3Status {
             const CALL: &str = stringify!($get);
             unsafe {
-                with_component(instance, CALL, |component| {
-                    if !values_match(component, CALL, nValueReferences, nValues) {
-                        return Status::Error;
-                    }
+                with_values(instance, CALL, nValueReferences, nValues, |component| {
                     values::get(
                         component,
                         CALL,
@@ -116,10 +132,7 @@ macro_rules! scalars {
         ) -> fmi3Status {
             const CALL: &str = stringify!($set);
             unsafe {
-                with_component(instance, CALL, |component| {
-                    if !values_match(component, CALL, nValueReferences, nValues) {
-                        return Status::Error;
-                    }
+                with_values(instance, CALL, nValueReferences, nValues, |component| {
                     values::set(
                         component,
                         CALL,
@@ -167,10 +180,7 @@ pub unsafe extern "C" fn fmi3GetString(
 ) -> fmi3Status {
     const CALL: &str = "fmi3GetString";
     unsafe {
-        with_component(instance, CALL, |component| {
-            if !values_match(component, CALL, nValueReferences, nValues) {
-                return Status::Error;
-            }
+        with_values(instance, CALL, nValueReferences, nValues, |component| {
             values::get_strings(
                 component,
                 CALL,
@@ -193,10 +203,7 @@ pub unsafe extern "C" fn fmi3SetString(
 ) -> fmi3Status {
     const CALL: &str = "fmi3SetString";
     unsafe {
-        with_component(instance, CALL, |component| {
-            if !values_match(component, CALL, nValueReferences, nValues) {
-                return Status::Error;
-            }
+        with_values(instance, CALL, nValueReferences, nValues, |component| {
             values::set_strings(
                 component,
                 CALL,

@@ -116,6 +116,13 @@ pub struct DiscreteUpdate {
 }
 
 impl<M: Model> Instance<M> {
+    /// A call whose only work is to move from a mode that allows it to `to`.
+    fn change_mode(&mut self, call: Call, to: Mode) -> CallResult<()> {
+        self.check(call)?;
+        self.mode = to;
+        Ok(())
+    }
+
     /// Checks that `call` is legal now.
     pub fn check(&mut self, call: Call) -> CallResult<()> {
         if call.allowed_in().contains(&self.mode) {
@@ -151,9 +158,7 @@ impl<M: Model> Instance<M> {
     }
 
     pub fn enter_initialization_mode(&mut self) -> CallResult<()> {
-        self.check(Call::EnterInitializationMode)?;
-        self.mode = Mode::InitializationMode;
-        Ok(())
+        self.change_mode(Call::EnterInitializationMode, Mode::InitializationMode)
     }
 
     /// fmi2ExitInitializationMode: every parameter is checked here, with the scene's
@@ -203,15 +208,11 @@ impl<M: Model> Instance<M> {
 
     /// fmi3EnterStepMode: back to Step Mode at the current time.
     pub fn enter_step_mode(&mut self) -> CallResult<()> {
-        self.check(Call::EnterStepMode)?;
-        self.mode = Mode::StepComplete;
-        Ok(())
+        self.change_mode(Call::EnterStepMode, Mode::StepComplete)
     }
 
     pub fn terminate(&mut self) -> CallResult<()> {
-        self.check(Call::Terminate)?;
-        self.mode = Mode::Terminated;
-        Ok(())
+        self.change_mode(Call::Terminate, Mode::Terminated)
     }
 
     /// fmi2Reset: back to the state right after instantiation (start values, no
