@@ -39,6 +39,16 @@ pub(crate) unsafe extern "C" fn log3(
     }
 }
 
+/// The messages logged so far, without their statuses.
+fn texts(messages: &Messages) -> Vec<String> {
+    messages
+        .lock()
+        .unwrap()
+        .iter()
+        .map(|(_, m)| m.clone())
+        .collect()
+}
+
 unsafe fn instantiate(kind: FmuKind, name: &str, messages: &Messages) -> fmi3Instance {
     unsafe { instantiate_with(kind, name, messages, false, false) }
 }
@@ -299,12 +309,7 @@ fn fmi3_instantiation_refuses_what_the_fmu_does_not_offer() {
         )
     };
     assert!(me.is_null());
-    let log: Vec<String> = messages
-        .lock()
-        .unwrap()
-        .iter()
-        .map(|(_, m)| m.clone())
-        .collect();
+    let log = texts(&messages);
     for expected in [
         "is a URI",
         "providesIntermediateUpdate = false",
@@ -349,12 +354,7 @@ fn fmi3_reasons_containing_fmi2_are_logged_unaltered() {
         assert_eq!(fmi3ExitInitializationMode(c), ERROR);
         fmi3FreeInstance(c);
     }
-    let log: Vec<String> = messages
-        .lock()
-        .unwrap()
-        .iter()
-        .map(|(_, m)| m.clone())
-        .collect();
+    let log = texts(&messages);
     let failed = log
         .iter()
         .find(|m| m.starts_with("fmi3ExitInitializationMode: "))
