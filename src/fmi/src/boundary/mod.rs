@@ -9,9 +9,6 @@
 //! - `values`: the gets and sets whose C types are the same in both versions;
 //! - `states`: the FMU-state handles (get, set, free, serialize, deserialize).
 
-pub(crate) mod states;
-pub(crate) mod values;
-
 use crate::beam::StickSlipBeam;
 use crate::friction::NeuralFriction;
 use crate::instance::{CallResult, FmiVersion, Instance, Logger, SavedState, Status};
@@ -40,6 +37,10 @@ macro_rules! each {
     };
 }
 pub(crate) use each;
+
+// Declared after `each!`, which they use by its textual scope.
+pub(crate) mod states;
+pub(crate) mod values;
 
 /// What fmi2Component and fmi3Instance point to.
 pub(crate) struct Component {

@@ -2,7 +2,7 @@
 //! component allocated and lists in `Component::states`; only listed handles are read,
 //! overwritten or freed, so a dangling, foreign or garbage pointer never is.
 
-use super::{each, fail, null_argument, slice, status, with_component, CStatus, Component};
+use super::{fail, null_argument, slice, status, with_component, CStatus, Component};
 use crate::instance::{SavedState, Status};
 use std::ffi::c_void;
 

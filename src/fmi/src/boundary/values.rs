@@ -67,7 +67,7 @@ pub(crate) unsafe fn get_strings(
     else {
         return null_argument(component, call, arguments);
     };
-    let result = crate::boundary::each!(&mut component.instance, i => i.get_string(vrs));
+    let result = each!(&mut component.instance, i => i.get_string(vrs));
     match result {
         Ok(strings) => {
             component.strings = strings.iter().map(|s| c_string(s)).collect();
@@ -101,5 +101,5 @@ pub(crate) unsafe fn set_strings(
         }
     }
     let values: Vec<&str> = owned.iter().map(String::as_str).collect();
-    status(crate::boundary::each!(&mut component.instance, i => i.set_string(vrs, &values)))
+    status(each!(&mut component.instance, i => i.set_string(vrs, &values)))
 }

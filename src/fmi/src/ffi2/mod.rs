@@ -15,10 +15,12 @@
 
 mod state;
 mod step;
+mod types;
 mod values;
 
 pub use state::*;
 pub use step::*;
+pub use types::*;
 pub use values::*;
 
 use crate::boundary::{
@@ -28,45 +30,9 @@ use crate::boundary::{
 use crate::instance::{FmiVersion, Logger, Status};
 use crate::FmuKind;
 use libc::size_t;
-use std::ffi::{c_char, c_int, c_uint, c_void, CString};
+use std::ffi::{c_char, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
-
-pub type fmi2Component = *mut c_void;
-pub type fmi2ComponentEnvironment = *mut c_void;
-pub type fmi2FMUstate = *mut c_void;
-pub type fmi2ValueReference = c_uint;
-pub type fmi2Real = f64;
-pub type fmi2Integer = c_int;
-pub type fmi2Boolean = c_int;
-pub type fmi2String = *const c_char;
-pub type fmi2Byte = c_char;
-pub type fmi2Status = c_int;
-pub type fmi2Type = c_int;
-pub type fmi2StatusKind = c_int;
-
-const FMI2_TRUE: fmi2Boolean = 1;
-const FMI2_FALSE: fmi2Boolean = 0;
-const CO_SIMULATION: fmi2Type = 1;
-
-pub type fmi2CallbackLogger = unsafe extern "C" fn(
-    fmi2ComponentEnvironment,
-    fmi2String,
-    fmi2Status,
-    fmi2String,
-    fmi2String,
-    ...
-);
-
-/// fmi2CallbackFunctions (fmi2FunctionTypes.h).
-#[repr(C)]
-pub struct fmi2CallbackFunctions {
-    pub logger: Option<fmi2CallbackLogger>,
-    pub allocateMemory: Option<unsafe extern "C" fn(size_t, size_t) -> *mut c_void>,
-    pub freeMemory: Option<unsafe extern "C" fn(*mut c_void)>,
-    pub stepFinished: Option<unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2Status)>,
-    pub componentEnvironment: fmi2ComponentEnvironment,
-}
 
 /// The importer's logger with its environment pointer. The importer guarantees that the
 /// callback may be called from the thread that calls the instance (FMI 2.0, 2.1.5); the

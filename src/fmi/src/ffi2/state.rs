@@ -1,7 +1,7 @@
 //! The FMU-state functions of FMI 2.0 (canGetAndSetFMUstate, canSerializeFMUstate):
 //! handles kept by `boundary::states`.
 
-use super::{fmi2Byte, fmi2Component, fmi2FMUstate, fmi2Status};
+use super::types::{fmi2Byte, fmi2Component, fmi2FMUstate, fmi2Status};
 use crate::boundary::states;
 use libc::size_t;
 

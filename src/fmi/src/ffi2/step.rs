@@ -2,7 +2,7 @@
 //! the last successful time and "terminated" are known), and the functions of
 //! capabilities this FMU does not have, which return fmi2Error and log why.
 
-use super::{
+use super::types::{
     fmi2Boolean, fmi2Component, fmi2Integer, fmi2Real, fmi2Status, fmi2StatusKind, fmi2String,
     fmi2ValueReference, FMI2_FALSE, FMI2_TRUE,
 };

@@ -1,7 +1,7 @@
 //! fmi2Get* and fmi2Set*: the C arrays become slices (`boundary::values`) and the
 //! instance does the rest.
 
-use super::{
+use super::types::{
     fmi2Boolean, fmi2Component, fmi2Integer, fmi2Real, fmi2Status, fmi2String, fmi2ValueReference,
     FMI2_FALSE, FMI2_TRUE,
 };

@@ -1,7 +1,7 @@
 //! The FMU-state functions of FMI 3.0 (canGetAndSetFMUState, canSerializeFMUState):
 //! handles kept by `boundary::states`, as FMI 2.0's.
 
-use super::{fmi3Byte, fmi3FMUState, fmi3Instance, fmi3Status};
+use super::types::{fmi3Byte, fmi3FMUState, fmi3Instance, fmi3Status};
 use crate::boundary::states;
 use libc::size_t;
 

@@ -1,8 +1,9 @@
 //! fmi3DoStep, and the functions of the capabilities these FMUs do not have (each
 //! returns fmi3Error and logs which capability flag says so).
 
-use super::*;
-use crate::boundary::unsupported;
+use super::types::*;
+use crate::boundary::{each, null_argument, status, unsupported, with_component};
+use libc::size_t;
 
 /// fmi3DoStep: without earlyReturnAllowed the step ends at currentCommunicationPoint +
 /// communicationStepSize, exactly as fmi2DoStep's does; with it StickSlipBeam ends at a

@@ -2,10 +2,13 @@
 //! Int32, Boolean and String as scalars with FMI 3.0's `nValues` checked, and the value
 //! types these FMUs have no variables of.
 
+use super::types::*;
 use super::values3;
-use super::*;
-use crate::boundary::{fail, slice, slice_mut, values, Component};
-use crate::instance::Call;
+use crate::boundary::{
+    each, fail, null_argument, slice, slice_mut, status, values, with_component, Component,
+};
+use crate::instance::{Call, Status};
+use libc::size_t;
 
 /// The NULL-argument message's names of the array arguments.
 const ARGUMENTS: &str = "valueReferences or values";

@@ -2,7 +2,8 @@
 //! (de)serialize, with the checks that keep a restored clock one the instance could
 //! have reached.
 
-use super::{Call, CallResult, Instance, Mode};
+use super::base::{CallResult, Instance};
+use super::machine::{Call, Mode};
 use crate::model::Model;
 use serde::{Deserialize, Serialize};
 

@@ -1,7 +1,8 @@
 //! The step (fmi2DoStep, fmi3DoStep with early return and event handling) and the
 //! status functions of FMI 2.0.
 
-use super::{Call, CallResult, Instance, Status, EVENTS};
+use super::base::{CallResult, Instance, Status, EVENTS};
+use super::machine::Call;
 use crate::model::Model;
 
 /// Status kinds of fmi2Get*Status.
@@ -11,19 +12,6 @@ pub enum StatusKind {
     PendingStatus,
     LastSuccessfulTime,
     Terminated,
-}
-
-/// How an FMI 3.0 importer instantiated a co-simulation instance
-/// (fmi3InstantiateCoSimulation's eventModeUsed and earlyReturnAllowed). FMI 2.0
-/// instances use neither.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct EventOptions {
-    /// The importer handles events in Event Mode: fmi3ExitInitializationMode enters Event
-    /// Mode, and a step that ends at an event asks for it (eventHandlingNeeded).
-    pub event_mode_used: bool,
-    /// The importer accepts a step that ends before its communication point: the model
-    /// then stops at its internal events (`Model::do_step_until_event`).
-    pub early_return_allowed: bool,
 }
 
 /// What an FMI 3.0 step did (fmi3DoStep's output arguments).

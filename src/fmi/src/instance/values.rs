@@ -1,7 +1,8 @@
 //! Getting and setting variables through the model's table: which variables may be
 //! read or written in which mode, and the outputs made current before a read.
 
-use super::{Call, CallResult, Failed, Instance, Mode};
+use super::base::{CallResult, Failed, Instance};
+use super::machine::{Call, Mode};
 use crate::model::Model;
 use crate::variables::{lookup, AccessError, BaseType, Causality, Variable};
 
