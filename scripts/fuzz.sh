@@ -23,7 +23,7 @@
 # AddressSanitizer to catch out-of-bounds accesses, and the code these targets reach
 # has two unsafe blocks, both target_feature calls taken only when the CPU reports the
 # features (AVX2 and FMA in stickslip::neural::law, AVX2 in stickslip::banded); the
-# pointer handling of the C interface (stickslip_fmi::ffi) is not reached: the
+# pointer handling of the C interface (stickslip_fmi::ffi2, ffi3) is not reached: the
 # FMU-state target enters one layer below it, at `Instance`, which the ffi functions
 # forward to.
 #

@@ -4,7 +4,7 @@
 use std::ffi::{c_char, c_void, CStr, CString};
 use std::ptr::{null, null_mut};
 use std::sync::Mutex;
-use stickslip_fmi::ffi::*;
+use stickslip_fmi::ffi2::*;
 use stickslip_fmi::FmuKind;
 
 const OK: fmi2Status = 0;

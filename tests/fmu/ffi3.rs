@@ -39,6 +39,16 @@ pub(crate) unsafe extern "C" fn log3(
     }
 }
 
+/// The messages logged so far, without their statuses.
+fn texts(messages: &Messages) -> Vec<String> {
+    messages
+        .lock()
+        .unwrap()
+        .iter()
+        .map(|(_, m)| m.clone())
+        .collect()
+}
+
 unsafe fn instantiate(kind: FmuKind, name: &str, messages: &Messages) -> fmi3Instance {
     unsafe { instantiate_with(kind, name, messages, false, false) }
 }
@@ -299,12 +309,7 @@ fn fmi3_instantiation_refuses_what_the_fmu_does_not_offer() {
         )
     };
     assert!(me.is_null());
-    let log: Vec<String> = messages
-        .lock()
-        .unwrap()
-        .iter()
-        .map(|(_, m)| m.clone())
-        .collect();
+    let log = texts(&messages);
     for expected in [
         "is a URI",
         "providesIntermediateUpdate = false",
@@ -315,6 +320,61 @@ fn fmi3_instantiation_refuses_what_the_fmu_does_not_offer() {
             "{expected}: {log:?}"
         );
     }
+}
+
+/// An FMI 3.0 instance logs what it was told and found as it is: a reason, path or
+/// category name that contains "fmi2" is not rewritten (messages are written with the
+/// FMI 3.0 function's name, never renamed afterwards), while the function named is the
+/// FMI 3.0 one that was called.
+#[test]
+fn fmi3_reasons_containing_fmi2_are_logged_unaltered() {
+    let messages = Messages::default();
+    unsafe {
+        let c = instantiate_logging(
+            FmuKind::StickSlipBeam,
+            "fmi2-named",
+            &messages,
+            true,
+            false,
+            false,
+        );
+        assert!(!c.is_null());
+        let unknown = CString::new("fmi2Category").unwrap();
+        assert_eq!(fmi3SetDebugLogging(c, true, 1, &unknown.as_ptr()), 1);
+        assert_eq!(
+            fmi3EnterInitializationMode(c, false, 0.0, 0.0, true, 1.0),
+            OK
+        );
+        let law = [vr::<StickSlipBeam>("friction.law")];
+        let neural = [stickslip::scene::FrictionLawKind::Neural.code()];
+        assert_eq!(fmi3SetInt32(c, law.as_ptr(), 1, neural.as_ptr(), 1), OK);
+        let weights = [vr::<StickSlipBeam>("friction.weights")];
+        let path = CString::new("/tmp/fmi2dir/x.json").unwrap();
+        assert_eq!(fmi3SetString(c, weights.as_ptr(), 1, &path.as_ptr(), 1), OK);
+        assert_eq!(fmi3ExitInitializationMode(c), ERROR);
+        fmi3FreeInstance(c);
+    }
+    let log = texts(&messages);
+    let failed = log
+        .iter()
+        .find(|m| m.starts_with("fmi3ExitInitializationMode: "))
+        .unwrap_or_else(|| panic!("no fmi3ExitInitializationMode error: {log:?}"));
+    assert!(failed.contains("/tmp/fmi2dir/x.json"), "{failed}");
+    assert!(
+        log.iter()
+            .any(|m| m
+                .starts_with("fmi3SetDebugLogging: unknown log category \"fmi2Category\" ignored")),
+        "{log:?}"
+    );
+    // The calls are logged (logCalls) with the names of the FMI 3.0 functions.
+    for call in [
+        "fmi3SetDebugLogging",
+        "fmi3SetString",
+        "fmi3ExitInitializationMode",
+    ] {
+        assert!(log.iter().any(|m| m == call), "{call}: {log:?}");
+    }
+    assert!(!log.iter().any(|m| m.contains("fmi3dir")), "{log:?}");
 }
 
 unsafe fn instantiate_with(

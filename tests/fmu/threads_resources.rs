@@ -14,7 +14,7 @@ use std::sync::Barrier;
 use stickslip::choice::Choice;
 use stickslip::scene::{FidelityLevel, FrictionLawKind};
 use stickslip_fmi::beam::StickSlipBeam;
-use stickslip_fmi::ffi::*;
+use stickslip_fmi::ffi2::*;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::FmuKind;
 

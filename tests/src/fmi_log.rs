@@ -3,7 +3,7 @@
 use std::ffi::{c_char, CStr};
 use std::sync::Mutex;
 
-use stickslip_fmi::ffi::{fmi2ComponentEnvironment, fmi2Status, fmi2String};
+use stickslip_fmi::ffi2::{fmi2ComponentEnvironment, fmi2Status, fmi2String};
 
 #[derive(Debug)]
 pub struct Entry {

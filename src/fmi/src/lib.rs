@@ -17,22 +17,24 @@
 //! - `networks`: the neural weights files a model reads from the FMU's `resources/`;
 //! - `version`: FMI 2.0 or 3.0, and the function names of each in the log;
 //! - `instance`: the FMI state machine, logging and FMU state, in plain Rust;
-//! - `ffi`: the 34 FMI 2.0 `extern "C"` functions, which only convert C arguments and
-//!   catch panics;
+//! - `boundary`: what both C interfaces share and neither version owns (the component
+//!   behind an instance pointer, C strings and arrays, FMU-state handles, catching
+//!   panics);
+//! - `ffi2`: the 34 FMI 2.0 `extern "C"` functions, which only convert C arguments;
 //! - `ffi3`: the 75 FMI 3.0 functions over the same instances (the FMUs under
-//!   `target/fmu/3.0/`); most call their FMI 2.0 twins;
-//! - `values3`: what an FMI 3.0 Float64 request stands for (time, arrays, scalars).
+//!   `target/fmu/3.0/`), and `ffi3::values3`, what an FMI 3.0 Float64 request stands
+//!   for (time, arrays, scalars). Neither interface calls the other.
 
 pub mod beam;
+mod boundary;
 mod declare;
-pub mod ffi;
+pub mod ffi2;
 pub mod ffi3;
 pub mod friction;
 pub mod instance;
 pub mod model;
 pub mod model_description;
 pub mod networks;
-pub mod values3;
 pub mod variables;
 pub mod version;
 pub mod xml;

@@ -1,6 +1,6 @@
 //! What a model behind an FMU provides ([`Model`]) and its static facts ([`ModelInfo`]):
 //! the interface between the plain-Rust models (`beam`, `friction`) and the FMI layer
-//! (`instance`, `model_description`, `ffi`).
+//! (`instance`, `model_description`, `ffi2`, `ffi3`).
 
 use crate::variables::{ArrayVariable, Variable};
 use std::path::Path;

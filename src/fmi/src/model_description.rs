@@ -21,22 +21,42 @@ use crate::variables::{
     Access, ArrayVariable, Causality, ChoiceType, DependencyKind, InitialDependencies, Unit,
     Variability, Variable, UNITS,
 };
-use crate::version::FmiVersion;
+use crate::version::{FmiVersion, Names};
 use crate::xml::{attribute, escape, optional_attribute, real};
 use std::fmt::Write;
 
+/// A log category every FMU declares: its name, and its description as a version's
+/// model description says it (the statuses it names are that version's).
+pub struct LogCategory {
+    pub name: &'static str,
+    pub description: fn(&Names) -> String,
+}
+
 /// The log categories every FMU declares, in modelDescription order.
-pub const LOG_CATEGORIES: [(&str, &str); 4] = [
-    (
-        "logStatusError",
-        "Why a call returned fmi2Error (on unless logging is switched off)",
-    ),
-    ("logStatusWarning", "Why a call returned fmi2Warning"),
-    (
-        "logEvents",
-        "Stick/slip transitions, the communication steps that contain them, and the fidelity = auto choice",
-    ),
-    ("logCalls", "Every FMI function call with its arguments"),
+pub const LOG_CATEGORIES: [LogCategory; 4] = [
+    LogCategory {
+        name: "logStatusError",
+        description: |names| {
+            format!(
+                "Why a call returned {} (on unless logging is switched off)",
+                names.error_status
+            )
+        },
+    },
+    LogCategory {
+        name: "logStatusWarning",
+        description: |names| format!("Why a call returned {}", names.warning_status),
+    },
+    LogCategory {
+        name: "logEvents",
+        description: |_| {
+            "Stick/slip transitions, the communication steps that contain them, and the fidelity = auto choice".into()
+        },
+    },
+    LogCategory {
+        name: "logCalls",
+        description: |_| "Every FMI function call with its arguments".into(),
+    },
 ];
 
 /// The `name` of the `<Tool>` under `<VendorAnnotations>` that lists the choices:
@@ -259,11 +279,12 @@ fn write_units_categories_experiment<M: Model>(
     }
 
     let _ = writeln!(w, "  <LogCategories>");
-    for (name, description) in LOG_CATEGORIES {
+    for category in LOG_CATEGORIES {
         let _ = writeln!(
             w,
-            r#"    <Category name="{name}" description="{}"/>"#,
-            escape(&version.rename(description))
+            r#"    <Category name="{}" description="{}"/>"#,
+            category.name,
+            escape(&(category.description)(version.names()))
         );
     }
     let _ = writeln!(w, "  </LogCategories>");

@@ -1,4 +1,4 @@
-//! Neural-network friction law (issue 3), after Vater, Stender & Hoffmann, "Towards
+//! Neural-network friction law, after Vater, Stender & Hoffmann, "Towards
 //! neural network-based numerical friction models", PAMM 2023.
 //!
 //! This module holds what the simulation needs to *use* a trained network:
@@ -9,6 +9,8 @@
 //!   model as a `crate::friction::FrictionLaw`;
 //! - `table`: the network tabulated at initialisation, with its verified error (the
 //!   law as `friction.inference` asks is built by `crate::law_source`);
+//! - `onnx`: networks exported to ONNX (PyTorch, Keras, scikit-learn), read in pure Rust
+//!   into the same `NeuralModel`;
 //! - `error`: `NeuralError`, why a weights file or an evaluation was refused.
 //!
 //! Training (data, CSV, backpropagation, L-BFGS, the objective, search) lives in the

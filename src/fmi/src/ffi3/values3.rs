@@ -10,8 +10,9 @@
 //!
 //! The elements of an array are not FMI 3.0 variables of their own: their FMI 2.0
 //! value references are refused here with the array to use instead. Everything else
-//! goes through the instance's FMI 2.0 accessors, so the state machine, the checks and
-//! the log messages are the same.
+//! goes through the instance's scalar accessors (those of fmi2GetReal and fmi2SetReal),
+//! so the state machine and the checks are the same, and the log names the FMI 3.0
+//! function.
 
 use crate::instance::{Call, CallResult, Instance};
 use crate::model::Model;
@@ -74,15 +75,12 @@ fn scalars(slots: &[Slot]) -> Vec<u32> {
         .collect()
 }
 
-const GET: &str = "fmi2GetReal";
-const SET: &str = "fmi2SetReal";
-
 /// fmi3GetFloat64: fills `out` (its length is nValues).
 pub fn get<M: Model>(instance: &mut Instance<M>, vrs: &[u32], out: &mut [f64]) -> CallResult<()> {
     instance.check(Call::Get)?;
     let slots = slots::<M>(vrs)
         .and_then(|slots| count_matches(vrs, &slots, out.len()).map(|()| slots))
-        .map_err(|reason| instance.fail(GET, &reason))?;
+        .map_err(|reason| instance.fail(instance.names().get_real, &reason))?;
     let scalar_vrs = scalars(&slots);
     let mut values = vec![0.0; scalar_vrs.len()];
     instance.get_real(&scalar_vrs, &mut values)?;
@@ -102,10 +100,10 @@ pub fn set<M: Model>(instance: &mut Instance<M>, vrs: &[u32], values: &[f64]) ->
     instance.check(Call::Set)?;
     let slots = slots::<M>(vrs)
         .and_then(|slots| count_matches(vrs, &slots, values.len()).map(|()| slots))
-        .map_err(|reason| instance.fail(SET, &reason))?;
+        .map_err(|reason| instance.fail(instance.names().set_real, &reason))?;
     if slots.contains(&Slot::Time) {
         return Err(instance.fail(
-            SET,
+            instance.names().set_real,
             "time (value reference 0) is the independent variable: the instance's clock, which only fmi3DoStep advances; it cannot be set",
         ));
     }
