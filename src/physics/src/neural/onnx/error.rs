@@ -1,6 +1,6 @@
 //! `OnnxError`: why an ONNX file was not imported, naming the culprit.
 
-use super::super::NeuralError;
+use crate::neural::error::NeuralError;
 
 /// Why an ONNX model could not be imported. Every message names what is wrong (node by
 /// name and operator type, attribute, tensor, data type, shapes, opset) so that the user

@@ -81,8 +81,13 @@ pub fn import_onnx(bytes: &[u8], options: &OnnxImport) -> Result<NeuralModel, On
 /// Reads an ONNX file and imports it (`options.source_name` is replaced by the path
 /// when empty).
 pub fn load_onnx(path: &std::path::Path, options: &OnnxImport) -> Result<NeuralModel, OnnxError> {
-    let bytes = std::fs::read(path)
-        .map_err(|e| OnnxError::Model(super::NeuralError::io("cannot read", path, e)))?;
+    let bytes = std::fs::read(path).map_err(|e| {
+        OnnxError::Model(crate::neural::error::NeuralError::io(
+            "cannot read",
+            path,
+            e,
+        ))
+    })?;
     let mut options = options.clone();
     if options.source_name.is_empty() {
         options.source_name = path.display().to_string();
