@@ -248,3 +248,29 @@ fn friction_law(
     )
     .law()
 }
+
+/// `auto` caches its choice by the law's fingerprint: a network whose fixed feature has
+/// another value computes other forces, so it must be another entry; the same network
+/// loaded twice (another `Arc`, another file name) is the same entry.
+#[test]
+fn the_law_fingerprint_tells_fixed_feature_values_apart() {
+    let law = NeuralLaw::from_json(&stickslip_tests::three_input_weights(), "three.json").unwrap();
+    let source = |law: NeuralLaw, name: &str| {
+        LawSource::network(
+            Arc::new(law),
+            NetworkOrigin::Weights(name.into()),
+            Inference::Exact,
+            100.0,
+        )
+        .fingerprint()
+        .expect("a serialisable network has a fingerprint")
+    };
+    let at = |value| {
+        law.clone()
+            .with_fixed_feature("temperature", value)
+            .unwrap()
+    };
+    assert_ne!(source(at(25.0), "a.json"), source(at(80.0), "a.json"));
+    assert_eq!(source(at(25.0), "a.json"), source(at(25.0), "b.json"));
+    assert_ne!(source(law.clone(), "a.json"), source(at(25.0), "a.json"));
+}

@@ -1,7 +1,9 @@
-//! The FMI 2.0 co-simulation layer: a thin adapter between the plain-Rust physics and
-//! the C interface that FMI importers call.
+//! The FMI 2.0 and 3.0 co-simulation layer: a thin adapter between the plain-Rust
+//! physics and the C interfaces that FMI importers call, over one version-neutral
+//! instance.
 //!
-//! One library serves two FMUs, told apart by the GUID passed to `fmi2Instantiate`:
+//! One library serves two FMUs, told apart by the GUID passed to `fmi2Instantiate` (the
+//! instantiationToken of `fmi3InstantiateCoSimulation`):
 //! - `StickSlipBeam` (`beam`): the beam with its stick-slip contact and a friction law
 //!   (analytical, neural, or supplied from outside through inputs);
 //! - `NeuralFriction` (`friction`): the friction law alone, for coupling.

@@ -92,8 +92,8 @@
 //! with the best estimate, rather than answered with an unverified guess. The
 //! calibration costs the runs it made (the pilot, the points up to the chosen one and
 //! their chains); the result says how many, to what time and how long they took, and
-//! [`choose_cached`] keeps the choice per scene and tolerance for the rest of the
-//! process.
+//! [`choose_cached`] keeps the choice per scene, law and tolerance for the rest of
+//! the process.
 
 use crate::law_source::LawSource;
 use crate::scene::{FidelityLevel, Scene, SceneError};
@@ -511,12 +511,14 @@ pub fn choose_cached(
     let tolerance = tolerance_of(scene);
     let mut keyed = scene.clone();
     keyed.fidelity.tolerance = Some(tolerance);
-    // A scene that does not serialize is not cached (it is still chosen for).
-    let key = serde_json::to_string(&(&keyed, law.fingerprint(), front)).ok();
+    // A scene or a network that does not serialize is not cached (it is still chosen for).
+    let key = law
+        .fingerprint()
+        .and_then(|law| serde_json::to_string(&(&keyed, law, front)).ok());
     if let Some(key) = &key {
         let cached = cache().lock().ok().and_then(|c| c.get(key).cloned());
         if let Some(mut choice) = cached {
-            progress("fidelity = auto: the choice for this scene and tolerance is already made in this process");
+            progress("fidelity = auto: the choice for this scene, law and tolerance is already made in this process");
             choice.calibration_seconds = 0.0;
             choice.runs = 0;
             return Ok(choice);

@@ -45,10 +45,56 @@ pub enum LawSource {
 /// (N) a table is built at, and where the network came from (for messages).
 #[derive(Clone, Debug)]
 pub struct NetworkSource {
-    pub network: Arc<NeuralLaw>,
-    pub inference: Inference,
-    pub normal_force: f64,
-    pub origin: NetworkOrigin,
+    network: Arc<NeuralLaw>,
+    inference: Inference,
+    normal_force: f64,
+    origin: NetworkOrigin,
+    /// The network's identity for caches, computed once when the source is made (the
+    /// weights serialise to about 650 kB of JSON, too much to hash at every lookup);
+    /// `None` when the model does not serialise, which is then never cached.
+    identity: Option<u64>,
+}
+
+impl NetworkSource {
+    fn new(
+        network: Arc<NeuralLaw>,
+        inference: Inference,
+        normal_force: f64,
+        origin: NetworkOrigin,
+    ) -> Self {
+        let identity = network_identity(&network);
+        NetworkSource {
+            network,
+            inference,
+            normal_force,
+            origin,
+            identity,
+        }
+    }
+
+    /// The loaded network.
+    pub fn network(&self) -> &Arc<NeuralLaw> {
+        &self.network
+    }
+
+    pub fn inference(&self) -> Inference {
+        self.inference
+    }
+}
+
+/// What makes two networks compute the same forces: the model (weights, scaling,
+/// features, ranges) and the values given to its fixed features. Not its file name: two
+/// files may hold one network, one name two networks.
+fn network_identity(network: &NeuralLaw) -> Option<u64> {
+    let model = serde_json::to_string(network.model()).ok()?;
+    let fixed: Vec<Option<u64>> = network
+        .fixed_features()
+        .iter()
+        .map(|value| value.map(f64::to_bits))
+        .collect();
+    let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    (model, fixed).hash(&mut hasher);
+    Some(hasher.finish())
 }
 
 /// Where a network was read from: its messages name it.
@@ -90,12 +136,12 @@ impl LawSource {
             },
             FrictionLawKind::Neural => {
                 let (network, origin) = network()?;
-                LawSource::Network(NetworkSource {
+                LawSource::Network(NetworkSource::new(
                     network,
-                    inference: friction.inference,
+                    friction.inference,
                     normal_force,
                     origin,
-                })
+                ))
             }
         })
     }
@@ -126,12 +172,7 @@ impl LawSource {
         inference: Inference,
         normal_force: f64,
     ) -> Self {
-        LawSource::Network(NetworkSource {
-            network,
-            inference,
-            normal_force,
-            origin,
-        })
+        LawSource::Network(NetworkSource::new(network, inference, normal_force, origin))
     }
 
     /// This source evaluated as `inference` asks (a configuration of the study may
@@ -171,22 +212,16 @@ impl LawSource {
     }
 
     /// A fingerprint of the law for caches keyed by what a run computes (`auto`): equal
-    /// for the same law and the same network, whoever loaded it; the coefficients and
-    /// the inference are the scene's and are keyed with it.
-    pub fn fingerprint(&self) -> String {
+    /// for the same law and the same network (its model and fixed feature values),
+    /// whoever loaded it. The coefficients and the inference are the scene's, so a cache
+    /// must key the scene with it, the scene this source was made from. `None` for a
+    /// network whose model does not serialise: such a law is not cached.
+    pub fn fingerprint(&self) -> Option<String> {
         match self {
-            LawSource::Network(n) => {
-                let mut hasher = std::collections::hash_map::DefaultHasher::new();
-                // The network's own description (weights included), not its file name:
-                // two files may hold one network, one name two networks.
-                serde_json::to_string(n.network.model())
-                    .unwrap_or_default()
-                    .hash(&mut hasher);
-                format!("network {:016x}", hasher.finish())
-            }
-            LawSource::Exponential(_) => "exponential".into(),
-            LawSource::Coulomb(_) => "coulomb".into(),
-            LawSource::External { .. } => "external".into(),
+            LawSource::Network(n) => n.identity.map(|id| format!("network {id:016x}")),
+            LawSource::Exponential(_) => Some("exponential".into()),
+            LawSource::Coulomb(_) => Some("coulomb".into()),
+            LawSource::External { .. } => Some("external".into()),
         }
     }
 }
@@ -278,6 +313,7 @@ mod tests {
             )
         };
         let plain = LawSource::resolve(&scene).unwrap().fingerprint();
+        assert!(plain.is_some());
         assert_eq!(
             plain,
             read(NeuralLaw::paper_default().unwrap()).fingerprint()
@@ -287,6 +323,6 @@ mod tests {
             read(NeuralLaw::paper_signed().unwrap()).fingerprint()
         );
         let exponential = LawSource::resolve(&Scene::default().check().unwrap()).unwrap();
-        assert_eq!(exponential.fingerprint(), "exponential");
+        assert_eq!(exponential.fingerprint().as_deref(), Some("exponential"));
     }
 }

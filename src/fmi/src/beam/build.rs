@@ -30,10 +30,10 @@ pub(super) enum BuildError {
 }
 
 impl StickSlipBeam {
-    /// The scene of the current settings, checked, and the law it runs. With `fidelity =
-    /// auto` the law is resolved first (the network read once), so that the calibration
-    /// runs use it; otherwise after the check, so that a bad parameter is reported as
-    /// such before a weights file is read.
+    /// The scene of the current settings, checked, and the law it runs. The scene is
+    /// checked before the law is resolved, so that a bad parameter is reported as such
+    /// before a weights file is read (as the command line does); with `fidelity = auto`
+    /// the law (the network read once) then serves the calibration runs.
     fn checked_scene(
         &mut self,
         start_time: f64,
@@ -47,6 +47,7 @@ impl StickSlipBeam {
             scene.time.end = (stop - start_time).max(scene.time.step);
         }
         if scene.fidelity.level == FidelityLevel::Auto {
+            scene.clone().check()?;
             let law = self.law_source(&scene)?;
             let scene = self.auto_choice(&scene, &law)?.apply(&scene).check()?;
             // The choice may name an evaluation of the network (the shipped front does

@@ -13,8 +13,8 @@
 //! - `signed`: the law's tangent at the velocity the model was evaluated at,
 //!   `external.friction_force` + `external.friction_slope` (v -
 //!   `external.sliding_velocity`), solved within each internal step, for smooth signed
-//!   laws such as the paper's plain network (see `stickslip::contact`, and the README's
-//!   co-simulation section for the coupling errors).
+//!   laws such as the paper's plain network (see `stickslip::contact`, and docs/cosimulation.md
+//!   for the coupling errors).
 //!
 //! `fidelity.level = auto` is resolved by the `auto` module at
 //! fmi2ExitInitializationMode.

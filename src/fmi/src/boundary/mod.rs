@@ -135,8 +135,12 @@ pub(crate) unsafe fn with_component(
     }
     // SAFETY: a non-NULL instance pointer is the one instantiation returned.
     let component = unsafe { &mut *(c as *mut Component) };
-    each!(&mut component.instance, i => i.log_call(|| call.to_string()));
-    match catch_unwind(AssertUnwindSafe(|| body(component))) {
+    // The log call runs the importer's logger (and, from Rust, any logger closure), so
+    // it is inside the unwind guard too: no panic of either may cross extern "C".
+    match catch_unwind(AssertUnwindSafe(|| {
+        each!(&mut component.instance, i => i.log_call(|| call.to_string()));
+        body(component)
+    })) {
         Ok(s) => s as CStatus,
         Err(payload) => {
             let reason = format!("internal error (panic): {}", panic_message(&*payload));

@@ -124,7 +124,8 @@ pub unsafe extern "C" fn fmi3SetDebugLogging(
     }
 }
 
-/// Logs why an instantiation failed, through the importer's callback.
+/// Logs why an instantiation failed, through the importer's callback; a panic while
+/// logging is caught (no panic crosses extern "C"), and the answer is NULL either way.
 unsafe fn refuse_instantiation(
     logMessage: Option<fmi3LogMessageCallback>,
     environment: fmi3InstanceEnvironment,
@@ -135,11 +136,13 @@ unsafe fn refuse_instantiation(
         callback: logMessage,
         environment,
     };
-    logger.log(
-        Status::Error,
-        "logStatusError",
-        &format!("{call}: {reason}"),
-    );
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        logger.log(
+            Status::Error,
+            "logStatusError",
+            &format!("{call}: {reason}"),
+        )
+    }));
     std::ptr::null_mut()
 }
 
