@@ -1,0 +1,165 @@
+//! The FMI 2.0 modelDescription.xml (FMI 2.0 standard, section 2.2).
+
+use super::parts::{
+    choice_variables, dependency_attributes, description, output_dependencies,
+    write_units_categories_experiment, CHOICES_TOOL,
+};
+use crate::model::Model;
+use crate::variables::{Access, Causality, DependencyKind, Variability, Variable};
+use crate::version::FmiVersion;
+use crate::xml::{attribute, escape, optional_attribute, real};
+use std::fmt::Write;
+
+pub(super) fn body<M: Model>(guid: &str) -> String {
+    let info = &M::INFO;
+    let defaults = M::with_defaults();
+    let variables = M::variables();
+    let mut x = String::new();
+    let w = &mut x;
+    // Writing to a String cannot fail.
+    let _ = writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+    let _ = writeln!(
+        w,
+        r#"<fmiModelDescription fmiVersion="2.0" modelName="{}" guid="{}" description="{}" generationTool="stickslip {}" variableNamingConvention="structured" numberOfEventIndicators="0">"#,
+        info.model_identifier,
+        guid,
+        escape(info.description),
+        env!("CARGO_PKG_VERSION")
+    );
+    let _ = writeln!(
+        w,
+        r#"  <CoSimulation modelIdentifier="{}" needsExecutionTool="false" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" providesDirectionalDerivative="false"/>"#,
+        info.model_identifier
+    );
+
+    write_units_categories_experiment(w, variables, FmiVersion::V2);
+
+    write_choices(w, variables);
+
+    let _ = writeln!(w, "  <ModelVariables>");
+    for v in variables {
+        let initial = match v.causality {
+            Causality::Parameter => r#" initial="exact""#,
+            Causality::Input => "",
+            Causality::Output => r#" initial="calculated""#,
+        };
+        let _ = writeln!(
+            w,
+            r#"    <ScalarVariable name="{}" valueReference="{}" description="{}" causality="{}" variability="{}"{initial}>"#,
+            escape(v.name),
+            v.value_reference,
+            escape(&description(v)),
+            v.causality.as_str(),
+            v.variability.as_str()
+        );
+        let with_start = v.causality != Causality::Output;
+        let element = match &v.access {
+            Access::Real { unit, get, .. } => {
+                let unit = optional_attribute("unit", *unit);
+                let start = if with_start {
+                    format!(r#" start="{}""#, real(get(&defaults)))
+                } else {
+                    String::new()
+                };
+                format!("<Real{unit}{start}/>")
+            }
+            Access::Integer { min, max, get, .. } => {
+                let start = if with_start {
+                    format!(r#" start="{}""#, get(&defaults))
+                } else {
+                    String::new()
+                };
+                format!(r#"<Integer min="{min}" max="{max}"{start}/>"#)
+            }
+            Access::Boolean { get, .. } => {
+                let start = if with_start {
+                    format!(r#" start="{}""#, get(&defaults))
+                } else {
+                    String::new()
+                };
+                format!("<Boolean{start}/>")
+            }
+            Access::Choice { kind, get, .. } => {
+                let start = if with_start {
+                    format!(r#" start="{}""#, get(&defaults))
+                } else {
+                    String::new()
+                };
+                format!(r#"<Integer min="1" max="{}"{start}/>"#, kind.len)
+            }
+            Access::String { get, .. } => {
+                let start = if with_start {
+                    attribute("start", &get(&defaults))
+                } else {
+                    String::new()
+                };
+                format!("<String{start}/>")
+            }
+        };
+        let _ = writeln!(w, "      {element}");
+        let _ = writeln!(w, "    </ScalarVariable>");
+    }
+    let _ = writeln!(w, "  </ModelVariables>");
+
+    let _ = writeln!(w, "  <ModelStructure>");
+    let _ = writeln!(w, "    <Outputs>");
+    let dependencies = output_dependencies(variables);
+    for (k, d) in &dependencies {
+        let (indices, kinds): (Vec<usize>, Vec<DependencyKind>) = d.step.iter().copied().unzip();
+        let _ = writeln!(
+            w,
+            r#"      <Unknown index="{k}"{}/>"#,
+            dependency_attributes(&indices, &kinds)
+        );
+    }
+    let _ = writeln!(w, "    </Outputs>");
+    let _ = writeln!(w, "    <InitialUnknowns>");
+    for (k, d) in &dependencies {
+        let _ = writeln!(
+            w,
+            r#"      <Unknown index="{k}"{}/>"#,
+            dependency_attributes(&d.initial, &[])
+        );
+    }
+    let _ = writeln!(w, "    </InitialUnknowns>");
+    let _ = writeln!(w, "  </ModelStructure>");
+    let _ = writeln!(w, "</fmiModelDescription>");
+    debug_assert!(variables.iter().all(|v| match v.causality {
+        Causality::Parameter => v.variability == Variability::Fixed,
+        _ => v.variability != Variability::Fixed,
+    }));
+    x
+}
+
+/// The choices' codes and words for programs ([`CHOICES_TOOL`]), in FMI 2.0's
+/// `<VendorAnnotations><Tool name=...>` (not in FMI 3.0's description; see `fmi3::body3`).
+fn write_choices<M>(w: &mut String, variables: &[Variable<M>]) {
+    let (outer, element, attribute) = ("VendorAnnotations", "Tool", "name");
+    let choices = choice_variables(variables);
+    if !choices.is_empty() {
+        let _ = writeln!(w, "  <{outer}>");
+        let _ = writeln!(w, r#"    <{element} {attribute}="{CHOICES_TOOL}">"#);
+        let _ = writeln!(w, "      <Choices>");
+        for (name, kind) in choices {
+            let _ = writeln!(
+                w,
+                r#"        <Choice variable="{}" type="{}" description="{}">"#,
+                escape(name),
+                escape(kind.name),
+                escape(kind.description)
+            );
+            for (code, word, description) in kind.items() {
+                let _ = writeln!(
+                    w,
+                    r#"          <Item code="{code}" name="{}" description="{}"/>"#,
+                    escape(word),
+                    escape(description)
+                );
+            }
+            let _ = writeln!(w, "        </Choice>");
+        }
+        let _ = writeln!(w, "      </Choices>");
+        let _ = writeln!(w, "    </{element}>");
+        let _ = writeln!(w, "  </{outer}>");
+    }
+}
