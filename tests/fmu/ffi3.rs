@@ -4,7 +4,7 @@
 //! fmi3Reset, free), checked for bit-identical state round trips, and the ignored loop
 //! `valgrind_driver_loop3` that `scripts/valgrind.sh` runs under valgrind.
 
-use std::ffi::{c_void, CStr, CString};
+use std::ffi::{c_char, c_void, CStr, CString};
 use std::ptr::{null, null_mut};
 use std::sync::Mutex;
 use stickslip::choice::Choice;
@@ -779,4 +779,63 @@ fn valgrind_driver_loop3() {
     println!(
         "2 rounds x 2 FMUs, and StickSlipBeam with events, through the FMI 3.0 interface done"
     );
+}
+
+/// fmi3Get/Set of Int32, Boolean and String check what FMI 3.0 adds to FMI 2.0's
+/// arguments: nValues must equal the number of scalar value references, and NULL arrays
+/// are refused with FMI 3.0's argument names; each refusal is fmi3Error with the reason
+/// logged under the function called. One fresh instance per case: an error leaves the
+/// instance in the Error mode, where a setter would be refused for that reason instead.
+#[test]
+fn fmi3_scalar_accessors_check_n_values_and_null_arrays() {
+    let text = CString::new("paper-plain.json").unwrap();
+    let texts_ptrs = [text.as_ptr(), text.as_ptr()];
+    type Case = (
+        &'static str,
+        &'static str,
+        fn(fmi3Instance, &[*const c_char]) -> fmi3Status,
+    );
+    let cases: [Case; 4] = [
+        ("fmi3GetInt32", "nValues = 2", |c, _| {
+            let mut out = [0i32; 2];
+            let vr = [vr::<StickSlipBeam>("transitions")];
+            unsafe { fmi3GetInt32(c, vr.as_ptr(), 1, out.as_mut_ptr(), 2) }
+        }),
+        ("fmi3GetBoolean", "nValues = 0", |c, _| {
+            let mut out = [false; 1];
+            let vr = [vr::<StickSlipBeam>("stick")];
+            unsafe { fmi3GetBoolean(c, vr.as_ptr(), 1, out.as_mut_ptr(), 0) }
+        }),
+        ("fmi3SetString", "nValues = 2", |c, strings| {
+            let vr = [vr::<StickSlipBeam>("friction.weights")];
+            unsafe { fmi3SetString(c, vr.as_ptr(), 1, strings.as_ptr(), 2) }
+        }),
+        (
+            "fmi3GetInt32",
+            "valueReferences or values is NULL",
+            |c, _| {
+                let mut out = [0i32; 1];
+                unsafe { fmi3GetInt32(c, null(), 1, out.as_mut_ptr(), 1) }
+            },
+        ),
+    ];
+    for (call, reason, case) in cases {
+        let messages = Messages::default();
+        unsafe {
+            let c = instantiate(FmuKind::StickSlipBeam, "n-values", &messages);
+            assert!(!c.is_null());
+            assert_eq!(
+                fmi3EnterInitializationMode(c, false, 0.0, 0.0, true, 1.0),
+                OK
+            );
+            assert_eq!(case(c, &texts_ptrs), ERROR, "{call}: {reason}");
+            fmi3FreeInstance(c);
+        }
+        let log = texts(&messages);
+        assert!(
+            log.iter()
+                .any(|m| m.starts_with(&format!("{call}: ")) && m.contains(reason)),
+            "{call}: {reason}: {log:?}"
+        );
+    }
 }
