@@ -1,6 +1,12 @@
 //! Where a run's friction law comes from: [`LawSource`], the one place that turns a
 //! scene's `friction` settings (or a network an FMU has already loaded) into the
 //! `Box<dyn FrictionLaw>` a [`crate::simulation::Simulator`] takes.
+//!
+//! Everything that runs the beam takes a source: `run::run_scene`, `auto`, the study,
+//! the command line and the StickSlipBeam FMU. The NeuralFriction FMU does not: it runs
+//! no simulation, but evaluates the exponential law or the network directly at its
+//! inputs, extra features (which `FrictionLaw`, a law of v and F_n, has no room for) and
+//! the force's slope included.
 
 use crate::friction::{CoulombLaw, ExponentialLaw, FrictionLaw};
 use crate::neural::table::TableLaw;
