@@ -78,6 +78,12 @@ pub enum NeuralError {
     /// A network's layer sizes or a fixed feature value are unusable.
     #[error("{0}")]
     InvalidInput(String),
+
+    /// An ONNX file given where weights are read (`NeuralModel::load`) could not be
+    /// imported; the reason names the node, tensor or metadata key at fault. Boxed: an
+    /// `OnnxError` may itself hold a `NeuralError`.
+    #[error("{0}")]
+    Onnx(Box<super::onnx::OnnxError>),
 }
 
 impl NeuralError {
