@@ -1,3 +1,4 @@
-//! The `stickslip` command line contract.
+//! The `stickslip` command line contract, and `import-network`.
 
 mod contract;
+mod import;
