@@ -4,20 +4,20 @@
 //! depend on), small exports in PyTorch form.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
-
 use stickslip::neural::NeuralLaw;
 
-fn stickslip(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_stickslip"))
-        .args(args)
-        .output()
-        .expect("run stickslip");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+use super::stickslip;
+
+/// `stickslip import-network ONNX --out OUT` and `extra` flags.
+fn import(onnx: &Path, out: &Path, extra: &[&str]) -> (bool, String, String) {
+    let mut args = vec![
+        "import-network",
+        onnx.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    stickslip(&args)
 }
 
 fn seed(name: &str) -> PathBuf {
@@ -62,12 +62,7 @@ fn import_network_writes_weights_that_evaluate_as_the_onnx_file() {
     ] {
         let onnx = seed(name);
         let out = scratch(&format!("{name}.json"));
-        let (ok, stdout, stderr) = stickslip(&[
-            "import-network",
-            onnx.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let (ok, stdout, stderr) = import(&onnx, &out, &[]);
         assert!(ok, "{name}: {stderr}");
         assert!(stdout.contains("wrote"), "{stdout}");
         let direct = NeuralLaw::from_file(&onnx).unwrap();
@@ -106,16 +101,16 @@ fn check_data_prints_mse_r2_and_the_largest_difference() {
     let data = scratch("check.csv");
     std::fs::write(&data, csv).unwrap();
     let out = scratch("check.json");
-    let (ok, stdout, stderr) = stickslip(&[
-        "import-network",
-        onnx.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--check-data",
-        data.to_str().unwrap(),
-        "--prediction-column",
-        "ort",
-    ]);
+    let (ok, stdout, stderr) = import(
+        &onnx,
+        &out,
+        &[
+            "--check-data",
+            data.to_str().unwrap(),
+            "--prediction-column",
+            "ort",
+        ],
+    );
     assert!(ok, "{stderr}");
     assert!(
         stdout.contains("(451 samples): MSE = 2.500000e-1"),
@@ -155,31 +150,26 @@ fn check_data_prints_mse_r2_and_the_largest_difference() {
 fn features_come_from_flags_when_the_file_has_none() {
     let onnx = seed("seed-torch-f64-no-metadata-2-2-1.onnx");
     let out = scratch("bare.json");
-    let (ok, _, stderr) = stickslip(&[
-        "import-network",
-        onnx.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (ok, _, stderr) = import(&onnx, &out, &[]);
     assert!(!ok);
     for part in ["stickslip.features", "--feature NAME:ROLE:UNIT:MIN:MAX"] {
         assert!(stderr.contains(part), "{part}: {stderr}");
     }
     assert!(!out.exists());
-    let (ok, stdout, stderr) = stickslip(&[
-        "import-network",
-        onnx.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--feature",
-        "v:sliding_velocity:m/s:-0.5:0.5",
-        "--feature",
-        "load:normal_force:N:80:120",
-        "--target",
-        "F:N:-60:60",
-        "--variant",
-        "plain",
-    ]);
+    let (ok, stdout, stderr) = import(
+        &onnx,
+        &out,
+        &[
+            "--feature",
+            "v:sliding_velocity:m/s:-0.5:0.5",
+            "--feature",
+            "load:normal_force:N:80:120",
+            "--target",
+            "F:N:-60:60",
+            "--variant",
+            "plain",
+        ],
+    );
     assert!(ok, "{stderr}");
     assert!(
         stdout.contains("v [m/s] sliding_velocity -0.5..0.5"),
@@ -201,26 +191,16 @@ fn features_come_from_flags_when_the_file_has_none() {
         ),
         ("--target", "F:N:0", "expected NAME:UNIT:MIN:MAX"),
     ] {
-        let (ok, _, stderr) = stickslip(&[
-            "import-network",
-            onnx.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            flag,
-            value,
-        ]);
+        let (ok, _, stderr) = import(&onnx, &out, &[flag, value]);
         assert!(!ok);
         assert!(stderr.contains(expected), "{value}: {stderr}");
     }
     // One --feature for a two-input network.
-    let (ok, _, stderr) = stickslip(&[
-        "import-network",
-        onnx.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--feature",
-        "v:sliding_velocity:m/s:-0.5:0.5",
-    ]);
+    let (ok, _, stderr) = import(
+        &onnx,
+        &out,
+        &["--feature", "v:sliding_velocity:m/s:-0.5:0.5"],
+    );
     assert!(!ok);
     assert!(
         stderr.contains("1 features are described but the network has 2 inputs"),
