@@ -48,6 +48,7 @@ import onnx
 import onnxruntime
 import pytest
 from conftest import need
+from fmpy import simulate_fmu
 from onnx import TensorProto, helper, numpy_helper
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.neural_network import MLPRegressor
@@ -55,7 +56,7 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 from skl2onnx import to_onnx
 
-from stickslip_checks.artifacts import FRICTION, find_binary
+from stickslip_checks.artifacts import BEAM, FRICTION, find_binary
 
 POINTS = 10_000
 # Largest difference from onnxruntime relative to the largest |force|, per dtype (see the
@@ -236,3 +237,29 @@ def test_imported_network_matches_onnxruntime(built, trained, tmp_path, form, dt
     assert r2 > 0.8
     # The JSON written is the network read from the .onnx: the same bits through the FMU.
     np.testing.assert_array_equal(fmu_forces(fmus, str(json_path.resolve()), points), direct)
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64], ids=["float32", "float64"])
+def test_beam_runs_an_onnx_network_as_its_json(built, trained, tmp_path, dtype):
+    """StickSlipBeam.fmu with friction.weights = the .onnx file runs as with the JSON that
+    import-network writes from it: bit for bit, and the law is the network (a different
+    run from the shipped network's)."""
+    fmus = need(built)
+    _, _, points = trained
+    model = sklearn_onnx(trained, dtype)
+    path = tmp_path / "beam.onnx"
+    onnx.save(model, path)
+    reference = onnxruntime_forces(model, points[:10], dtype)
+    json_path, _, _ = import_network(path, points[:10], reference, tmp_path, "beam")
+
+    def run(weights):
+        # Past the first breakaway (about 0.4 s), so that the kinetic law acts.
+        return simulate_fmu(str(fmus.paths[BEAM]), stop_time=1.0, output_interval=1e-3,
+                            start_values={"friction.law": 3, "friction.weights": weights})
+
+    onnx_run, json_run, shipped = (run(str(path.resolve())), run(str(json_path.resolve())),
+                                   run("paper-plain.json"))
+    for column in onnx_run.dtype.names:
+        np.testing.assert_array_equal(onnx_run[column], json_run[column], err_msg=column)
+    assert not np.array_equal(onnx_run["tip_deflection"], shipped["tip_deflection"])
+    assert np.all(np.isfinite(onnx_run["tip_deflection"]))
