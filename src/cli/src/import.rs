@@ -14,7 +14,7 @@ use stickslip::choice::Choice;
 use stickslip::neural::onnx::{
     describe, read_onnx, FeatureInfo, OnnxImport, OnnxNetwork, Precision, TargetInfo,
 };
-use stickslip::neural::{FeatureRole, NeuralLaw, NeuralModel, Variant};
+use stickslip::neural::{FeatureRole, NeuralError, NeuralLaw, NeuralModel, Variant};
 use stickslip_train::csv::{read_csv_file, ColumnSelection};
 use stickslip_train::train::mse_and_r2;
 
@@ -147,19 +147,16 @@ pub struct Agreement {
 /// summary.
 pub fn run_import(args: &ImportArgs) -> Result<ImportReport, CliError> {
     let source_name = args.source.display().to_string();
-    let bytes = std::fs::read(&args.source).map_err(|source| CliError::TrainOutput {
-        action: "cannot read",
-        path: args.source.clone(),
-        source,
-    })?;
+    let bytes =
+        std::fs::read(&args.source).map_err(|e| NeuralError::io("cannot read", &args.source, e))?;
     let options = OnnxImport {
         source_name: source_name.clone(),
         features: (!args.features.is_empty()).then(|| args.features.clone()),
         target: args.target.clone(),
         variant: args.variant,
     };
-    let network: OnnxNetwork = read_onnx(&bytes, &source_name).map_err(onnx_error)?;
-    let model = describe::neural_model(&network, &options).map_err(onnx_error)?;
+    let network: OnnxNetwork = read_onnx(&bytes, &source_name).map_err(NeuralError::from)?;
+    let model = describe::neural_model(&network, &options).map_err(NeuralError::from)?;
     // The law's own checks (roles a beam can use are not required: a network may be
     // imported for NeuralFriction or for study).
     let law = NeuralLaw::new(model.clone())?;
@@ -176,10 +173,6 @@ pub fn run_import(args: &ImportArgs) -> Result<ImportReport, CliError> {
     };
     print_report(args, &report);
     Ok(report)
-}
-
-fn onnx_error(e: stickslip::neural::onnx::OnnxError) -> CliError {
-    CliError::Neural(stickslip::neural::NeuralError::Onnx(Box::new(e)))
 }
 
 /// MSE and R^2 of `law` on the CSV file, and the agreement with its prediction column.

@@ -86,6 +86,17 @@ pub enum NeuralError {
     Onnx(Box<super::onnx::OnnxError>),
 }
 
+/// An import failure as a neural error: a model that failed validation is that error
+/// itself, anything else the ONNX reason.
+impl From<super::onnx::OnnxError> for NeuralError {
+    fn from(error: super::onnx::OnnxError) -> Self {
+        match error {
+            super::onnx::OnnxError::Model(inner) => inner,
+            other => NeuralError::Onnx(Box::new(other)),
+        }
+    }
+}
+
 impl NeuralError {
     pub fn io(action: &'static str, path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         NeuralError::Io {

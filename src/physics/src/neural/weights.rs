@@ -266,11 +266,7 @@ impl NeuralModel {
         let source_name = path.display().to_string();
         if is_onnx(path, &bytes) {
             return super::onnx::import_onnx(&bytes, &super::onnx::OnnxImport::named(source_name))
-                .map_err(|e| match e {
-                    // Already a neural error (the imported model failed validation).
-                    super::onnx::OnnxError::Model(inner) => inner,
-                    other => NeuralError::Onnx(Box::new(other)),
-                });
+                .map_err(NeuralError::from);
         }
         // The same message `read_to_string` gives for a file that is not UTF-8.
         let text = String::from_utf8(bytes).map_err(|_| {
