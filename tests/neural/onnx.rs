@@ -571,10 +571,17 @@ fn a_scene_reads_onnx_weights_and_names_what_is_missing() {
     ] {
         assert!(message.contains(part), "{part} missing from: {message}");
     }
-    assert!(matches!(
-        NeuralLaw::from_file(&bare),
-        Err(stickslip::neural::NeuralError::Onnx(_))
-    ));
+    // The ONNX reason is kept as the `OnnxError` it is.
+    match NeuralLaw::from_file(&bare) {
+        Err(stickslip::neural::NeuralError::Onnx(e)) => assert!(
+            matches!(
+                e.downcast_ref::<OnnxError>(),
+                Some(OnnxError::Description { .. })
+            ),
+            "{e:?}"
+        ),
+        other => panic!("{other:?}"),
+    }
     for path in [good, bare] {
         std::fs::remove_file(path).unwrap();
     }

@@ -79,22 +79,12 @@ pub enum NeuralError {
     #[error("{0}")]
     InvalidInput(String),
 
-    /// An ONNX file given where weights are read (`NeuralModel::load`) could not be
-    /// imported; the reason names the node, tensor or metadata key at fault. Boxed: an
-    /// `OnnxError` may itself hold a `NeuralError`.
+    /// An ONNX file given where weights are read (`NeuralLaw::from_file`) could not be
+    /// imported; the reason names the node, tensor or metadata key at fault. It is an
+    /// `onnx::OnnxError` (downcast to read it), held as a trait object because
+    /// `OnnxError` holds a `NeuralError` and its module depends on this one.
     #[error("{0}")]
-    Onnx(Box<super::onnx::OnnxError>),
-}
-
-/// An import failure as a neural error: a model that failed validation is that error
-/// itself, anything else the ONNX reason.
-impl From<super::onnx::OnnxError> for NeuralError {
-    fn from(error: super::onnx::OnnxError) -> Self {
-        match error {
-            super::onnx::OnnxError::Model(inner) => inner,
-            other => NeuralError::Onnx(Box::new(other)),
-        }
-    }
+    Onnx(Box<dyn std::error::Error + Send + Sync>),
 }
 
 impl NeuralError {

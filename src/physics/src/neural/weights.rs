@@ -259,24 +259,10 @@ impl NeuralModel {
         std::fs::write(path, self.to_json()?).map_err(|e| NeuralError::io("cannot write", path, e))
     }
 
-    /// Reads a weights file: our JSON, or an ONNX file (by its `.onnx` extension or its
-    /// first byte, see [`is_onnx`]) described by its own metadata (`neural::onnx`).
     pub fn load(path: &Path) -> Result<NeuralModel, NeuralError> {
-        let bytes = std::fs::read(path).map_err(|e| NeuralError::io("cannot read", path, e))?;
-        let source_name = path.display().to_string();
-        if is_onnx(path, &bytes) {
-            return super::onnx::import_onnx(&bytes, &super::onnx::OnnxImport::named(source_name))
-                .map_err(NeuralError::from);
-        }
-        // The same message `read_to_string` gives for a file that is not UTF-8.
-        let text = String::from_utf8(bytes).map_err(|_| {
-            let invalid = std::io::Error::new(
-                std::io::ErrorKind::InvalidData,
-                "stream did not contain valid UTF-8",
-            );
-            NeuralError::io("cannot read", path, invalid)
-        })?;
-        Self::from_json(&text, &source_name)
+        let text =
+            std::fs::read_to_string(path).map_err(|e| NeuralError::io("cannot read", path, e))?;
+        Self::from_json(&text, &path.display().to_string())
     }
 
     /// Parses and checks a weights file's text; `source_name` appears in errors.
@@ -546,16 +532,4 @@ impl NeuralModel {
             .map(|(&z, &s)| self.force_from_output(z, s))
             .collect())
     }
-}
-
-/// Whether a weights file is ONNX rather than our JSON: a `.onnx` extension (any case),
-/// or a first byte of 0x08, the protobuf key of `ModelProto.ir_version` (field 1,
-/// varint) that every exporter writes first; JSON text never starts with that control
-/// character.
-pub fn is_onnx(path: &Path, bytes: &[u8]) -> bool {
-    let named = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("onnx"));
-    named || bytes.first() == Some(&0x08)
 }
