@@ -219,19 +219,12 @@ fn simulate_takes_an_onnx_file_as_weights() {
     let mut runs = Vec::new();
     for weights in [&onnx, &json] {
         let csv = scratch(&format!("simulate-{}.csv", runs.len()));
-        let (ok, stdout, stderr) = stickslip(&[
-            "simulate",
-            "--friction",
-            "neural",
-            "--weights",
-            weights.to_str().unwrap(),
-            "--fidelity",
-            "modal",
-            "--t-end",
-            "0.5",
-            "--out",
-            csv.to_str().unwrap(),
-        ]);
+        let mut args: Vec<&str> = "simulate --friction neural --fidelity modal --t-end 0.5"
+            .split(' ')
+            .collect();
+        args.extend(["--weights", weights.to_str().unwrap()]);
+        args.extend(["--out", csv.to_str().unwrap()]);
+        let (ok, stdout, stderr) = stickslip(&args);
         assert!(ok, "{stderr}");
         assert!(stdout.contains("breakaway time"), "{stdout}");
         runs.push(std::fs::read(&csv).unwrap());
