@@ -1,19 +1,7 @@
 //! The command-line contract: `simulate` CSV header and summary, `static` error line,
 //! clear errors for bad input.
 
-use std::process::Command;
-
-fn stickslip(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_stickslip"))
-        .args(args)
-        .output()
-        .expect("run stickslip");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use super::stickslip;
 
 #[test]
 fn simulate_writes_the_contract_csv_and_summary() {

@@ -1,3 +1,19 @@
-//! The `stickslip` command line contract.
+//! The `stickslip` command line contract, and `import-network`.
 
 mod contract;
+mod import;
+
+use std::process::Command;
+
+/// Runs the binary: (success, stdout, stderr).
+fn stickslip(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_stickslip"))
+        .args(args)
+        .output()
+        .expect("run stickslip");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}

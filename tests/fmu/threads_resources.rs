@@ -680,6 +680,25 @@ fn unreadable_or_corrupted_weights_give_a_reason_where_the_network_is_first_need
         assert_weights_refused(&uri, &["weights file", name.as_str()]);
     }
 
+    // An ONNX file (found by its first byte, whatever its name) whose metadata does not
+    // describe the features: the reason names the metadata key and the import flags.
+    let shipped = stickslip::neural::NeuralLaw::paper_default().unwrap();
+    let mut bare = stickslip_tests::onnx::export(
+        shipped.model(),
+        stickslip_tests::onnx::Exporter::Torch,
+        true,
+    );
+    bare.metadata.clear();
+    std::fs::write(&plain, bare.encode()).unwrap();
+    assert_weights_refused(
+        &uri,
+        &[
+            name.as_str(),
+            "stickslip.features",
+            "--feature NAME:ROLE:UNIT:MIN:MAX",
+        ],
+    );
+
     // A folder where the file should be.
     std::fs::remove_file(&plain).unwrap();
     std::fs::create_dir(&plain).unwrap();

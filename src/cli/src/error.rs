@@ -84,7 +84,7 @@ pub enum CliError {
     Model(#[from] ModelError),
     #[error(transparent)]
     Run(#[from] RunError),
-    /// Writing the trained model's weights file.
+    /// Writing the trained model's weights file; reading and importing an ONNX network.
     #[error(transparent)]
     Neural(#[from] NeuralError),
     #[error(transparent)]

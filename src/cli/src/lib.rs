@@ -5,6 +5,7 @@
 //! - `simulate`: `simulate` and `static`;
 //! - `study`: `study` (and its `--verify-auto`);
 //! - `train`: `train` and `search`;
+//! - `import`: `import-network` (an ONNX network as a weights file, checked on data);
 //! - `estimates`: `estimates` (beam-theory numbers of a scene, as JSON);
 //! - `choice`: the command-line values of the scene's choices;
 //! - `error`: [`CliError`], what a command reports when it fails.
@@ -14,6 +15,7 @@
 pub mod choice;
 mod error;
 pub mod estimates;
+pub mod import;
 pub mod scene_args;
 pub mod simulate;
 pub mod study;

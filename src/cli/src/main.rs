@@ -32,6 +32,9 @@ enum Command {
     Estimates(stickslip_cli::estimates::EstimatesArgs),
     /// Hyperparameter grid search with k-fold cross-validation for the neural law.
     Search(stickslip_cli::train::SearchArgs),
+    /// An ONNX network (scikit-learn, PyTorch, Keras exports) as a weights file, its
+    /// inputs described by the file's metadata or by flags; optionally checked on data.
+    ImportNetwork(stickslip_cli::import::ImportArgs),
 }
 
 fn main() -> ExitCode {
@@ -43,6 +46,7 @@ fn main() -> ExitCode {
         Command::Estimates(args) => stickslip_cli::estimates::estimates(args),
         Command::Train(args) => stickslip_cli::train::run_train(args).map(|_| ()),
         Command::Search(args) => stickslip_cli::train::run_search(args).map(|_| ()),
+        Command::ImportNetwork(args) => stickslip_cli::import::run_import(args).map(|_| ()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -24,6 +24,7 @@ use nalgebra::DMatrix;
 
 use super::error::NeuralError;
 use super::forward::{Forward, Real};
+use super::onnx;
 use super::weights::FeatureRole;
 use super::weights::{network_input_range, NeuralModel, Variant};
 use crate::friction::{signum_or_zero, FrictionLaw};
@@ -175,9 +176,16 @@ impl NeuralLaw {
         }
     }
 
-    /// Loads and checks a weights file.
+    /// Loads and checks a weights file: our JSON, or an ONNX file (by its `.onnx`
+    /// extension or its first byte, `onnx::is_onnx_file`) described by its own metadata
+    /// (`neural::onnx`).
     pub fn from_file(path: &Path) -> Result<NeuralLaw, NeuralError> {
-        NeuralLaw::new(NeuralModel::load(path)?)
+        let model = if onnx::is_onnx_file(path) {
+            onnx::load_onnx(path, &onnx::OnnxImport::default())?
+        } else {
+            NeuralModel::load(path)?
+        };
+        NeuralLaw::new(model)
     }
 
     /// Parses and checks weights-file text; `source_name` appears in errors.

@@ -139,7 +139,10 @@ pub fn neural_model(network: &OnnxNetwork, options: &OnnxImport) -> Result<Neura
             parse::<Vec<FeatureInfo>>(network, FEATURES_KEY, source_name)?.ok_or_else(|| {
                 description(format!(
                     "the features (names, roles, training ranges) are not described: give them \
-                 in the metadata key '{FEATURES_KEY}' or as import options"
+                 in the metadata key '{FEATURES_KEY}' (a JSON array with one \
+                 {{\"name\", \"unit\", \"role\", \"min\", \"max\"}} per input column) or as \
+                 import options (`stickslip import-network FILE.onnx --feature \
+                 NAME:ROLE:UNIT:MIN:MAX ...`, once per column, writes a weights file)"
                 ))
             })?
         }

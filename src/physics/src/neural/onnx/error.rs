@@ -1,6 +1,6 @@
 //! `OnnxError`: why an ONNX file was not imported, naming the culprit.
 
-use crate::neural::error::NeuralError;
+use super::super::error::NeuralError;
 
 /// Why an ONNX model could not be imported. Every message names what is wrong (node by
 /// name and operator type, attribute, tensor, data type, shapes, opset) so that the user
@@ -126,4 +126,15 @@ pub enum OnnxError {
     /// The assembled model failed `NeuralModel::validate`.
     #[error("{0}")]
     Model(#[from] NeuralError),
+}
+
+/// An import failure as a neural error: a model that failed validation is that error
+/// itself, anything else the ONNX reason (`NeuralError::Onnx`).
+impl From<OnnxError> for NeuralError {
+    fn from(error: OnnxError) -> Self {
+        match error {
+            OnnxError::Model(inner) => inner,
+            other => NeuralError::Onnx(Box::new(other)),
+        }
+    }
 }

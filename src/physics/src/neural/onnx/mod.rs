@@ -81,16 +81,28 @@ pub fn import_onnx(bytes: &[u8], options: &OnnxImport) -> Result<NeuralModel, On
 /// Reads an ONNX file and imports it (`options.source_name` is replaced by the path
 /// when empty).
 pub fn load_onnx(path: &std::path::Path, options: &OnnxImport) -> Result<NeuralModel, OnnxError> {
-    let bytes = std::fs::read(path).map_err(|e| {
-        OnnxError::Model(crate::neural::error::NeuralError::io(
-            "cannot read",
-            path,
-            e,
-        ))
-    })?;
+    let bytes = std::fs::read(path)
+        .map_err(|e| OnnxError::Model(super::error::NeuralError::io("cannot read", path, e)))?;
     let mut options = options.clone();
     if options.source_name.is_empty() {
         options.source_name = path.display().to_string();
     }
     import_onnx(&bytes, &options)
+}
+
+/// Whether a weights file is ONNX rather than our JSON: a `.onnx` extension (any case),
+/// or a first byte of 0x08, the protobuf key of `ModelProto.ir_version` (field 1,
+/// varint) that exporters write first; JSON text never starts with that control
+/// character. A file that cannot be read counts as not ONNX (its reader reports why).
+pub fn is_onnx_file(path: &std::path::Path) -> bool {
+    use std::io::Read;
+    let named = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("onnx"));
+    let mut first = [0u8; 1];
+    named
+        || std::fs::File::open(path)
+            .and_then(|mut f| f.read_exact(&mut first))
+            .is_ok_and(|()| first[0] == 0x08)
 }
