@@ -1,0 +1,305 @@
+//! The walk along the graph: the converter's state, the graph's input and output and
+//! constants, the node order, and the one chain from input to output.
+
+use std::collections::{HashMap, HashSet};
+
+use super::super::super::network::Activation;
+use super::super::super::weights::LayerWeights;
+use super::super::error::OnnxError;
+use super::super::model::{Dimension, GraphProto, NodeProto, TensorProto, ValueInfo};
+use super::network::OnnxNetwork;
+use super::opset::domain_of;
+
+/// How a node is named in messages: 'name' (op) or #index (op) when unnamed.
+pub(super) fn label(index: usize, node: &NodeProto) -> String {
+    if node.name.is_empty() {
+        format!("#{index} ({})", node.op_type)
+    } else {
+        format!("'{}' ({})", node.name, node.op_type)
+    }
+}
+
+/// Where the chain is: before the first dense layer, right after a dense layer (and its
+/// bias may still come), or after an activation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Stage {
+    Input,
+    Dense { bias_pending: bool },
+    Activated,
+}
+
+/// An elementwise operation by a constant, x op c.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Elementwise {
+    Sub,
+    Div,
+    Mul,
+    Add,
+}
+
+pub(super) struct Converter<'g> {
+    pub(super) source_name: String,
+    pub(super) nodes: &'g [NodeProto],
+    pub(super) input: String,
+    pub(super) output: String,
+    /// Constant values by name: initializers and `Constant` node outputs.
+    pub(super) constants: HashMap<&'g str, &'g TensorProto>,
+    pub(super) saw_f32: bool,
+    pub(super) width: Option<usize>,
+    pub(super) stage: Stage,
+    pub(super) input_ops: Vec<(Elementwise, Vec<f64>, String)>,
+    pub(super) layers: Vec<LayerWeights>,
+    pub(super) activations: Vec<(Activation, String)>,
+    pub(super) output_ops: Vec<(Elementwise, f64)>,
+}
+
+impl<'g> Converter<'g> {
+    pub(super) fn new(
+        graph: &'g GraphProto,
+        source_name: &str,
+    ) -> Result<Converter<'g>, OnnxError> {
+        let graph_error = |message: String| OnnxError::Graph {
+            source_name: source_name.to_string(),
+            message,
+        };
+        let mut constants: HashMap<&str, &TensorProto> = graph
+            .initializer
+            .iter()
+            .map(|t| (t.name.as_str(), t))
+            .collect();
+        let inputs: Vec<&ValueInfo> = graph
+            .input
+            .iter()
+            .filter(|i| !constants.contains_key(i.name.as_str()))
+            .collect();
+        if inputs.len() != 1 {
+            let names: Vec<&str> = inputs.iter().map(|i| i.name.as_str()).collect();
+            return Err(graph_error(format!(
+                "the graph has {} inputs besides initializers ({}); exactly one (the \
+                 features, [batch, features]) is supported",
+                inputs.len(),
+                names.join(", ")
+            )));
+        }
+        if graph.output.len() != 1 {
+            let names: Vec<&str> = graph.output.iter().map(|o| o.name.as_str()).collect();
+            return Err(graph_error(format!(
+                "the graph has {} outputs ({}); exactly one (the force) is supported",
+                names.len(),
+                names.join(", ")
+            )));
+        }
+        let mut converter = Converter {
+            source_name: source_name.to_string(),
+            nodes: &graph.node,
+            input: inputs[0].name.clone(),
+            output: graph.output[0].name.clone(),
+            constants: HashMap::new(),
+            saw_f32: false,
+            width: None,
+            stage: Stage::Input,
+            input_ops: Vec::new(),
+            layers: Vec::new(),
+            activations: Vec::new(),
+            output_ops: Vec::new(),
+        };
+        for (info, what) in [
+            (inputs[0], "graph input"),
+            (&graph.output[0], "graph output"),
+        ] {
+            if let Some(t) = info.elem_type {
+                converter.check_float(t, &format!("{what} '{}'", info.name))?;
+            }
+        }
+        if let Some(shape) = &inputs[0].shape {
+            match shape.as_slice() {
+                [_, Dimension::Value(w)] if *w > 0 => converter.width = Some(*w as usize),
+                [_, _] => {}
+                _ => {
+                    return Err(converter.shape_error(
+                        "(graph input)",
+                        format!(
+                            "graph input '{}' has rank {}; [batch, features] is expected",
+                            inputs[0].name,
+                            shape.len()
+                        ),
+                    ))
+                }
+            }
+        }
+        for (index, node) in graph.node.iter().enumerate() {
+            if node.op_type == "Constant" && domain_of(&node.domain) == Some(false) {
+                let value = match node.attribute.as_slice() {
+                    [a] if a.name == "value" && a.t.is_some() => a.t.as_ref(),
+                    _ => None,
+                };
+                let (Some(tensor), [output]) = (value, node.output.as_slice()) else {
+                    return Err(OnnxError::Attribute {
+                        source_name: source_name.to_string(),
+                        node: label(index, node),
+                        attribute: node
+                            .attribute
+                            .first()
+                            .map_or_else(|| "value".to_string(), |a| a.name.clone()),
+                        reason: "a Constant must have one output and its value as the \
+                                 tensor attribute 'value'"
+                            .into(),
+                    });
+                };
+                constants.insert(output.as_str(), tensor);
+            }
+        }
+        converter.constants = constants;
+        converter.check_order(graph)?;
+        Ok(converter)
+    }
+
+    pub(super) fn check_order(&self, graph: &GraphProto) -> Result<(), OnnxError> {
+        let mut writer: HashMap<&str, usize> = HashMap::new();
+        for (index, node) in self.nodes.iter().enumerate() {
+            for output in node.output.iter().filter(|o| !o.is_empty()) {
+                let taken = writer.insert(output.as_str(), index).is_some()
+                    || output == &self.input
+                    || graph.initializer.iter().any(|t| &t.name == output);
+                if taken {
+                    return Err(OnnxError::Graph {
+                        source_name: self.source_name.clone(),
+                        message: format!(
+                            "node {} writes '{output}', which is already defined",
+                            label(index, node)
+                        ),
+                    });
+                }
+            }
+        }
+        let mut defined: HashSet<&str> = HashSet::from([self.input.as_str()]);
+        defined.extend(graph.initializer.iter().map(|t| t.name.as_str()));
+        for (index, node) in self.nodes.iter().enumerate() {
+            for input in node.input.iter().filter(|i| !i.is_empty()) {
+                if defined.contains(input.as_str()) {
+                    continue;
+                }
+                return Err(match writer.get(input.as_str()) {
+                    Some(&w) => OnnxError::Cycle {
+                        source_name: self.source_name.clone(),
+                        node: label(index, node),
+                        value: input.clone(),
+                        writer: label(w, &self.nodes[w]),
+                    },
+                    None => OnnxError::DanglingInput {
+                        source_name: self.source_name.clone(),
+                        node: label(index, node),
+                        value: input.clone(),
+                    },
+                });
+            }
+            defined.extend(node.output.iter().map(String::as_str));
+        }
+        Ok(())
+    }
+
+    pub(super) fn shape_error(&self, node: &str, message: String) -> OnnxError {
+        OnnxError::Shape {
+            source_name: self.source_name.clone(),
+            node: node.to_string(),
+            message,
+        }
+    }
+
+    pub(super) fn structure(&self, message: String) -> OnnxError {
+        OnnxError::Structure {
+            source_name: self.source_name.clone(),
+            message,
+        }
+    }
+
+    /// Follows the chain from the input to the output and assembles the network.
+    pub(super) fn run(
+        mut self,
+        producer: String,
+        metadata: Vec<(String, String)>,
+    ) -> Result<OnnxNetwork, OnnxError> {
+        let mut readers: HashMap<&str, Vec<usize>> = HashMap::new();
+        for (index, node) in self.nodes.iter().enumerate() {
+            let mut seen = HashSet::new();
+            for input in node.input.iter().filter(|i| !i.is_empty()) {
+                if seen.insert(input.as_str()) {
+                    readers.entry(input.as_str()).or_default().push(index);
+                }
+            }
+        }
+        let mut on_chain = vec![false; self.nodes.len()];
+        let mut current = self.input.clone();
+        while current != self.output {
+            let index = match readers.get(current.as_str()).map(Vec::as_slice) {
+                Some([index]) => *index,
+                None | Some([]) => {
+                    return Err(OnnxError::Graph {
+                        source_name: self.source_name.clone(),
+                        message: format!(
+                            "'{current}' is read by no node and is not the graph output \
+                             '{}'",
+                            self.output
+                        ),
+                    })
+                }
+                Some(many) => {
+                    let names: Vec<String> =
+                        many.iter().map(|&i| label(i, &self.nodes[i])).collect();
+                    return Err(OnnxError::Graph {
+                        source_name: self.source_name.clone(),
+                        message: format!(
+                            "'{current}' is read by {} nodes ({}); only a chain of layers \
+                             is supported",
+                            many.len(),
+                            names.join(", ")
+                        ),
+                    });
+                }
+            };
+            // The order check makes the chain advance through the node list, so a node
+            // cannot come twice; this guards the loop regardless.
+            if std::mem::replace(&mut on_chain[index], true) {
+                return Err(self.structure(format!(
+                    "node {} is reached twice",
+                    label(index, &self.nodes[index])
+                )));
+            }
+            let node = &self.nodes[index];
+            let outputs: Vec<&String> = node.output.iter().filter(|o| !o.is_empty()).collect();
+            let [output] = outputs.as_slice() else {
+                return Err(self.structure(format!(
+                    "node {} has {} outputs; a layer has one",
+                    label(index, node),
+                    outputs.len()
+                )));
+            };
+            let running: Vec<usize> = (0..node.input.len())
+                .filter(|&k| node.input[k] == current)
+                .collect();
+            let [position] = running.as_slice() else {
+                return Err(self.structure(format!(
+                    "node {} reads the running value '{current}' {} times",
+                    label(index, node),
+                    running.len()
+                )));
+            };
+            self.apply(index, node, *position)?;
+            current = output.to_string();
+        }
+        for (index, node) in self.nodes.iter().enumerate() {
+            if !on_chain[index] && node.op_type != "Constant" {
+                return Err(OnnxError::Graph {
+                    source_name: self.source_name.clone(),
+                    message: format!(
+                        "node {} is not on the path from the input '{}' to the output '{}'",
+                        label(index, node),
+                        self.input,
+                        self.output
+                    ),
+                });
+            }
+        }
+        self.finish(producer, metadata)
+    }
+}
