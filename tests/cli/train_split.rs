@@ -82,8 +82,8 @@ fn train_on_the_authors_split(variant: &str) -> (f64, f64) {
 fn the_paper_settings_on_the_authors_split_reach_the_noise_floor_when_signed() {
     let (mse, r2) = train_on_the_authors_split("signed");
     assert!(
-        mse < 1.0 && mse < 4.52,
-        "signed: test MSE {mse} N^2 not near the 0.65 floor"
+        mse < 1.0,
+        "signed: test MSE {mse} N^2 not near the 0.65 floor (paper: 4.52)"
     );
     assert!(
         mse > 0.5,
