@@ -66,7 +66,7 @@ fn bad_input_gives_a_clear_error_and_a_failing_status() {
 }
 
 /// A scratch folder of its own for each test.
-fn scratch(name: &str) -> std::path::PathBuf {
+pub(crate) fn scratch(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("stickslip-cli-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir

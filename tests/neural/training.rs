@@ -376,6 +376,7 @@ fn train_command_reads_csv_and_writes_weights_report_history_and_split() {
             velocity_feature: Some("v".into()),
             normal_force_feature: Some("Fn".into()),
             test_fraction: 0.3,
+            test_data: None,
             samples: 5000,
             seed: 4,
         },

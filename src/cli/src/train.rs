@@ -38,6 +38,15 @@ pub struct DataArgs {
     /// Share of the samples held out as the test set.
     #[arg(long, default_value_t = 0.3)]
     pub test_fraction: f64,
+    /// The test set as a second CSV with the columns of --data: your own split instead
+    /// of a random hold-out of --test-fraction.
+    #[arg(
+        long,
+        value_name = "TEST.csv",
+        requires = "data",
+        conflicts_with = "test_fraction"
+    )]
+    pub test_data: Option<PathBuf>,
     /// Synthetic data: number of samples N (paper: 5000).
     #[arg(long, default_value_t = 5000)]
     pub samples: usize,
@@ -178,18 +187,33 @@ pub fn load_split(args: &DataArgs) -> Result<(Split, DataSource), CliError> {
                 sliding_velocity: default_role(&args.velocity_feature, SLIDING_VELOCITY),
                 normal_force: default_role(&args.normal_force_feature, NORMAL_FORCE),
             };
+            let file_name = |path: &Path| {
+                path.file_name().map_or_else(
+                    || path.display().to_string(),
+                    |n| n.to_string_lossy().into_owned(),
+                )
+            };
             let data = read_csv_file(path, &selection)?;
-            let split = data.split(args.test_fraction, args.seed)?;
+            let (split, description) = match &args.test_data {
+                None => (data.split(args.test_fraction, args.seed)?, file_name(path)),
+                Some(test_path) => (
+                    Split::given(data, read_csv_file(test_path, &selection)?)?,
+                    format!("{} (test: {})", file_name(path), file_name(test_path)),
+                ),
+            };
+            // With a given split the report records the share the test file makes up.
+            let (n_train, n_test) = (split.train.len(), split.test.len());
+            let test_fraction = match args.test_data {
+                None => args.test_fraction,
+                Some(_) => n_test as f64 / (n_train + n_test) as f64,
+            };
             Ok((
                 split,
                 DataSource {
-                    description: path.file_name().map_or_else(
-                        || path.display().to_string(),
-                        |n| n.to_string_lossy().into_owned(),
-                    ),
+                    description,
                     synthetic: None,
                     seed: args.seed,
-                    test_fraction: args.test_fraction,
+                    test_fraction,
                 },
             ))
         }

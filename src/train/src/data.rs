@@ -171,6 +171,38 @@ pub struct Split {
     pub test: Dataset,
 }
 
+impl Split {
+    /// A split the user made (`--test-data`): the test set must hold the same columns,
+    /// with the same units, as the training set, else its errors would compare
+    /// different quantities. Both sets must be non-empty.
+    pub fn given(train: Dataset, test: Dataset) -> Result<Split, TrainError> {
+        let columns = |d: &Dataset| -> Vec<String> {
+            d.features
+                .iter()
+                .chain(std::iter::once(&d.target))
+                .map(Quantity::header)
+                .collect()
+        };
+        let (expected, found) = (columns(&train), columns(&test));
+        if let Some((e, f)) = expected.iter().zip(&found).find(|(e, f)| e != f) {
+            return Err(TrainError::InvalidInput(format!(
+                "the test data's column '{f}' does not match the training data's '{e}' \
+                 (training columns: {}; test columns: {})",
+                expected.join(", "),
+                found.join(", ")
+            )));
+        }
+        if train.is_empty() || test.is_empty() {
+            return Err(TrainError::InvalidInput(format!(
+                "{} training and {} test samples: both sets must be non-empty",
+                train.len(),
+                test.len()
+            )));
+        }
+        Ok(Split { train, test })
+    }
+}
+
 /// Name and unit of the synthetic set's columns; `NeuralLaw` finds the beam's inputs by
 /// role, not by these names.
 pub const SLIDING_VELOCITY: &str = "sliding_velocity";
@@ -337,5 +369,20 @@ mod tests {
         original.sort_by(f64::total_cmp);
         assert_eq!(all, original);
         assert!(data.split(1.0, 1).is_err());
+    }
+
+    #[test]
+    fn a_given_split_needs_the_same_columns_and_units() {
+        let data = SyntheticSpec::default().generate(1).unwrap();
+        let (train, test) = (data.subset(&[0, 1, 2]), data.subset(&[3, 4]));
+        let split = Split::given(train.clone(), test.clone()).unwrap();
+        assert_eq!((split.train.len(), split.test.len()), (3, 2));
+        let mut other_unit = test.clone();
+        other_unit.target.unit = "kN".into();
+        let message = Split::given(train.clone(), other_unit)
+            .unwrap_err()
+            .to_string();
+        assert!(message.contains("'friction_force[kN]'"), "{message}");
+        assert!(Split::given(train, data.subset(&[])).is_err());
     }
 }
