@@ -294,13 +294,24 @@ def _check_shapes(weights, biases, n: int, source: str) -> None:
         raise FitrnetError(f"{source}: the last layer has {width} outputs, not 1")
 
 
+def load_mat(path: str | Path) -> dict:
+    """The variables of the .mat file `path` as mat-io reads them (MCOS objects with
+    their `classname` and `properties`)."""
+    import warnings
+
+    with warnings.catch_warnings():
+        # mat-io 1.0.2 sets pandas' future.infer_string option on import, which pandas 3
+        # (where it is already the default) deprecates with a warning; nothing changes.
+        warnings.simplefilter("ignore", DeprecationWarning)
+        from matio import load_from_mat
+    return load_from_mat(str(path))
+
+
 def read_fitrnet(path: str | Path, variable: str | None = None) -> Fitrnet:
     """The fitrnet network in the .mat file `path`: the variable of that name, or the
     only fitrnet object in the file."""
-    from matio import load_from_mat
-
     source = str(path)
-    contents = load_from_mat(source)
+    contents = load_mat(source)
     candidates = {name: value for name, value in contents.items()
                   if getattr(value, "classname", None) in CLASSES}
     if variable is not None:
