@@ -19,6 +19,16 @@ from .artifacts import FRICTION, Fmus
 INPUTS = ("sliding_velocity", "normal_force")
 
 
+def _evaluate(set_real, get_real, vr: dict, points: np.ndarray) -> np.ndarray:
+    """friction_force at each (v, F_n) row, with the FMI version's Real setter and getter."""
+    inputs, output = [vr[name] for name in INPUTS], [vr["friction_force"]]
+    forces = np.empty(len(points))
+    for k, (v, f_n) in enumerate(points):
+        set_real(inputs, [float(v), float(f_n)])
+        forces[k] = get_real(output)[0]
+    return forces
+
+
 def fmi2_forces(fmus: Fmus, weights: str, points: np.ndarray) -> np.ndarray:
     """friction_force of the FMI 2.0 NeuralFriction.fmu with `weights` at every row
     (v [m/s], F_n [N]) of `points`."""
@@ -29,11 +39,7 @@ def fmi2_forces(fmus: Fmus, weights: str, points: np.ndarray) -> np.ndarray:
     slave.setupExperiment(startTime=0.0)
     slave.enterInitializationMode()
     slave.exitInitializationMode()
-    inputs, output = [vr[name] for name in INPUTS], [vr["friction_force"]]
-    forces = np.empty(len(points))
-    for k, (v, f_n) in enumerate(points):
-        slave.setReal(inputs, [float(v), float(f_n)])
-        forces[k] = slave.getReal(output)[0]
+    forces = _evaluate(slave.setReal, slave.getReal, vr, points)
     slave.terminate()
     slave.freeInstance()
     return forces
@@ -53,11 +59,7 @@ def fmi3_forces(fmu: Path, weights: str, points: np.ndarray) -> np.ndarray:
         slave.enterInitializationMode(startTime=0.0)
         slave.setString([vr["weights"]], [weights])
         slave.exitInitializationMode()
-        inputs, output = [vr[name] for name in INPUTS], [vr["friction_force"]]
-        forces = np.empty(len(points))
-        for k, (v, f_n) in enumerate(points):
-            slave.setFloat64(inputs, [float(v), float(f_n)])
-            forces[k] = slave.getFloat64(output)[0]
+        forces = _evaluate(slave.setFloat64, slave.getFloat64, vr, points)
         slave.terminate()
         slave.freeInstance()
     finally:

@@ -155,8 +155,14 @@ def torch_form_onnx(trained, dtype) -> onnx.ModelProto:
         [helper.make_tensor_value_info("output", elem, ["batch", 1])],
         inits,
     )
-    model = helper.make_model(graph, opset_imports=[helper.make_opsetid("", 17)],
-                              producer_name="pytorch", producer_version="2.5.0")
+    return exported(graph, 17, ("pytorch", "2.5.0"), features)
+
+
+def exported(graph, opset: int, producer: tuple[str, str], features) -> onnx.ModelProto:
+    """`graph` as the model an exporter writes: IR 8, `opset`, its (name, version),
+    checked by onnx and described."""
+    model = helper.make_model(graph, opset_imports=[helper.make_opsetid("", opset)],
+                              producer_name=producer[0], producer_version=producer[1])
     model.ir_version = 8
     onnx.checker.check_model(model)
     return describe(model, features)
@@ -197,11 +203,7 @@ def keras_form_onnx(trained, dtype) -> onnx.ModelProto:
         [helper.make_tensor_value_info(output, elem, ["unk__7", 1])],
         inits,
     )
-    model = helper.make_model(graph, opset_imports=[helper.make_opsetid("", 15)],
-                              producer_name="tf2onnx", producer_version="1.16.1 15c810")
-    model.ir_version = 8
-    onnx.checker.check_model(model)
-    return describe(model, features)
+    return exported(graph, 15, ("tf2onnx", "1.16.1 15c810"), features)
 
 
 FORMS = {"sklearn": sklearn_onnx, "torch": torch_form_onnx, "keras": keras_form_onnx}
