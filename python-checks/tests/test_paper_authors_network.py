@@ -7,6 +7,8 @@ MATLAB fitrnet, 3 x 100 tanh) imported through stickslip_checks.fitrnet (issue 2
 (b) NeuralFriction.fmu, FMI 2.0 and FMI 3.0, with `weights` = the .onnx file and = the
     JSON `stickslip import-network` writes from it, gives on their test file the MSE and
     R^2 of that numpy reference: 4.5217 N^2 and 0.99736, the paper's 4.52 and 0.9974.
+The converter refuses what it cannot write faithfully, naming it, and its other paths
+(relu and sigmoid layers, inputs not standardised) evaluate as its numpy forward pass.
 (c) The network runs in StickSlipBeam.fmu at every fidelity in the paper scene
     (1.2 s, three major slips): breakaway at the contact's stick limit, stick-slip, and
     the tip deflection near the analytical law's run.
@@ -176,6 +178,34 @@ def test_refusals_name_what_is_not_supported(raw):
         network.features([fitrnet.parse_feature("velocity:sliding_velocity:m/s:-1:1")])
     with pytest.raises(ValueError, match="role 'speed'"):
         fitrnet.parse_feature("vs:speed:m/s:-1:1")
+
+
+@pytest.mark.parametrize("activation", ["relu", "sigmoid", "tanh"])
+def test_other_activations_and_raw_inputs_convert(built, raw, tmp_path, activation):
+    """The converter's other paths, on the authors' weights: relu and sigmoid hidden
+    layers (Relu, Sigmoid nodes), and inputs that are not standardised (no Sub/Div;
+    with tanh). The ONNX file evaluates (onnxruntime, and NeuralFriction.fmu reading it)
+    as the converter's own numpy forward pass, to the f64 tolerance of the module."""
+    fmus = need(built)
+    props = dict(raw, ExpandedActivations=np.array(
+        [[np.array([activation])] * 3 + [np.array(["linear"])]], dtype=object))
+    if activation == "tanh":
+        props.update(StandardizeData=np.array([[False]]), Mu=np.empty((0, 0)),
+                     Sigma=np.empty((0, 0)))
+    network = fitrnet.from_properties(props, "RegressionNeuralNetwork", "changed.mat")
+    model = fitrnet.to_onnx(network, network.features())
+    ops = [n.op_type for n in model.graph.node]
+    assert ops.count({"relu": "Relu", "sigmoid": "Sigmoid", "tanh": "Tanh"}[activation]) == 3
+    assert (ops[:2] == ["Sub", "Div"]) == (activation != "tanh"), ops
+    path = tmp_path / f"{activation}.onnx"
+    onnx.save(model, path)
+    low, high = raw["PrivX"].min(axis=0), raw["PrivX"].max(axis=0)
+    x = np.random.default_rng(5).uniform(low, high, (500, 2))  # rows: Fn, vs
+    expected = network.predict(x)
+    session = onnxruntime.InferenceSession(str(path), providers=["CPUExecutionProvider"])
+    assert relative(session.run(None, {"input": x})[0][:, 0], expected) <= FORCE_TOLERANCE
+    assert relative(fmi2_forces(fmus, str(path.resolve()), fn_vs(x)), expected) \
+        <= FORCE_TOLERANCE
 
 
 @pytest.mark.parametrize("fidelity", ["modal", "beam", "plane-stress"])
