@@ -304,7 +304,12 @@ def load_mat(path: str | Path) -> dict:
         # (where it is already the default) deprecates with a warning; nothing changes.
         warnings.simplefilter("ignore", DeprecationWarning)
         from matio import load_from_mat
-    return load_from_mat(str(path))
+    try:
+        return load_from_mat(str(path))
+    except OSError:
+        raise
+    except Exception as error:  # mat-io's own errors (MatReadError, ...) have no common base
+        raise FitrnetError(f"{path}: not a MAT-file mat-io can read: {error}") from error
 
 
 def read_fitrnet(path: str | Path, variable: str | None = None) -> Fitrnet:

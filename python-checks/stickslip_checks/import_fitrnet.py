@@ -61,7 +61,7 @@ def main(argv: list[str] | None = None) -> int:
         low, high = network.response_range or (0.0, 0.0)
         target = {"name": network.response, "unit": args.target_unit, "min": low, "max": high}
         model = fitrnet.to_onnx(network, features, args.variant, target)
-    except fitrnet.FitrnetError as error:
+    except (fitrnet.FitrnetError, OSError) as error:
         print(f"error: {error}", file=sys.stderr)
         return 1
     import onnx
