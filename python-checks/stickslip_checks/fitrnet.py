@@ -203,7 +203,16 @@ def from_properties(properties: dict, classname: str, source: str) -> Fitrnet:
     if classname not in CLASSES:
         raise FitrnetError(f"{source}: the object is a {classname}, not a "
                            f"{' or '.join(CLASSES)} (fitrnet)")
-    p = properties
+    try:
+        return _network(properties, source)
+    except (KeyError, IndexError, TypeError, AttributeError) as error:
+        # The properties read here are those of MATLAB R2022a's objects; another release
+        # may name or shape them otherwise.
+        raise FitrnetError(f"{source}: the {classname} does not have the properties this "
+                           f"converter reads (MATLAB R2022a's): {error!r}") from error
+
+
+def _network(p: dict, source: str) -> Fitrnet:
     summary = np.asarray(p["DataSummary"]).ravel()[0]
     predictors = tuple(_texts(summary["PredictorNames"]))
     response = _text(summary["ResponseName"])

@@ -164,6 +164,9 @@ def test_refusals_name_what_is_not_supported(raw):
     for message, props in cases.items():
         with pytest.raises(fitrnet.FitrnetError, match=message):
             fitrnet.from_properties(props, "RegressionNeuralNetwork", "authors.mat")
+    missing = {k: v for k, v in raw.items() if k != "PrivResponseTransform"}
+    with pytest.raises(fitrnet.FitrnetError, match="PrivResponseTransform"):
+        fitrnet.from_properties(missing, "RegressionNeuralNetwork", "authors.mat")
     with pytest.raises(fitrnet.FitrnetError, match="not a RegressionNeuralNetwork"):
         fitrnet.from_properties(raw, "RegressionSVM", "svm.mat")
     network = fitrnet.from_properties(raw, "RegressionNeuralNetwork", "authors.mat")
