@@ -47,6 +47,9 @@ echo
 echo "== The paper scene through the FMUs with fmpy (validation, both friction laws, coupling)"
 "$python" -m stickslip_checks.fmu_scene "$out"
 echo
+echo "== The paper authors' network (their MATLAB fitrnet, converted to ONNX) in the paper scene beside the analytical law (fmpy)"
+"$python" -m stickslip_checks.paper_authors "$out"
+echo
 echo "== The paper scene through the FMI 2.0 and the FMI 3.0 FMUs side by side (fmpy)"
 "$python" -m stickslip_checks.fmi_versions
 echo

@@ -134,8 +134,10 @@ def _label(law: str, weights: str | None) -> str:
     return "exponential" if law == "exponential" else f"neural {Path(weights or '').stem}"
 
 
-def run_embedded(fmus: Fmus, fidelity: str, law: str, weights: str | None = None) -> Run:
-    """The paper scene through StickSlipBeam.fmu alone (simulate_fmu)."""
+def run_embedded(
+    fmus: Fmus, fidelity: str, law: str, weights: str | None = None, stop_time: float = T_END
+) -> Run:
+    """The paper scene through StickSlipBeam.fmu alone (simulate_fmu), 0 .. stop_time."""
     beam = fmus.models[BEAM]
     start = {
         "fidelity.level": beam.code("fidelity.level", fidelity),
@@ -148,7 +150,7 @@ def run_embedded(fmus: Fmus, fidelity: str, law: str, weights: str | None = None
         str(fmus.dirs[BEAM]),
         model_description=fmus.descriptions[BEAM],
         start_time=0.0,
-        stop_time=T_END,
+        stop_time=stop_time,
         output_interval=DT,
         start_values=start,
         output=["tip_deflection", "friction_force", "stick", "transitions"],

@@ -20,6 +20,14 @@ environment uses, the default build pulls gigabytes of CUDA libraries), so the g
 `torch.onnx.export` writes for an nn.Sequential of Linear/Tanh layers (Gemm with
 transB = 1, the weights as [out, in]) is written with `onnx.helper` from the same
 trained weights, in float32 and float64, and compared with onnxruntime the same way.
+TensorFlow is not installed either (it is far larger than the check), so the graph
+tf2onnx writes for a Keras Sequential of Dense layers (input `dense_input`, MatMul with
+the kernel as [in, out], Add of the bias, Tanh, an Identity naming the output, opset
+15, IR 8) is written the same way; Keras has no scaler in that model, so the
+standardisation is folded into the first layer's kernel and bias (a user who standardises
+in Keras does the same with a Normalization layer, which tf2onnx writes as Sub/Div).
+NeuralFriction.fmu FMI 3.0 takes the .onnx file as its `weights` parameter and gives
+the FMI 2.0 FMU's forces bit for bit (the same library behind both interfaces).
 
 Tolerances, relative to the largest |force| over the points (a friction force passes
 through 0 at v = 0, so a pointwise relative difference has no meaning there):
@@ -27,12 +35,13 @@ through 0 at v = 0, so a pointwise relative difference has no meaning there):
   in summation order and in tanh's last bits, a few ulps (1e-16) times the network's
   condition; 1e-12 leaves room for a condition of 1e3, a lost bit of any weight in the
   import would show far above it. Measured (the tests print it): 1.5e-15 through the
-  FMU, 1.7e-15 through import-network's batch evaluation, for both graph forms.
+  FMU, 1.7e-15 through import-network's batch evaluation, for the skl2onnx and PyTorch
+  forms; 2.3e-15 and 3.1e-15 for the Keras form (its folded first layer).
 - float32: onnxruntime evaluates every operation in f32 (rounding 6e-8 per operation,
   accumulated over 20-term sums in three layers, and its own f32 tanh), while we evaluate
   the same f32 weights in f64, so the difference is onnxruntime's f32 rounding: a few f32
-  ulps of the accumulated sums. 1e-5 allows ~100 f32 ulps; measured 4.5e-7 (skl2onnx)
-  and 4.6e-7 (PyTorch form), i.e. about 3.4e-5 N on forces up to 73 N. The points are
+  ulps of the accumulated sums. 1e-5 allows ~100 f32 ulps; measured 4.5e-7 (skl2onnx),
+  4.6e-7 (PyTorch form) and 5.4e-7 (Keras form), i.e. about 4e-5 N on forces up to 73 N. The points are
   rounded to f32 first, so both sides see the same inputs.
 """
 
@@ -56,7 +65,8 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 from skl2onnx import to_onnx
 
-from stickslip_checks.artifacts import BEAM, FRICTION, find_binary
+from stickslip_checks.artifacts import BEAM, FRICTION, find_binary, fmu3_paths
+from stickslip_checks.friction_points import fmi2_forces, fmi3_forces, relative
 
 POINTS = 10_000
 # Largest difference from onnxruntime relative to the largest |force|, per dtype (see the
@@ -145,11 +155,58 @@ def torch_form_onnx(trained, dtype) -> onnx.ModelProto:
         [helper.make_tensor_value_info("output", elem, ["batch", 1])],
         inits,
     )
-    model = helper.make_model(graph, opset_imports=[helper.make_opsetid("", 17)],
-                              producer_name="pytorch", producer_version="2.5.0")
+    return exported(graph, 17, ("pytorch", "2.5.0"), features)
+
+
+def exported(graph, opset: int, producer: tuple[str, str], features) -> onnx.ModelProto:
+    """`graph` as the model an exporter writes: IR 8, `opset`, its (name, version),
+    checked by onnx and described."""
+    model = helper.make_model(graph, opset_imports=[helper.make_opsetid("", opset)],
+                              producer_name=producer[0], producer_version=producer[1])
     model.ir_version = 8
     onnx.checker.check_model(model)
     return describe(model, features)
+
+
+def keras_form_onnx(trained, dtype) -> onnx.ModelProto:
+    """The graph tf2onnx writes for Sequential([Dense(20, tanh), Dense(20, tanh),
+    Dense(1)]): MatMul with the kernel as [in, out], Add of the bias, Tanh, and an
+    Identity to the output; opset 15, IR 8. The scaler is folded into the first layer:
+    W' = diag(1/s) W, b' = b - (m/s) W, so the graph takes the raw inputs."""
+    pipeline, features, _ = trained
+    scaler, mlp = pipeline.named_steps["standardscaler"], pipeline.named_steps["mlpregressor"]
+    elem = TensorProto.FLOAT if dtype == np.float32 else TensorProto.DOUBLE
+    kernels, biases = list(mlp.coefs_), list(mlp.intercepts_)
+    kernels[0] = kernels[0] / scaler.scale_[:, None]
+    biases[0] = biases[0] - (scaler.mean_ / scaler.scale_) @ mlp.coefs_[0]
+    inits, nodes, current = [], [], "dense_input"
+    for k, (w, b) in enumerate(zip(kernels, biases)):
+        layer = "dense" if k == 0 else f"dense_{k}"
+        kernel, bias = f"sequential/{layer}/MatMul/ReadVariableOp:0", \
+            f"sequential/{layer}/BiasAdd/ReadVariableOp:0"
+        inits += [numpy_helper.from_array(np.asarray(w, dtype), kernel),
+                  numpy_helper.from_array(np.asarray(b, dtype), bias)]
+        nodes += [helper.make_node("MatMul", [current, kernel], [f"{layer}/MatMul:0"],
+                                   name=f"sequential/{layer}/MatMul"),
+                  helper.make_node("Add", [f"{layer}/MatMul:0", bias], [f"{layer}/BiasAdd:0"],
+                                   name=f"sequential/{layer}/BiasAdd")]
+        current = f"{layer}/BiasAdd:0"
+        if k < len(kernels) - 1:
+            nodes.append(helper.make_node("Tanh", [current], [f"{layer}/Tanh:0"],
+                                          name=f"sequential/{layer}/Tanh"))
+            current = f"{layer}/Tanh:0"
+    output = f"dense_{len(kernels) - 1}"
+    nodes.append(helper.make_node("Identity", [current], [output], name=f"Identity_{output}"))
+    graph = helper.make_graph(
+        nodes, "tf2onnx",
+        [helper.make_tensor_value_info("dense_input", elem, ["unk__6", 2])],
+        [helper.make_tensor_value_info(output, elem, ["unk__7", 1])],
+        inits,
+    )
+    return exported(graph, 15, ("tf2onnx", "1.16.1 15c810"), features)
+
+
+FORMS = {"sklearn": sklearn_onnx, "torch": torch_form_onnx, "keras": keras_form_onnx}
 
 
 def onnxruntime_forces(model: onnx.ModelProto, points, dtype) -> np.ndarray:
@@ -157,30 +214,6 @@ def onnxruntime_forces(model: onnx.ModelProto, points, dtype) -> np.ndarray:
                                            providers=["CPUExecutionProvider"])
     name = session.get_inputs()[0].name
     return session.run(None, {name: points.astype(dtype)})[0][:, 0].astype(np.float64)
-
-
-def fmu_forces(fmus, weights: str, points) -> np.ndarray:
-    """friction_force of NeuralFriction.fmu with `weights` at every point (outputs are
-    evaluated when read, see src/fmi/src/friction.rs)."""
-    vr = fmus.vr[FRICTION]
-    slave = fmus.slave(FRICTION, "onnx")
-    slave.instantiate()
-    slave.setString([vr["weights"]], [weights])
-    slave.setupExperiment(startTime=0.0)
-    slave.enterInitializationMode()
-    slave.exitInitializationMode()
-    inputs, output = [vr["sliding_velocity"], vr["normal_force"]], [vr["friction_force"]]
-    forces = np.empty(len(points))
-    for k, (v, f_n) in enumerate(points):
-        slave.setReal(inputs, [float(v), float(f_n)])
-        forces[k] = slave.getReal(output)[0]
-    slave.terminate()
-    slave.freeInstance()
-    return forces
-
-
-def relative(ours, reference) -> float:
-    return float(np.max(np.abs(ours - reference)) / np.max(np.abs(reference)))
 
 
 def import_network(onnx_path, points, reference, tmp_path, tag):
@@ -215,16 +248,16 @@ def test_skl2onnx_writes_what_the_reader_expects(trained):
 
 
 @pytest.mark.parametrize("dtype", [np.float32, np.float64], ids=["float32", "float64"])
-@pytest.mark.parametrize("form", ["sklearn", "torch"])
+@pytest.mark.parametrize("form", sorted(FORMS))
 def test_imported_network_matches_onnxruntime(built, trained, tmp_path, form, dtype):
     fmus = need(built)
     _, _, points = trained
-    model = (sklearn_onnx if form == "sklearn" else torch_form_onnx)(trained, dtype)
+    model = FORMS[form](trained, dtype)
     path = tmp_path / f"{form}.onnx"
     onnx.save(model, path)
     reference = onnxruntime_forces(model, points, dtype)
 
-    direct = fmu_forces(fmus, str(path.resolve()), points)
+    direct = fmi2_forces(fmus, str(path.resolve()), points)
     difference = relative(direct, reference)
     print(f"{form} {np.dtype(dtype).name}: FMU with the .onnx vs onnxruntime: "
           f"largest difference {difference:.3e} of max |F| = {np.max(np.abs(reference)):.2f} N")
@@ -242,7 +275,7 @@ def test_imported_network_matches_onnxruntime(built, trained, tmp_path, form, dt
     # or CSV reading would give R^2 near or below 0.
     assert r2 > 0.95
     # The JSON written is the network read from the .onnx: the same bits through the FMU.
-    np.testing.assert_array_equal(fmu_forces(fmus, str(json_path.resolve()), points), direct)
+    np.testing.assert_array_equal(fmi2_forces(fmus, str(json_path.resolve()), points), direct)
 
 
 @pytest.mark.parametrize("dtype", [np.float32, np.float64], ids=["float32", "float64"])
@@ -269,3 +302,30 @@ def test_beam_runs_an_onnx_network_as_its_json(built, trained, tmp_path, dtype):
         np.testing.assert_array_equal(onnx_run[column], json_run[column], err_msg=column)
     assert not np.array_equal(onnx_run["tip_deflection"], shipped["tip_deflection"])
     assert np.all(np.isfinite(onnx_run["tip_deflection"]))
+
+
+def test_keras_form_has_what_tf2onnx_writes(trained):
+    """The Keras form is tf2onnx's: MatMul + Add per layer, Tanh between, an Identity at
+    the output, input `dense_input`, and no scaler node (folded into the first layer)."""
+    model = keras_form_onnx(trained, np.float32)
+    ops = [n.op_type for n in model.graph.node]
+    assert ops == ["MatMul", "Add", "Tanh"] * 2 + ["MatMul", "Add", "Identity"], ops
+    assert model.graph.input[0].name == "dense_input"
+    assert model.producer_name == "tf2onnx"
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64], ids=["float32", "float64"])
+def test_fmi3_takes_the_onnx_file_with_the_bits_of_fmi2(built, trained, tmp_path, dtype):
+    """NeuralFriction.fmu FMI 3.0 with `weights` = the .onnx file gives the FMI 2.0 FMU's
+    forces bit for bit (the same library behind both interfaces), on 1,000 of the points,
+    and they are onnxruntime's within the dtype's tolerance."""
+    fmus = need(built)
+    _, _, points = trained
+    points = points[:1000]
+    model = sklearn_onnx(trained, dtype)
+    path = tmp_path / "fmi3.onnx"
+    onnx.save(model, path)
+    two = fmi2_forces(fmus, str(path.resolve()), points)
+    three = fmi3_forces(fmu3_paths()[FRICTION], str(path.resolve()), points)
+    np.testing.assert_array_equal(three, two)
+    assert relative(three, onnxruntime_forces(model, points, dtype)) <= TOLERANCE[dtype]

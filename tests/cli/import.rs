@@ -233,3 +233,31 @@ fn simulate_takes_an_onnx_file_as_weights() {
     assert!(runs[0] == runs[1], "the .onnx and its JSON ran differently");
     std::fs::remove_file(json).unwrap();
 }
+
+/// A MATLAB .mat file (the paper authors' fitrnet network) is refused with the Python
+/// command that converts it, naming the file and the output, and nothing is written.
+#[test]
+fn a_mat_file_is_refused_with_the_python_command() {
+    let mat = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/paper-authors/trained_regression_nn_friction_model.mat");
+    let out = scratch("authors.json");
+    let (ok, _, stderr) = import(&mat, &out, &[]);
+    assert!(!ok);
+    assert!(stderr.contains("MCOS"), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "python -m stickslip_checks.import_fitrnet {} --out {} --weights-out {}",
+            mat.display(),
+            out.with_extension("onnx").display(),
+            out.display()
+        )),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    // Recognised by its header too, whatever its name.
+    let renamed = scratch("authors.bin");
+    std::fs::copy(&mat, &renamed).unwrap();
+    let (ok, _, stderr) = import(&renamed, &out, &[]);
+    assert!(!ok && stderr.contains("import_fitrnet"), "{stderr}");
+    std::fs::remove_file(renamed).unwrap();
+}

@@ -65,6 +65,21 @@ pub enum CliError {
         source: serde_json::Error,
     },
 
+    /// `import-network` was given a MATLAB .mat file: the Python package converts it
+    /// (MCOS opaque data, undocumented; see docs/decisions.md).
+    #[error(
+        "{}: a MATLAB .mat file (a fitrnet RegressionNeuralNetwork) is converted by the \
+         Python package python-checks, not by this command (MATLAB stores the network as \
+         MCOS opaque data, an undocumented format that the pip package mat-io reads). Run \
+         (after `bash scripts/python-env.sh`, which creates .venv):\n  .venv/bin/python -m \
+         stickslip_checks.import_fitrnet {} --out {} --weights-out {}\nwhich writes the \
+         network as ONNX and runs `stickslip import-network` on it",
+        path.display(),
+        path.display(),
+        out.with_extension("onnx").display(),
+        out.display()
+    )]
+    MatFile { path: PathBuf, out: PathBuf },
     /// The reference run of `study` failed, so nothing can be compared with it. (The
     /// run errors are boxed to keep `Result<(), CliError>` small.)
     #[error("the reference {} failed: {}", .0.configuration, .0.reason)]

@@ -2,6 +2,11 @@
 //! `torch.onnx.export`, Keras via tf2onnx) as our weights file, described by the file's
 //! metadata or by flags, and optionally checked against the user's data.
 //!
+//! A MATLAB `.mat` file (`fitrnet`) is refused with the Python command that converts it
+//! (`python -m stickslip_checks.import_fitrnet`): MATLAB stores the network as MCOS
+//! opaque data, an undocumented format that the pip package mat-io reads (see
+//! docs/decisions.md).
+//!
 //! The converter is `stickslip::neural::onnx`; this module only maps flags to
 //! [`OnnxImport`], writes the model and measures it on a CSV file.
 
@@ -21,7 +26,8 @@ use stickslip_train::train::mse_and_r2;
 /// `stickslip import-network`.
 #[derive(clap::Args, Debug, Clone, PartialEq)]
 pub struct ImportArgs {
-    /// The ONNX file (a multilayer perceptron regressor, FLOAT or DOUBLE).
+    /// The ONNX file (a multilayer perceptron regressor, FLOAT or DOUBLE). A MATLAB
+    /// `.mat` file is refused with the Python command that converts it.
     #[arg(value_name = "SOURCE.onnx")]
     pub source: PathBuf,
     /// Output weights file (JSON), readable wherever weights are (friction.weights, the
@@ -146,6 +152,12 @@ pub struct Agreement {
 /// Runs `import-network`: imports, writes `--out`, checks `--check-data`, prints a
 /// summary.
 pub fn run_import(args: &ImportArgs) -> Result<ImportReport, CliError> {
+    if is_mat_file(&args.source) {
+        return Err(CliError::MatFile {
+            path: args.source.clone(),
+            out: args.out.clone(),
+        });
+    }
     let source_name = args.source.display().to_string();
     let bytes =
         std::fs::read(&args.source).map_err(|e| NeuralError::io("cannot read", &args.source, e))?;
@@ -173,6 +185,22 @@ pub fn run_import(args: &ImportArgs) -> Result<ImportReport, CliError> {
     };
     print_report(args, &report);
     Ok(report)
+}
+
+/// A MATLAB MAT-file: the `.mat` extension (any case), or the text header every
+/// version-5 and version-7.3 MAT-file starts with ("MATLAB 5.0 MAT-file" / "MATLAB 7.3
+/// MAT-file"). A file that cannot be read is not one (the ONNX reader reports why).
+fn is_mat_file(path: &std::path::Path) -> bool {
+    use std::io::Read;
+    let named = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("mat"));
+    let mut head = [0u8; 6];
+    named
+        || std::fs::File::open(path)
+            .and_then(|mut f| f.read_exact(&mut head))
+            .is_ok_and(|()| &head == b"MATLAB")
 }
 
 /// MSE and R^2 of `law` on the CSV file, and the agreement with its prediction column.
