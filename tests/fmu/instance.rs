@@ -864,12 +864,63 @@ fn fidelity_auto_chooses_at_initialisation_and_logs_the_choice() {
         "{:?}",
         log.lock().unwrap()
     );
+    // The bound is over the experiment, to its stop time.
+    assert!(
+        logged(&log, "over the whole run, 0 to 0.600 s"),
+        "{:?}",
+        log.lock().unwrap()
+    );
     let mut read = [0];
     b.get_integer(&[level], &mut read).unwrap();
     assert_eq!(read[0], FidelityLevel::Auto.code());
     run(&mut b, 0.0, 0.6, 1e-2);
     // Past breakaway at 0.4 s the tip has slipped back below its 8 mm peak.
     assert!(tip(&mut b) > 0.0 && tip(&mut b) < 8.1e-3);
+}
+
+/// Without a stop time the horizon is open: auto bounds the calibration window of the
+/// first slips and logs the projected phase drift per second of simulated time; a
+/// tolerance no configuration meets over the experiment fails initialisation with the
+/// best achievable number in the log.
+#[test]
+fn fidelity_auto_reports_the_drift_without_a_stop_time_and_refuses_an_unmet_tolerance() {
+    let level = vr::<StickSlipBeam>("fidelity.level");
+    let tolerance = vr::<StickSlipBeam>("fidelity.tolerance");
+    let (mut b, log) = beam(true);
+    b.set_integer(&[level], &[FidelityLevel::Auto.code()])
+        .unwrap();
+    b.set_real(&[tolerance], &[1e-4]).unwrap();
+    b.setup_experiment(0.0, None).unwrap();
+    b.enter_initialization_mode().unwrap();
+    b.exit_initialization_mode().unwrap();
+    assert!(
+        logged(&log, "the horizon is open"),
+        "{:?}",
+        log.lock().unwrap()
+    );
+    assert!(
+        logged(&log, "ms per s of simulated time"),
+        "{:?}",
+        log.lock().unwrap()
+    );
+    // 1 nm over 0.6 s: below what the front's finest point is verified to, on any scene.
+    let (mut b, log) = beam(true);
+    b.set_integer(&[level], &[FidelityLevel::Auto.code()])
+        .unwrap();
+    b.set_real(&[tolerance], &[1e-9]).unwrap();
+    b.setup_experiment(0.0, Some(0.6)).unwrap();
+    let refused = b
+        .enter_initialization_mode()
+        .and_then(|_| b.exit_initialization_mode());
+    assert!(refused.is_err());
+    assert!(
+        logged(
+            &log,
+            "the best achievable estimated largest tip deviation is"
+        ),
+        "{:?}",
+        log.lock().unwrap()
+    );
 }
 
 /// With the neural law, auto calibrates with the network of friction.weights, the one

@@ -1,6 +1,7 @@
 //! The calibration horizon and the calibration runs.
 
-use super::{AutoError, HORIZON_MARGIN, PILOT_HORIZON};
+use super::drift::distinct_onsets;
+use super::{AutoError, HORIZON_MARGIN, PILOT_HORIZON, SLIPS_IN_WINDOW, WINDOW_LIMIT};
 use crate::law_source::LawSource;
 use crate::scene::Scene;
 use crate::study::{measure, Configuration, Measured, COMPARISON_INTERVAL};
@@ -27,38 +28,42 @@ pub(super) fn calibration_run(
     Ok(measured)
 }
 
-/// The simulated time (s) that the calibration runs need: [`HORIZON_MARGIN`] times the
-/// second major-slip onset of a pilot run (the cheapest front point), at most the
-/// scene's end. The pilot runs to [`PILOT_HORIZON`], doubling until it shows a second
-/// onset with the margin inside its horizon or reaches the end; so the calibration cost
-/// follows the first stick-slip cycle, not the user's horizon (a digital twin may run
-/// for days). Rounded up to the comparison interval, which every front step divides.
+/// The simulated time (s) that the calibration runs need, the calibration window:
+/// [`HORIZON_MARGIN`] times the onset of the [`SLIPS_IN_WINDOW`]-th major slip of a
+/// pilot run (the cheapest front point), at most the scene's end and
+/// [`WINDOW_LIMIT`]. The pilot runs to [`PILOT_HORIZON`], doubling until it shows that
+/// onset with the margin inside its horizon or reaches the cap; so the calibration cost
+/// follows the first two stick-slip cycles, not the user's horizon (a digital twin may
+/// run for days). Rounded up to the comparison interval, which every front step
+/// divides.
 pub fn calibration_horizon(
     scene: &Scene,
     law: &LawSource,
     pilot: Configuration,
     progress: &mut dyn FnMut(&str),
 ) -> Result<f64, AutoError> {
-    horizon_counted(scene, law, pilot, Instant::now(), &mut 0, progress)
+    let cap = scene.time.end.min(WINDOW_LIMIT);
+    horizon_counted(scene, law, pilot, cap, Instant::now(), &mut 0, progress)
 }
 
-/// [`calibration_horizon`], counting its runs into `count`.
+/// [`calibration_horizon`] capped at `cap` (s), counting its runs into `count`.
 pub(super) fn horizon_counted(
     scene: &Scene,
     law: &LawSource,
     pilot: Configuration,
+    cap: f64,
     started: Instant,
     count: &mut usize,
     progress: &mut dyn FnMut(&str),
 ) -> Result<f64, AutoError> {
-    let end = scene.time.end;
+    let end = cap;
     let mut horizon = PILOT_HORIZON.min(end);
     loop {
         let mut short = scene.clone();
         short.time.end = horizon;
         let run = calibration_run(&short, law, pilot, ", the pilot", started, count, progress)?;
-        if let Some(second) = run.summary.major_slips.get(1) {
-            let needed = HORIZON_MARGIN * second.onset;
+        if let Some(onset) = distinct_onsets(&run).get(SLIPS_IN_WINDOW - 1) {
+            let needed = HORIZON_MARGIN * onset;
             if needed <= horizon || horizon >= end {
                 let steps = (needed.min(end) / COMPARISON_INTERVAL).ceil();
                 return Ok((steps * COMPARISON_INTERVAL).min(end));

@@ -138,9 +138,23 @@ fn a_second_choice_for_the_same_scene_and_tolerance_comes_from_the_cache() {
     let front = paper_front().unwrap();
     let law = LawSource::resolve(&scene.clone().check().unwrap()).unwrap();
     let mut lines = Vec::new();
-    let first = choose_cached(&scene, &law, &front, &mut |l| lines.push(l.to_string())).unwrap();
+    let first = choose_cached(
+        &scene,
+        &law,
+        Horizon::Until(scene.time.end),
+        &front,
+        &mut |l| lines.push(l.to_string()),
+    )
+    .unwrap();
     let announced = lines.len();
-    let second = choose_cached(&scene, &law, &front, &mut |l| lines.push(l.to_string())).unwrap();
+    let second = choose_cached(
+        &scene,
+        &law,
+        Horizon::Until(scene.time.end),
+        &front,
+        &mut |l| lines.push(l.to_string()),
+    )
+    .unwrap();
     // The first call may find the choice of a parallel test with this scene, but
     // then it too made no run; the second call never runs.
     assert_eq!(announced, first.runs.max(1));
@@ -150,9 +164,15 @@ fn a_second_choice_for_the_same_scene_and_tolerance_comes_from_the_cache() {
     // Another tolerance is another choice.
     scene.fidelity.tolerance = Some(0.4);
     assert!(
-        choose_cached(&scene, &law, &front, &mut |_| {})
-            .unwrap()
-            .runs
+        choose_cached(
+            &scene,
+            &law,
+            Horizon::Until(scene.time.end),
+            &front,
+            &mut |_| {}
+        )
+        .unwrap()
+        .runs
             > 0
     );
 }

@@ -1,9 +1,9 @@
 //! The verification scenes and the check of a choice against a scene's reference.
 
-use super::{choose, first_cycle_deviation, AutoError, Selection};
+use super::{choose, window_deviation, AutoError, Selection};
 use crate::law_source::LawSource;
 use crate::scene::Scene;
-use crate::study::{measure, Configuration, FrontPoint, Measured};
+use crate::study::{measure, rms_difference, Configuration, FrontPoint, Measured, Resolution};
 
 /// The scenes on which `stickslip study --verify-auto` checks the choice: the paper's
 /// and ten that move the answer: belt speed (more, shorter cycles or fewer, longer
@@ -55,13 +55,19 @@ pub fn verification_scenes() -> Vec<(&'static str, Scene)> {
     ]
 }
 
-/// The choice on one scene, checked against the scene's own converged reference.
+/// The choice on one scene, checked against the scene's own converged reference over
+/// the whole run.
 #[derive(Clone, Debug)]
 pub struct Verification {
     pub choice: Selection,
-    /// First-cycle tip deviation of the choice from the reference (m).
+    /// Largest tip deviation of the choice from the reference over the whole run (m).
     pub true_error: f64,
-    /// The next cheaper front point and its error against the reference (m).
+    /// RMS tip deviation of the choice from the reference over the whole run (m).
+    pub true_rms: f64,
+    /// Wall time of the choice's run over the whole run (s).
+    pub seconds: f64,
+    /// The next cheaper front point and its largest deviation from the reference over
+    /// the whole run (m).
     pub cheaper: Option<(Configuration, f64)>,
 }
 
@@ -72,8 +78,9 @@ impl Verification {
     }
 }
 
-/// Runs [`choose`] on `scene`, then measures the choice and the next cheaper point
-/// against `reference` (an already measured run of the same scene).
+/// Runs [`choose`] on `scene` (the bound over its whole run, to `time.end`), then
+/// measures the choice and the next cheaper point against `reference` (an already
+/// measured run of the same scene) over the whole run.
 pub fn verify(
     scene: &Scene,
     law: &LawSource,
@@ -83,19 +90,46 @@ pub fn verify(
 ) -> Result<Verification, AutoError> {
     let choice = choose(scene, law, tolerance, front, &mut |_| {})?;
     let front = &crate::transfer::front_for_scene(scene, front);
-    let error_of = |configuration: Configuration| -> Result<f64, AutoError> {
-        let run =
-            measure(scene, law, configuration).map_err(|f| AutoError::Verification(f.reason))?;
-        Ok(first_cycle_deviation(&run.tip, reference))
+    let run_of = |configuration: Configuration| -> Result<Measured, AutoError> {
+        measure(scene, law, configuration).map_err(|f| AutoError::Verification(f.reason))
     };
-    let true_error = error_of(choice.configuration)?;
+    let chosen = run_of(choice.configuration)?;
     let cheaper = match choice.index.checked_sub(1) {
-        Some(k) => Some((front[k].configuration, error_of(front[k].configuration)?)),
+        Some(k) => {
+            let run = run_of(front[k].configuration)?;
+            Some((
+                front[k].configuration,
+                window_deviation(&run.tip, &reference.tip),
+            ))
+        }
         None => None,
     };
     Ok(Verification {
         choice,
-        true_error,
+        true_error: window_deviation(&chosen.tip, &reference.tip),
+        true_rms: rms_difference(&chosen.tip, &reference.tip),
+        seconds: chosen.seconds,
         cheaper,
     })
+}
+
+/// A run finer than `reference`, to check that the reference is converged: half its
+/// time step and, for a modal basis, twice its modes.
+pub fn finer(reference: Configuration) -> Configuration {
+    let resolution = match reference.resolution {
+        Resolution::PlaneStressModal {
+            element_size,
+            modes,
+        } => Resolution::PlaneStressModal {
+            element_size,
+            modes: 2 * modes,
+        },
+        Resolution::Modal { modes } => Resolution::Modal { modes: 2 * modes },
+        other => other,
+    };
+    Configuration {
+        resolution,
+        dt: reference.dt / 2.0,
+        ..reference
+    }
 }
