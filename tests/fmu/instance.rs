@@ -903,11 +903,12 @@ fn fidelity_auto_reports_the_drift_without_a_stop_time_and_refuses_an_unmet_tole
         "{:?}",
         log.lock().unwrap()
     );
-    // 1 nm over 0.6 s: below what the front's finest point is verified to, on any scene.
+    // 1e-11 m over 0.6 s: below the 6e-10 m by which the front's finest pair differs
+    // there (tests/physics/auto_horizon.rs).
     let (mut b, log) = beam(true);
     b.set_integer(&[level], &[FidelityLevel::Auto.code()])
         .unwrap();
-    b.set_real(&[tolerance], &[1e-9]).unwrap();
+    b.set_real(&[tolerance], &[1e-11]).unwrap();
     b.setup_experiment(0.0, Some(0.6)).unwrap();
     let refused = b
         .enter_initialization_mode()

@@ -137,42 +137,70 @@ fn a_second_choice_for_the_same_scene_and_tolerance_comes_from_the_cache() {
     scene.fidelity.tolerance = Some(0.5);
     let front = paper_front().unwrap();
     let law = LawSource::resolve(&scene.clone().check().unwrap()).unwrap();
+    let horizon = Horizon::Until(scene.time.end);
     let mut lines = Vec::new();
-    let first = choose_cached(
-        &scene,
-        &law,
-        Horizon::Until(scene.time.end),
-        &front,
-        &mut |l| lines.push(l.to_string()),
-    )
-    .unwrap();
+    let mut choice = |lines: &mut Vec<String>| {
+        choose_cached(&scene, &law, horizon, &front, &mut |l| {
+            lines.push(l.to_string())
+        })
+        .unwrap()
+    };
+    let first = choice(&mut lines);
     let announced = lines.len();
-    let second = choose_cached(
-        &scene,
-        &law,
-        Horizon::Until(scene.time.end),
-        &front,
-        &mut |l| lines.push(l.to_string()),
-    )
-    .unwrap();
+    let second = choice(&mut lines);
     // The first call may find the choice of a parallel test with this scene, but
     // then it too made no run; the second call never runs.
     assert_eq!(announced, first.runs.max(1));
     assert_eq!(second.runs, 0);
     assert_eq!(second.configuration, first.configuration);
     assert!(lines.last().unwrap().contains("already made"), "{lines:?}");
-    // Another tolerance is another choice.
-    scene.fidelity.tolerance = Some(0.4);
-    assert!(
-        choose_cached(
-            &scene,
-            &law,
-            Horizon::Until(scene.time.end),
-            &front,
-            &mut |_| {}
-        )
-        .unwrap()
-        .runs
-            > 0
-    );
+    // Another tolerance is another choice, and so is another horizon.
+    let mut other = scene.clone();
+    other.fidelity.tolerance = Some(0.4);
+    let runs = |scene: &Scene, horizon| {
+        choose_cached(scene, &law, horizon, &front, &mut |_| {})
+            .unwrap()
+            .runs
+    };
+    assert!(runs(&other, horizon) > 0);
+    assert!(runs(&scene, Horizon::Until(0.03)) > 0);
+}
+
+#[test]
+fn the_drift_rate_is_the_largest_growth_of_the_onset_difference() {
+    // Onsets of b at 0.1, 0.3, 0.5 s; a is 1 ms late at the first, 3 ms at the second
+    // (2 ms more over 0.2 s: 0.01) and 4 ms at the third (3 ms over 0.4 s: 0.0075).
+    let b = measured(vec![0.0; 3], &[0.1, 0.3, 0.5]);
+    let a = measured(vec![0.0; 3], &[0.101, 0.303, 0.504]);
+    let rate = drift::drift_rate(&a, &b).unwrap();
+    assert!((rate - 0.01).abs() < 1e-12, "{rate}");
+    // A slip reported twice counts once.
+    let twice = measured(vec![0.0; 3], &[0.101, 0.101, 0.303, 0.504]);
+    assert_eq!(drift::distinct_onsets(&twice), [0.101, 0.303, 0.504]);
+    // No sawtooth in either run: nothing drifts; in one only: not comparable.
+    let none = measured(vec![0.0; 3], &[]);
+    assert_eq!(drift::drift_rate(&none, &none), Some(0.0));
+    assert_eq!(drift::drift_rate(&none, &b), None);
+}
+
+#[test]
+fn a_shift_costs_the_sawtooths_modulus_of_continuity() {
+    // A ramp rising 1 per sample, then a drop of 5: a shift of h samples costs h on the
+    // ramp, and any shift reaching the drop up to its height.
+    let tip = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 0.0, 1.0];
+    let step = crate::study::COMPARISON_INTERVAL;
+    // Half a sample into the drop: 2.5, linear between samples.
+    assert!((drift::shift_deviation(&tip, 0.5 * step) - 2.5).abs() < 1e-12);
+    assert!((drift::shift_deviation(&tip, step) - 5.0).abs() < 1e-12);
+    // Nondecreasing, and the peak-to-peak height for a shift beyond the samples.
+    let mut last = 0.0;
+    for k in 0..40 {
+        let d = drift::shift_deviation(&tip, 0.25 * k as f64 * step);
+        assert!(d >= last, "{k}");
+        last = d;
+    }
+    assert_eq!(drift::shift_deviation(&tip, f64::INFINITY), 5.0);
+    // The largest shift within 1.0 is a fifth of a sample (the drop: 5 per sample).
+    let within = drift::shift_within(&tip, 1.0, 10.0 * step);
+    assert!((within - 0.2 * step).abs() < 2e-6, "{within}");
 }
