@@ -38,9 +38,11 @@ pub fn drift_rate(a: &Measured, b: &Measured) -> Option<f64> {
         return (oa.len().max(ob.len()) < 2).then_some(0.0);
     }
     let s1 = oa[0] - ob[0];
-    (1..n)
-        .map(|i| ((oa[i] - ob[i]) - s1).abs() / (ob[i] - ob[0]))
-        .fold(Some(0.0), |m, r| m.map(|m: f64| m.max(r)))
+    Some(
+        (1..n)
+            .map(|i| ((oa[i] - ob[i]) - s1).abs() / (ob[i] - ob[0]))
+            .fold(0.0, f64::max),
+    )
 }
 
 /// The sawtooth's modulus of continuity: the largest |tip(t + h) - tip(t)| (m) over

@@ -139,7 +139,7 @@ fn a_second_choice_for_the_same_scene_and_tolerance_comes_from_the_cache() {
     let law = LawSource::resolve(&scene.clone().check().unwrap()).unwrap();
     let horizon = Horizon::Until(scene.time.end);
     let mut lines = Vec::new();
-    let mut choice = |lines: &mut Vec<String>| {
+    let choice = |lines: &mut Vec<String>| {
         choose_cached(&scene, &law, horizon, &front, &mut |l| {
             lines.push(l.to_string())
         })
