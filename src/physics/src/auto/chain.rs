@@ -92,6 +92,11 @@ pub fn choose_over(
     if !(tolerance.is_finite() && tolerance > 0.0) {
         return Err(AutoError::Tolerance { tolerance });
     }
+    if let Horizon::Until(end) = horizon {
+        if !(end.is_finite() && end > 0.0) {
+            return Err(AutoError::Horizon { end });
+        }
+    }
     check_front(front)?;
     let started = Instant::now();
     // The front's mode counts as this scene's spectrum asks for them (`transfer`).

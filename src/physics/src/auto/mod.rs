@@ -209,6 +209,9 @@ pub enum AutoError {
     /// The tolerance (m) is not finite and positive.
     #[error("fidelity tolerance = {tolerance} m; it must be finite and > 0")]
     Tolerance { tolerance: f64 },
+    /// The horizon's end (s) is not finite and positive.
+    #[error("fidelity = auto: the run's end {end} s must be finite and > 0")]
+    Horizon { end: f64 },
     /// A calibration run of a front point failed.
     #[error("fidelity = auto, running {0}")]
     Calibration(#[source] Failed),

@@ -79,6 +79,13 @@ fn an_unordered_front_or_a_bad_tolerance_is_refused() {
         assert!(matches!(e, AutoError::Tolerance { .. }), "{e}");
         assert!(e.to_string().contains("tolerance"), "{e}");
     }
+    for end in [0.0, -1.0, f64::NAN] {
+        let law = LawSource::Exponential(ExponentialLaw::of(&Scene::default().friction));
+        let horizon = Horizon::Until(end);
+        let e =
+            choose_over(&Scene::default(), &law, 1e-5, horizon, &front, &mut |_| {}).unwrap_err();
+        assert!(matches!(e, AutoError::Horizon { .. }), "{e}");
+    }
 }
 
 #[test]
