@@ -884,43 +884,34 @@ fn fidelity_auto_chooses_at_initialisation_and_logs_the_choice() {
 /// best achievable number in the log.
 #[test]
 fn fidelity_auto_reports_the_drift_without_a_stop_time_and_refuses_an_unmet_tolerance() {
-    let level = vr::<StickSlipBeam>("fidelity.level");
-    let tolerance = vr::<StickSlipBeam>("fidelity.tolerance");
-    let (mut b, log) = beam(true);
-    b.set_integer(&[level], &[FidelityLevel::Auto.code()])
+    // An auto instance at `tolerance` (m) and stop time, through initialisation.
+    let initialised = |tolerance: f64, stop: Option<f64>| {
+        let (mut b, log) = beam(true);
+        b.set_integer(
+            &[vr::<StickSlipBeam>("fidelity.level")],
+            &[FidelityLevel::Auto.code()],
+        )
         .unwrap();
-    b.set_real(&[tolerance], &[1e-4]).unwrap();
-    b.setup_experiment(0.0, None).unwrap();
-    b.enter_initialization_mode().unwrap();
-    b.exit_initialization_mode().unwrap();
-    assert!(
-        logged(&log, "the horizon is open"),
-        "{:?}",
-        log.lock().unwrap()
-    );
-    assert!(
-        logged(&log, "ms per s of simulated time"),
-        "{:?}",
-        log.lock().unwrap()
-    );
+        b.set_real(&[vr::<StickSlipBeam>("fidelity.tolerance")], &[tolerance])
+            .unwrap();
+        b.setup_experiment(0.0, stop).unwrap();
+        let status = b
+            .enter_initialization_mode()
+            .and_then(|_| b.exit_initialization_mode());
+        let lines: Vec<String> = log.lock().unwrap().iter().map(|l| l.2.clone()).collect();
+        (status.is_ok(), lines.join("\n"))
+    };
+    let (ok, lines) = initialised(1e-4, None);
+    assert!(ok, "{lines}");
+    assert!(lines.contains("the horizon is open"), "{lines}");
+    assert!(lines.contains("ms per s of simulated time"), "{lines}");
     // 1e-11 m over 0.6 s: below the 6e-10 m by which the front's finest pair differs
     // there (tests/physics/auto_horizon.rs).
-    let (mut b, log) = beam(true);
-    b.set_integer(&[level], &[FidelityLevel::Auto.code()])
-        .unwrap();
-    b.set_real(&[tolerance], &[1e-11]).unwrap();
-    b.setup_experiment(0.0, Some(0.6)).unwrap();
-    let refused = b
-        .enter_initialization_mode()
-        .and_then(|_| b.exit_initialization_mode());
-    assert!(refused.is_err());
+    let (ok, lines) = initialised(1e-11, Some(0.6));
+    assert!(!ok, "{lines}");
     assert!(
-        logged(
-            &log,
-            "the best achievable estimated largest tip deviation is"
-        ),
-        "{:?}",
-        log.lock().unwrap()
+        lines.contains("the best achievable estimated largest tip deviation is"),
+        "{lines}"
     );
 }
 
