@@ -864,12 +864,55 @@ fn fidelity_auto_chooses_at_initialisation_and_logs_the_choice() {
         "{:?}",
         log.lock().unwrap()
     );
+    // The bound is over the experiment, to its stop time.
+    assert!(
+        logged(&log, "over the whole run, 0 to 0.600 s"),
+        "{:?}",
+        log.lock().unwrap()
+    );
     let mut read = [0];
     b.get_integer(&[level], &mut read).unwrap();
     assert_eq!(read[0], FidelityLevel::Auto.code());
     run(&mut b, 0.0, 0.6, 1e-2);
     // Past breakaway at 0.4 s the tip has slipped back below its 8 mm peak.
     assert!(tip(&mut b) > 0.0 && tip(&mut b) < 8.1e-3);
+}
+
+/// Without a stop time the horizon is open: auto bounds the calibration window of the
+/// first slips and logs the projected phase drift per second of simulated time; a
+/// tolerance no configuration meets over the experiment fails initialisation with the
+/// best achievable number in the log.
+#[test]
+fn fidelity_auto_reports_the_drift_without_a_stop_time_and_refuses_an_unmet_tolerance() {
+    // An auto instance at `tolerance` (m) and stop time, through initialisation.
+    let initialised = |tolerance: f64, stop: Option<f64>| {
+        let (mut b, log) = beam(true);
+        b.set_integer(
+            &[vr::<StickSlipBeam>("fidelity.level")],
+            &[FidelityLevel::Auto.code()],
+        )
+        .unwrap();
+        b.set_real(&[vr::<StickSlipBeam>("fidelity.tolerance")], &[tolerance])
+            .unwrap();
+        b.setup_experiment(0.0, stop).unwrap();
+        let status = b
+            .enter_initialization_mode()
+            .and_then(|_| b.exit_initialization_mode());
+        let lines: Vec<String> = log.lock().unwrap().iter().map(|l| l.2.clone()).collect();
+        (status.is_ok(), lines.join("\n"))
+    };
+    let (ok, lines) = initialised(1e-4, None);
+    assert!(ok, "{lines}");
+    assert!(lines.contains("the horizon is open"), "{lines}");
+    assert!(lines.contains("ms per s of simulated time"), "{lines}");
+    // 1e-11 m over 0.6 s: below the 6e-10 m by which the front's finest pair differs
+    // there (tests/physics/auto_horizon.rs).
+    let (ok, lines) = initialised(1e-11, Some(0.6));
+    assert!(!ok, "{lines}");
+    assert!(
+        lines.contains("the best achievable estimated largest tip deviation is"),
+        "{lines}"
+    );
 }
 
 /// With the neural law, auto calibrates with the network of friction.weights, the one

@@ -1,13 +1,16 @@
 //! `fidelity = auto` end to end on three scenes, with a small front measured here (the
 //! shipped front needs the full study; `stickslip study --verify-auto` checks that one).
 //!
-//! The front: five beam/modal configurations, their first-cycle deviations measured on the paper scene
-//! to 0.6 s (breakaway and the first slip) against a 100-element beam at dt = 1e-5 s.
+//! The front: five beam/modal configurations, their largest deviations measured on the
+//! paper scene to 0.6 s (breakaway and the first slip) against a 100-element beam at
+//! dt = 1e-5 s. Since issue 27 the tolerance bounds the whole run (here 0.6 s), so the
+//! errors are the largest over the whole run, no longer over the first cycle.
 //! On each scene the tolerance is put halfway (geometrically) between the true errors
 //! of two consecutive front points k-1 and k that differ by at least 3x: auto must
-//! choose exactly k, which meets the tolerance while k-1 does not.
+//! choose the first point that meets it, or (where the front is not monotone on the
+//! scene over the whole run) the next.
 
-use stickslip::auto::{check_front, choose, first_cycle_deviation};
+use stickslip::auto::{check_front, choose, window_deviation};
 use stickslip::scene::{Scene, Scheme};
 use stickslip::study::{measure, Configuration, FrontPoint, Measured, Resolution};
 
@@ -65,7 +68,7 @@ fn auto_chooses_the_cheapest_point_that_meets_the_tolerance_on_three_scenes() {
             FrontPoint {
                 configuration: c,
                 seconds: run.dofs as f64 / c.dt,
-                rms_error: first_cycle_deviation(&run.tip, &paper_reference),
+                rms_error: window_deviation(&run.tip, &paper_reference.tip),
             }
         })
         .collect();
@@ -88,7 +91,7 @@ fn auto_chooses_the_cheapest_point_that_meets_the_tolerance_on_three_scenes() {
             .map(|p| {
                 let run =
                     measure(&scene, &stickslip_tests::law_of(&scene), p.configuration).unwrap();
-                first_cycle_deviation(&run.tip, &reference)
+                window_deviation(&run.tip, &reference.tip)
             })
             .collect();
         // The widest gap among points that have a partner; the tolerance sits inside.
@@ -111,21 +114,29 @@ fn auto_chooses_the_cheapest_point_that_meets_the_tolerance_on_three_scenes() {
             "{name}: errors {errors:?} m, tolerance {tolerance:.3e} m, chose point {} (estimated {:.3e} m)",
             choice.index, choice.estimated_error
         );
-        assert_eq!(choice.index, first_meeting, "{name}: errors {errors:?}");
+        // Over the whole run the front need not be monotone on another scene: on the
+        // 1.6 m beam the 10-element beam at 5e-5 s is 63 um off over 0.6 s while the
+        // cheaper 5 modes at 1e-4 s are 6.6 um off (a slip a step late), and as the
+        // partner of the 2e-4 s beam it makes auto cautious by one point. More than one
+        // would be a fault.
+        assert!(
+            choice.index >= first_meeting && choice.index <= first_meeting + 1,
+            "{name}: chose {}, errors {errors:?}",
+            choice.index
+        );
         assert!(errors[choice.index] <= tolerance, "{name}");
-        if choice.index > 0 {
-            assert!(errors[choice.index - 1] > tolerance, "{name}");
-        }
         checked += 1;
     }
     assert_eq!(checked, 3);
 }
 
-/// The calibration runs stop at 1.5x the pilot's second major-slip onset, whatever the
-/// scene's end: a scene that runs for 100 s calibrates over the same horizon as one
-/// that runs for 1.2 s, and a scene shorter than that calibrates over its whole run.
+/// The calibration window (for an open or long horizon) stops at 1.5x the pilot's third
+/// major-slip onset, whatever the scene's end: a scene that runs for 100 s calibrates
+/// over the same window as one that runs for 20 s, and a scene shorter than that over
+/// its whole run. (Until issue 27 the window ended at 1.5x the second onset; it now
+/// holds two intervals between slips, from which the phase drift is measured.)
 #[test]
-fn the_calibration_horizon_follows_the_first_cycle_not_the_end_time() {
+fn the_calibration_window_follows_the_first_slips_not_the_end_time() {
     let pilot = configuration(
         Resolution::Modal { modes: 1 },
         1e-3,
@@ -143,23 +154,20 @@ fn the_calibration_horizon_follows_the_first_cycle_not_the_end_time() {
         )
         .unwrap()
     };
-    let paper = horizon_at(1.2);
+    let twenty = horizon_at(20.0);
     let long = horizon_at(100.0);
     let short = horizon_at(0.5);
-    // The pilot's second onset on the paper scene, over 1 s and over 2 s of run.
+    // The pilot's third onset on the paper scene, over 2 s of run.
     let mut scene = Scene::default();
-    scene.time.end = 1.0;
-    let second = measure(&scene, &stickslip_tests::law_of(&scene), pilot)
-        .unwrap()
-        .summary
-        .major_slips[1]
-        .onset;
-    let expected = (1.5 * second / 1e-3).ceil() * 1e-3;
-    assert!((paper - expected).abs() < 1e-12, "{paper} {expected}");
-    assert_eq!(long, paper);
+    scene.time.end = 2.0;
+    let run = measure(&scene, &stickslip_tests::law_of(&scene), pilot).unwrap();
+    let third = stickslip::auto::drift::distinct_onsets(&run)[2];
+    let expected = (1.5 * third / 1e-3).ceil() * 1e-3;
+    assert!((twenty - expected).abs() < 1e-12, "{twenty} {expected}");
+    assert_eq!(long, twenty);
     assert!(
-        paper < 1.2,
-        "the first cycle ends before the paper run does: {paper}"
+        twenty < 2.0,
+        "three slips fit in the first 2 s of the paper scene: {twenty}"
     );
     assert_eq!(short, 0.5);
     // One progress line per pilot run, each naming its horizon.
@@ -178,6 +186,12 @@ fn the_chain_bounds_the_error_where_the_first_partner_is_as_wrong() {
     stubby.geometry.length = 0.2;
     stubby.geometry.height = 0.02;
     stubby.material.youngs_modulus = 40e6;
+    // The run ends at the reference's second major-slip onset: since issue 27 the bound
+    // covers the whole run, and this keeps it to the first cycle the test was made for
+    // (over 0.6 s the single link is no longer an underestimate here: 4.2e-4 against a
+    // true 2.8e-4 m).
+    let onsets = stickslip::auto::drift::distinct_onsets(&reference(&stubby));
+    stubby.time.end = (onsets[1] / 1e-3).floor() * 1e-3 + 1e-3;
     let coarse = configuration(Resolution::Modal { modes: 1 }, 1e-3, Scheme::MoreauJean);
     let partner = configuration(Resolution::Beam { elements: 5 }, 1e-3, Scheme::MoreauJean);
     let fine = configuration(
@@ -219,7 +233,7 @@ fn the_chain_bounds_the_error_where_the_first_partner_is_as_wrong() {
     let truth = {
         let reference = reference(&stubby);
         let run = measure(&stubby, &stickslip_tests::law_of(&stubby), coarse).unwrap();
-        first_cycle_deviation(&run.tip, &reference)
+        window_deviation(&run.tip, &reference.tip)
     };
     println!(
         "stubby: single-link {:.3e} m, chain {:.3e} m, true {truth:.3e} m",

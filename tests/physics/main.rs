@@ -4,6 +4,7 @@
 //! of the crates.
 
 mod auto;
+mod auto_horizon;
 mod choices;
 mod contact;
 mod coupling;

@@ -35,8 +35,9 @@ pub struct SceneArgs {
     #[arg(long, value_parser = parser::<FidelityLevel>())]
     pub fidelity: Option<FidelityLevel>,
     /// With fidelity auto (`--fidelity auto`, or a scene file's `fidelity.level =
-    /// "auto"`): the largest tip-deflection deviation allowed over the first
-    /// stick-slip cycle (m); it replaces the scene file's `fidelity.tolerance`.
+    /// "auto"`): the largest tip-deflection deviation allowed over the run, to
+    /// --t-end (m; beyond 10 s, over the first three major slips, with the phase drift
+    /// reported); it replaces the scene file's `fidelity.tolerance`.
     /// Default (neither given): 1e-5 m, as in the FMU (`stickslip::auto::DEFAULT_TOLERANCE`).
     #[arg(long, allow_negative_numbers = true)]
     pub tolerance: Option<f64>,

@@ -296,7 +296,7 @@ crate::choice! {
         PlaneStress = "plane-stress": "2D plane-stress mesh of 8-node quadrilaterals",
         /// Not a model but a request: the `auto` module replaces the level, the time
         /// step and the integrator by the cheapest point of the measured front whose
-        /// first-cycle tip deviation on this scene meets `fidelity.tolerance`
+        /// largest tip deviation on this scene over the run meets `fidelity.tolerance`
         /// (`auto::resolve`). A scene must be resolved before a model is built from it.
         Auto = "auto": "the cheapest measured configuration that meets fidelity.tolerance on this scene",
     }

@@ -4,7 +4,7 @@
 
 use super::{Running, StickSlipBeam};
 use crate::networks::NetworkError;
-use stickslip::auto::AutoError;
+use stickslip::auto::{AutoError, Horizon};
 use stickslip::law_source::{LawSource, NetworkOrigin};
 use stickslip::neural::SceneLawError;
 use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Scene, SceneError};
@@ -49,7 +49,16 @@ impl StickSlipBeam {
         if scene.fidelity.level == FidelityLevel::Auto {
             scene.clone().check()?;
             let law = self.law_source(&scene)?;
-            let scene = self.auto_choice(&scene, &law)?.apply(&scene).check()?;
+            // The bound holds over the experiment: to its stop time when one is defined,
+            // else the horizon is open (the scene's time.end is no end the user set).
+            let horizon = match stop_time {
+                Some(_) => Horizon::Until(scene.time.end),
+                None => Horizon::Open,
+            };
+            let scene = self
+                .auto_choice(&scene, &law, horizon)?
+                .apply(&scene)
+                .check()?;
             // The choice may name an evaluation of the network (the shipped front does
             // not): the law follows the scene that runs.
             let law = law.with_inference(scene.friction.inference);
@@ -72,11 +81,16 @@ impl StickSlipBeam {
         Ok(law)
     }
 
-    /// The `auto` choice for `scene` at its tolerance, under `law`. The choice is kept by
+    /// The `auto` choice for `scene` at its tolerance over `horizon`, under `law`. The choice is kept by
     /// `stickslip::auto` for the process, keyed by scene and law: the calibration runs
     /// the scene several times, and another instance (or this one after a reset) of the
     /// same scene and network gets the same choice without them.
-    fn auto_choice(&mut self, scene: &Scene, law: &LawSource) -> Result<Configuration, BuildError> {
+    fn auto_choice(
+        &mut self,
+        scene: &Scene,
+        law: &LawSource,
+        horizon: Horizon,
+    ) -> Result<Configuration, BuildError> {
         // The calibration runs stand alone, without this FMU's inputs: with the external
         // model they run the exponential law of the scene's coefficients instead. With
         // the neural law they run the network of friction.weights, the one this FMU
@@ -88,9 +102,10 @@ impl StickSlipBeam {
         let law = law.stand_alone();
         let front = stickslip::auto::paper_front()?;
         let mut progress = Vec::new();
-        let choice = stickslip::auto::choose_cached(&calibrated, &law, &front, &mut |line| {
-            progress.push(line.to_string())
-        });
+        let choice =
+            stickslip::auto::choose_cached(&calibrated, &law, horizon, &front, &mut |line| {
+                progress.push(line.to_string())
+            });
         // The progress lines are logged whether or not a choice came of them.
         self.auto_log.append(&mut progress);
         let choice = choice?;

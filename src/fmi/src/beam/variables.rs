@@ -186,7 +186,7 @@ pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &[
         value_reference: 57,
         causality: Causality::Parameter,
         variability: Variability::Fixed,
-        description: "fidelity.level = auto: largest tip-deflection deviation allowed over the first stick-slip cycle",
+        description: "fidelity.level = auto: largest tip-deflection deviation allowed over the experiment (to its stop time; without one, or beyond 10 s, over the first three major slips)",
         access: Access::Real {
             unit: Some("m"),
             // Some from the start value on; NaN stands for a tolerance never given.

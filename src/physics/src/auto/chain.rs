@@ -1,0 +1,254 @@
+//! The choice: front points tried cheapest first, each bounded by its chain of partners.
+
+use super::bound::{window_deviation, Horizon, Reach, DIRECT_LIMIT};
+use super::drift::{drift_rate, shift_within};
+use super::front::affordable;
+use super::horizon::{calibration_run, horizon_counted};
+use super::{
+    check_front, partner, refinement, AutoError, PARTNER_ACCURACY_RATIO, SAFETY_FACTOR,
+    TAIL_FACTOR, WINDOW_LIMIT,
+};
+use crate::law_source::LawSource;
+use crate::scene::Scene;
+use crate::study::{Configuration, FrontPoint, Measured};
+use std::time::Instant;
+
+/// One front point tried on the scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Candidate {
+    pub configuration: Configuration,
+    /// Estimated largest tip deviation on this scene (m), as the selection's [`Reach`]
+    /// counts it: [`SAFETY_FACTOR`] times the chain's bound d(candidate, last partner) +
+    /// [`TAIL_FACTOR`] * d_last, with d_last the last link's deviation.
+    pub estimated_error: f64,
+    /// The chain's bound on the phase drift rate (s per s of simulated time):
+    /// r(candidate, last partner) + [`TAIL_FACTOR`] * r_last
+    /// ([`super::drift::drift_rate`]); `None` when the slips are not comparable.
+    pub drift_rate: Option<f64>,
+    /// The first partner (the first link of the chain).
+    pub partner: Configuration,
+    /// The chain: each partner run and the deviation d (m) of the run before
+    /// it from it, first partner first; for a beam or modal candidate whose chain has no
+    /// plane stress, last the model-refinement point ([`refinement`]) and the
+    /// candidate's deviation from it.
+    pub chain: Vec<(Configuration, f64)>,
+}
+
+/// The outcome of the selection: the configuration chosen and how.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Selection {
+    /// Index of the chosen point on the front.
+    pub index: usize,
+    pub configuration: Configuration,
+    /// Estimated largest tip deviation of the choice (m) over what [`Selection::reach`]
+    /// says.
+    pub estimated_error: f64,
+    /// The horizon asked for.
+    pub asked: Horizon,
+    /// How the bound reaches it from the calibration window.
+    pub reach: Reach,
+    /// The choice's bound on the phase drift rate (s per s), [`Candidate::drift_rate`].
+    pub drift_rate: Option<f64>,
+    /// With [`Reach::Window`]: until when (s) the estimate plus the projected drift
+    /// stays within the tolerance (infinite without drift); else the horizon.
+    pub holds_until: f64,
+    /// Every point tried, cheapest first; the last is the choice.
+    pub tried: Vec<Candidate>,
+    /// Wall time of all calibration runs (s), the pilot's included; 0 when
+    /// [`choose_cached`] had the choice.
+    pub calibration_seconds: f64,
+    /// Number of calibration runs made, the pilot's included.
+    pub runs: usize,
+    /// Simulated time of each calibration run (s), the calibration window:
+    /// [`super::calibration_horizon`].
+    pub window: f64,
+}
+
+/// [`choose_over`] the scene's own run, to its `time.end`.
+pub fn choose(
+    scene: &Scene,
+    law: &LawSource,
+    tolerance: f64,
+    front: &[FrontPoint],
+    progress: &mut dyn FnMut(&str),
+) -> Result<Selection, AutoError> {
+    let horizon = Horizon::Until(scene.time.end);
+    choose_over(scene, law, tolerance, horizon, front, progress)
+}
+
+/// Picks the cheapest point of `front` whose largest tip deviation on `scene` over
+/// `horizon` is estimated at or below `tolerance` (m) (over the calibration window
+/// when the horizon is open or too long, [`Reach`]); every calibration run uses `law`
+/// (the scene's, resolved once). `progress` hears one line per calibration run,
+/// before it starts, so that a slow calibration shows where it is.
+pub fn choose_over(
+    scene: &Scene,
+    law: &LawSource,
+    tolerance: f64,
+    horizon: Horizon,
+    front: &[FrontPoint],
+    progress: &mut dyn FnMut(&str),
+) -> Result<Selection, AutoError> {
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(AutoError::Tolerance { tolerance });
+    }
+    if let Horizon::Until(end) = horizon {
+        if !(end.is_finite() && end > 0.0) {
+            return Err(AutoError::Horizon { end });
+        }
+    }
+    check_front(front)?;
+    let started = Instant::now();
+    // The front's mode counts as this scene's spectrum asks for them (`transfer`).
+    let front = &crate::transfer::front_for_scene(scene, front);
+    let mut count = 0;
+    // A run within the direct limit is calibrated over its whole length; a longer or
+    // open one over the window of its first slips, which the pilot finds.
+    let window = match horizon {
+        Horizon::Until(end) if end <= DIRECT_LIMIT => end,
+        _ => {
+            let cap = match horizon {
+                Horizon::Until(end) => end.min(WINDOW_LIMIT),
+                Horizon::Open => WINDOW_LIMIT,
+            };
+            let mut pilot_scene = scene.clone();
+            pilot_scene.time.end = cap;
+            horizon_counted(
+                &pilot_scene,
+                law,
+                front[0].configuration,
+                cap,
+                started,
+                &mut count,
+                progress,
+            )?
+        }
+    };
+    let reach = Reach::of(horizon, window);
+    let mut calibrated = scene.clone();
+    calibrated.time.end = window;
+    let mut runs: Vec<Option<Measured>> = vec![None; front.len()];
+    let mut run = |k: usize, count: &mut usize| -> Result<Measured, AutoError> {
+        if runs[k].is_none() {
+            runs[k] = Some(calibration_run(
+                &calibrated,
+                law,
+                front[k].configuration,
+                "",
+                started,
+                count,
+                progress,
+            )?);
+        }
+        Ok(runs[k].clone().expect("just measured"))
+    };
+    let mut tried = Vec::new();
+    for k in 0..front.len() {
+        let Some(first) = partner(front, k) else {
+            break;
+        };
+        let candidate = run(k, &mut count)?;
+        let mut before = candidate.clone();
+        let mut chain: Vec<(Configuration, f64)> = Vec::new();
+        // d(k, deepest partner so far): e_k <= d(k, p) + e_p for any partner p; the
+        // same for the drift rate r.
+        let mut direct = f64::NAN;
+        let mut rates;
+        let mut deepest;
+        let mut link = first;
+        loop {
+            let linked = run(link, &mut count)?;
+            let d = window_deviation(&before.tip, &linked.tip);
+            let previous = direct;
+            direct = window_deviation(&candidate.tip, &linked.tip);
+            rates = (
+                drift_rate(&candidate, &linked),
+                drift_rate(&before, &linked),
+            );
+            chain.push((front[link].configuration, d));
+            deepest = linked.clone();
+            // The previous partner is verified when its deviation from its own partner
+            // is small against its deviation from the candidate; otherwise the chain
+            // goes on, where that is affordable.
+            let verified = chain.len() >= 2 && d <= previous / PARTNER_ACCURACY_RATIO;
+            match partner(front, link) {
+                Some(next) if !verified && affordable(front, next, first) => {
+                    before = linked;
+                    link = next;
+                }
+                _ => break,
+            }
+        }
+        let last = chain.last().map_or(f64::NAN, |(_, d)| *d);
+        let mut bound = direct + TAIL_FACTOR * last;
+        // Model refinement: beam and modal points can share a model error (shear on a
+        // stubby beam) that no chain among them sees. A chain without plane stress (full or
+        // modal, both have shear) is
+        // checked against the cheapest plane-stress point 5x more accurate on the paper
+        // scene, if any. With rho the paper-scene error ratio of k to m (>= 5) and
+        // e_m <= e_k / rho: e_k <= d(k, m) rho / (rho - 1).
+        let refined = |c: &Configuration| c.resolution.is_continuum();
+        if !refined(&front[k].configuration) && !chain.iter().any(|(c, _)| refined(c)) {
+            if let Some(m) = refinement(front, k) {
+                let d = window_deviation(&candidate.tip, &run(m, &mut count)?.tip);
+                chain.push((front[m].configuration, d));
+                let rho = front[k].rms_error / front[m].rms_error;
+                bound = bound.max(d * rho / (rho - 1.0));
+            }
+        }
+        let estimated_error = SAFETY_FACTOR * bound;
+        let drift_rate = match rates {
+            (Some(direct), Some(last)) => Some(SAFETY_FACTOR * (direct + TAIL_FACTOR * last)),
+            _ => None,
+        };
+        tried.push(Candidate {
+            configuration: front[k].configuration,
+            estimated_error,
+            drift_rate,
+            partner: front[first].configuration,
+            chain,
+        });
+        if estimated_error <= tolerance {
+            let holds_until = match (reach, drift_rate) {
+                (Reach::Window { .. }, Some(rate)) => {
+                    // The extra shift the tolerance leaves room for, at the drift rate.
+                    let room = tolerance - estimated_error;
+                    let limit = 1e3 * window;
+                    let shift = shift_within(&deepest.tip, room, limit);
+                    if rate > 0.0 && shift < limit {
+                        window + shift / rate
+                    } else {
+                        f64::INFINITY
+                    }
+                }
+                (Reach::Window { .. }, None) => window,
+                (_, _) => match horizon {
+                    Horizon::Until(end) => end,
+                    Horizon::Open => window,
+                },
+            };
+            return Ok(Selection {
+                index: k,
+                configuration: front[k].configuration,
+                estimated_error,
+                asked: horizon,
+                reach,
+                drift_rate,
+                holds_until,
+                tried,
+                calibration_seconds: started.elapsed().as_secs_f64(),
+                runs: count,
+                window,
+            });
+        }
+    }
+    let best = tried
+        .iter()
+        .map(|c| c.estimated_error)
+        .fold(f64::INFINITY, f64::min);
+    Err(AutoError::Unmet {
+        tolerance,
+        best,
+        over: super::resolve::span(reach, window),
+    })
+}
