@@ -56,29 +56,21 @@ class Friction:
         self.description = read_model_description(str(path))
         self.version = version
         self.vr = {v.name: v.valueReference for v in self.description.modelVariables}
-        if version == "2.0":
-            self.fmu = FMU2Slave(
-                guid=self.description.guid,
-                unzipDirectory=folder,
-                modelIdentifier=FRICTION,
-                instanceName="jacobian",
-            )
-            self.fmu.instantiate()
+        two = version == "2.0"
+        self.fmu = (FMU2Slave if two else FMU3Slave)(
+            guid=self.description.guid if two else self.description.instantiationToken,
+            unzipDirectory=folder,
+            modelIdentifier=FRICTION,
+            instanceName="jacobian",
+        )
+        self.fmu.instantiate()
+        if two:
             self.fmu.setupExperiment(startTime=0.0)
             self.fmu.enterInitializationMode()
-            self.fmu.setString([self.vr["weights"]], [weights])
-            self.fmu.exitInitializationMode()
         else:
-            self.fmu = FMU3Slave(
-                guid=self.description.instantiationToken,
-                unzipDirectory=folder,
-                modelIdentifier=FRICTION,
-                instanceName="jacobian",
-            )
-            self.fmu.instantiate()
             self.fmu.enterInitializationMode(startTime=0.0)
-            self.fmu.setString([self.vr["weights"]], [weights])
-            self.fmu.exitInitializationMode()
+        self.fmu.setString([self.vr["weights"]], [weights])
+        self.fmu.exitInitializationMode()
         # The user's view: each output and the inputs ModelStructure says it depends on.
         self.outputs = [u.variable.valueReference for u in self.description.outputs]
         self.knowns = sorted(
