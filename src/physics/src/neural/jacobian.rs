@@ -30,9 +30,10 @@
 //! Always the exact (f64) network, from the weights file, whichever inference the law
 //! evaluates its force with (f32, or a table): see docs/decisions.md.
 
+use super::error::NeuralError;
+use super::law::NeuralLaw;
 use super::network::Activation;
 use super::weights::{network_input_range, FeatureRole, NeuralModel, Variant};
-use super::{NeuralError, NeuralLaw};
 use crate::friction::signum_or_zero;
 use crate::jacobian::{magnitude_slope, LawJacobian};
 
