@@ -180,3 +180,50 @@ fn the_beam_refuses_with_its_flag() {
         .iter()
         .any(|(_, m)| m.contains("providesDirectionalDerivatives is false")));
 }
+
+/// Arbitrary requests (value references 0 to 29, lengths 0 to 3, seeds among 1, -0.5,
+/// NaN, infinity) through both interfaces, each on an initialised instance: every
+/// answer is OK with finite sensitivities or Error with a logged reason; no panic
+/// (which would also answer Error, so the log is checked not to say "panic").
+#[test]
+fn arbitrary_requests_answer_ok_or_error_with_a_reason() {
+    let seeds = [1.0, -0.5, f64::NAN, f64::INFINITY];
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let mut next = |n: u64| {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 33) % n
+    };
+    let (mut answered, mut refused) = (0, 0);
+    for three in [false, true] {
+        for _ in 0..150 {
+            let unknowns: Vec<u32> = (0..next(4)).map(|_| next(30) as u32).collect();
+            let knowns: Vec<u32> = (0..next(4)).map(|_| next(30) as u32).collect();
+            let seed: Vec<f64> = (0..knowns.len() + next(2) as usize * three as usize)
+                .map(|_| seeds[next(4) as usize])
+                .collect();
+            let fmu = unsafe { Fmu::new(three, "paper-signed.json", LawChoice::Neural, true) };
+            let (status, out) = unsafe { fmu.derivative(&unknowns, &knowns, &seed) };
+            let log = fmu.log();
+            assert!(!log.iter().any(|m| m.contains("panic")), "{log:?}");
+            match status {
+                OK => {
+                    let finite = out.iter().all(|v| v.is_finite());
+                    assert!(finite, "{unknowns:?} {knowns:?} {seed:?}: {out:?}");
+                    answered += 1;
+                }
+                ERROR => {
+                    assert!(!log.is_empty(), "{unknowns:?} {knowns:?}: no reason");
+                    refused += 1;
+                }
+                other => panic!("status {other}"),
+            }
+        }
+    }
+    println!("{answered} answered, {refused} refused");
+    assert!(
+        answered >= 10 && refused >= 100,
+        "{answered} answered, {refused} refused"
+    );
+}
