@@ -143,6 +143,9 @@ pub struct NeuralFriction {
     networks: Networks,
     outputs: Outputs,
     scratch: Vec<f64>,
+    /// The partial derivatives last computed and the settings they hold for: an
+    /// importer asks column by column, one input at a time, at the same inputs.
+    derivatives_at: Option<(Settings, PartialDerivatives)>,
 }
 
 impl NeuralFriction {
@@ -441,6 +444,7 @@ impl Model for NeuralFriction {
             networks: Networks::default(),
             outputs: Outputs::default(),
             scratch: Vec::new(),
+            derivatives_at: None,
         }
     }
 

@@ -53,8 +53,20 @@ impl NeuralFriction {
         }
     }
 
-    /// d(output)/d(input) for every output and input (module notes).
+    /// d(output)/d(input) for every output and input (module notes), reused while the
+    /// settings (parameters and inputs) stay the same.
     pub(super) fn derivatives(&mut self) -> Result<PartialDerivatives, EvaluateError> {
+        if let Some((settings, partials)) = &self.derivatives_at {
+            if *settings == self.settings {
+                return Ok(partials.clone());
+            }
+        }
+        let partials = self.compute_derivatives()?;
+        self.derivatives_at = Some((self.settings.clone(), partials.clone()));
+        Ok(partials)
+    }
+
+    fn compute_derivatives(&mut self) -> Result<PartialDerivatives, EvaluateError> {
         let (jacobian, law_inputs) = self.law_jacobian()?;
         let s = &self.settings;
         let gradient_of = |values: &[f64]| -> [f64; INPUTS.len()] {

@@ -17,8 +17,8 @@
 //!
 //! with tanh' = 1 - t^2, tanh'' = -2 t (1 - t^2); sigmoid' = s (1 - s),
 //! sigmoid'' = s (1 - s) (1 - 2 s); relu' = [z > 0], relu'' = 0 (the kink at z = 0 takes
-//! the branch z <= 0, as the forward pass does). The cost is (1 + 2d) forward passes
-//! for d features, without the blocked layout of `forward` (no time loop calls this).
+//! the branch z <= 0, as the forward pass does). The cost is that of a batched forward
+//! pass over 1 + 2d samples for d features (one matrix product per layer).
 //!
 //! The chain rule then goes back to the raw features: dx_k/df_k = 1/s_k where f_k is in
 //! [lo_k, hi_k], edges included (there the derivative is the one-sided limit from
@@ -32,70 +32,88 @@
 
 use super::error::NeuralError;
 use super::law::NeuralLaw;
-use super::network::Activation;
+use nalgebra::{DMatrixView, DMatrixViewMut};
+
+use super::network::{Activation, LayerShape};
 use super::weights::{network_input_range, FeatureRole, NeuralModel, Variant};
 use crate::friction::signum_or_zero;
 use crate::jacobian::{magnitude_slope, LawJacobian};
 
 /// Values of one layer with their first derivatives along every input and second
-/// derivatives along (velocity, input): `first[k]` and `second[k]` are vectors as long
-/// as `value`.
+/// derivatives along (velocity, input), as m = 1 + 2d components of as many numbers as
+/// the layer has units, one after the other: a, da/dx_1 .. da/dx_d,
+/// d2a/dx_v dx_1 .. d2a/dx_v dx_d. A layer's product is then one matrix product
+/// W [a, da/dx_1, ...].
 struct Jet {
-    value: Vec<f64>,
-    first: Vec<Vec<f64>>,
-    second: Vec<Vec<f64>>,
+    inputs: usize,
+    units: usize,
+    components: Vec<f64>,
 }
 
 impl Jet {
     /// The network inputs `x` as their own variables: dx/dx_k = e_k, no curvature.
     fn inputs(x: &[f64]) -> Jet {
         let d = x.len();
-        let first = (0..d)
-            .map(|k| (0..d).map(|i| if i == k { 1.0 } else { 0.0 }).collect())
-            .collect();
+        let mut components = vec![0.0; (1 + 2 * d) * d];
+        components[..d].copy_from_slice(x);
+        for k in 0..d {
+            components[(1 + k) * d + k] = 1.0;
+        }
         Jet {
-            value: x.to_vec(),
-            first,
-            second: vec![vec![0.0; d]; d],
+            inputs: d,
+            units: d,
+            components,
         }
     }
 
-    /// W a + b, and the same linear map (without b) of the derivatives.
-    fn affine(&self, weights: &[Vec<f64>], biases: &[f64]) -> Jet {
-        let apply = |a: &[f64], bias: bool| -> Vec<f64> {
-            weights
-                .iter()
-                .zip(biases)
-                .map(|(row, b)| {
-                    let sum: f64 = row.iter().zip(a).map(|(w, x)| w * x).sum();
-                    if bias {
-                        sum + b
-                    } else {
-                        sum
-                    }
-                })
-                .collect()
-        };
+    /// W a + b, and the same linear map (without b) of the derivatives, for the layer
+    /// `shape` of the flat parameters `params` (W column-major).
+    fn affine(&self, shape: &LayerShape, params: &[f64]) -> Jet {
+        let (n, m) = (shape.outputs, 1 + 2 * self.inputs);
+        let mut components = vec![0.0; n * m];
+        // Contiguous column-major views: nalgebra's product (matrixmultiply, or gemv
+        // per column for thin products) without `network::gemm`'s plain loops for
+        // dimensions <= 5, which m = 5 (two inputs) would take.
+        let weights = DMatrixView::from_slice(&params[shape.weight_range()], n, shape.inputs);
+        let inputs = DMatrixView::from_slice(&self.components, self.units, m);
+        DMatrixViewMut::from_slice(&mut components, n, m).gemm(1.0, &weights, &inputs, 0.0);
+        for (z, b) in components.iter_mut().zip(&params[shape.bias_range()]) {
+            *z += b;
+        }
         Jet {
-            value: apply(&self.value, true),
-            first: self.first.iter().map(|a| apply(a, false)).collect(),
-            second: self.second.iter().map(|a| apply(a, false)).collect(),
+            inputs: self.inputs,
+            units: n,
+            components,
         }
     }
 
     /// phi applied element-wise, with the chain rule to second order along
     /// (`velocity`, k); without a velocity input the second derivatives stay 0.
     fn activate(&mut self, activation: Activation, velocity: Option<usize>) {
-        for o in 0..self.value.len() {
-            let (phi, d1, d2) = derivatives(activation, self.value[o]);
-            self.value[o] = phi;
-            let along_velocity = velocity.map_or(0.0, |v| self.first[v][o]);
-            for k in 0..self.first.len() {
-                let dz = self.first[k][o];
-                self.second[k][o] = d2 * along_velocity * dz + d1 * self.second[k][o];
-                self.first[k][o] = d1 * dz;
+        let (d, n) = (self.inputs, self.units);
+        let c = &mut self.components;
+        for o in 0..n {
+            let (phi, d1, d2) = derivatives(activation, c[o]);
+            c[o] = phi;
+            let along_velocity = velocity.map_or(0.0, |v| c[(1 + v) * n + o]);
+            for k in 0..d {
+                let (first, second) = ((1 + k) * n + o, (1 + d + k) * n + o);
+                let dz = c[first];
+                c[second] = d2 * along_velocity * dz + d1 * c[second];
+                c[first] = d1 * dz;
             }
         }
+    }
+
+    /// The first unit's value, da/dx_k and d2a/dx_v dx_k (the output layer has one).
+    fn value(&self) -> f64 {
+        self.components[0]
+    }
+    fn first(&self, k: usize) -> f64 {
+        self.components[(1 + k) * self.units]
+    }
+    fn second(&self, k: usize) -> f64 {
+        self.components[(1 + self.inputs + k) * self.units]
     }
 }
 
@@ -167,11 +185,11 @@ impl NeuralModel {
             };
             scale.push(if inside { chain / spec.input_std } else { 0.0 });
         }
-        let z = self.output_jet(&x, velocity);
+        let z = self.output_jet(&x, velocity)?;
         let (mean, std) = (self.target.output_mean, self.target.output_std);
-        let y = mean + std * z.value[0];
+        let y = mean + std * z.value();
         let cut = signed && y < 0.0;
-        let force = self.force_from_output(z.value[0], sign);
+        let force = self.force_from_output(z.value(), sign);
         if cut {
             return Ok(LawJacobian {
                 force,
@@ -182,7 +200,7 @@ impl NeuralModel {
         }
         // dy/df_k; the signed force is sign(v) y, except that dF/dv is dy/d|v| (sign(v)
         // twice) and at v = 0 that of v > 0 (module notes of `crate::jacobian`).
-        let dy: Vec<f64> = (0..d).map(|k| std * z.first[k][0] * scale[k]).collect();
+        let dy: Vec<f64> = (0..d).map(|k| std * z.first(k) * scale[k]).collect();
         let force_gradient = (0..d)
             .map(|k| match velocity {
                 Some(v) if signed && k == v => dy[k] * magnitude_slope(features[v]),
@@ -201,9 +219,9 @@ impl NeuralModel {
         // S = dF/dv = s_y dz/dx_v dx_v/dv (sign(v)^2 = 1 for the signed variant), and
         // dS/df_k = s_y d2z/dx_v dx_k (dx_v/dv) (dx_k/df_k).
         let velocity_scale = scale[v] * magnitude_slope(features[v]).powi(signed as i32);
-        let slope = std * z.first[v][0] * velocity_scale;
+        let slope = std * z.first(v) * velocity_scale;
         let slope_gradient = (0..d)
-            .map(|k| std * z.second[k][0] * velocity_scale * scale[k])
+            .map(|k| std * z.second(k) * velocity_scale * scale[k])
             .collect();
         Ok(LawJacobian {
             force,
@@ -214,16 +232,18 @@ impl NeuralModel {
     }
 
     /// The network's output z (one value) as a jet over the inputs `x`.
-    fn output_jet(&self, x: &[f64], velocity: Option<usize>) -> Jet {
+    fn output_jet(&self, x: &[f64], velocity: Option<usize>) -> Result<Jet, NeuralError> {
+        let network = self.network()?;
+        let params = self.parameters();
         let mut jet = Jet::inputs(x);
-        let last = self.layers.len() - 1;
-        for (l, layer) in self.layers.iter().enumerate() {
-            jet = jet.affine(&layer.weights, &layer.biases);
+        let last = network.layers().len() - 1;
+        for (l, shape) in network.layers().iter().enumerate() {
+            jet = jet.affine(shape, &params);
             if l < last {
                 jet.activate(self.activation, velocity);
             }
         }
-        jet
+        Ok(jet)
     }
 }
 
