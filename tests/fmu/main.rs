@@ -3,6 +3,8 @@
 mod allocations;
 mod call_matrix;
 mod dependencies;
+mod directional;
+mod directional_errors;
 mod ffi;
 mod ffi3;
 mod fuzz_regressions;

@@ -17,7 +17,7 @@
 use crate::declare::{
     choice_parameter, non_negative, real_input, real_output, real_parameter, weights_parameter,
 };
-use crate::model::{Model, ModelInfo};
+use crate::model::{Model, ModelInfo, PartialDerivatives};
 use crate::networks::{NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
 use crate::variables::{
     ArrayVariable, Dependencies, DependencyKind, InitialDependencies, Variable,
@@ -25,8 +25,10 @@ use crate::variables::{
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use stickslip::friction::{ExponentialLaw, FrictionLaw, LawChoice};
-use stickslip::neural::NeuralError;
+use stickslip::neural::{FeatureRole, NeuralError, NeuralModel};
 use stickslip::scene::{Scene, SceneError};
+
+mod derivatives;
 
 /// How many features beyond velocity and normal force a network may have.
 pub const EXTRA_FEATURES: usize = 4;
@@ -42,6 +44,44 @@ struct Settings {
     sliding_velocity: f64,
     normal_force: f64,
     extra_features: [f64; EXTRA_FEATURES],
+}
+
+impl Settings {
+    /// The value of input `vr` (one of the inputs' value references).
+    fn input(&self, vr: u32) -> f64 {
+        match vr {
+            SLIDING_VELOCITY => self.sliding_velocity,
+            NORMAL_FORCE => self.normal_force,
+            _ => EXTRA_FEATURE
+                .iter()
+                .position(|&e| e == vr)
+                .map_or(f64::NAN, |j| self.extra_features[j]),
+        }
+    }
+}
+
+/// The input (value reference) that feeds each of the network's features, in feature
+/// order: by role, and the further features from `extra_feature[1]` on.
+fn feature_inputs(model: &NeuralModel, weights: &str) -> Result<Vec<u32>, EvaluateError> {
+    let velocity = model.feature_with_role(FeatureRole::SlidingVelocity);
+    let normal = model.feature_with_role(FeatureRole::NormalForce);
+    let mut extra = EXTRA_FEATURE.iter();
+    (0..model.features.len())
+        .map(|k| {
+            if Some(k) == velocity {
+                Ok(SLIDING_VELOCITY)
+            } else if Some(k) == normal {
+                Ok(NORMAL_FORCE)
+            } else {
+                extra
+                    .next()
+                    .copied()
+                    .ok_or_else(|| EvaluateError::TooManyFeatures {
+                        weights: weights.to_owned(),
+                    })
+            }
+        })
+        .collect()
 }
 
 impl Default for Settings {
@@ -83,6 +123,9 @@ enum EvaluateError {
         weights: String,
         source: NeuralError,
     },
+    /// A partial derivative (output, input by value reference) that is not finite.
+    #[error("the partial derivative of value reference {output} with respect to value reference {input} is {value}")]
+    NonFiniteDerivative { output: u32, input: u32, value: f64 },
     /// Inputs (m/s, N) at which the law gives a non-finite force.
     #[error("the outputs are not finite at sliding_velocity = {sliding_velocity} m/s, normal_force = {normal_force} N (force {force}, slope {slope}, coefficient {coefficient}, static limit {static_limit})")]
     NonFiniteOutputs {
@@ -100,6 +143,9 @@ pub struct NeuralFriction {
     networks: Networks,
     outputs: Outputs,
     scratch: Vec<f64>,
+    /// The partial derivatives last computed and the settings they hold for: an
+    /// importer asks column by column, one input at a time, at the same inputs.
+    derivatives_at: Option<(Settings, PartialDerivatives)>,
 }
 
 impl NeuralFriction {
@@ -133,23 +179,9 @@ impl NeuralFriction {
                 // Never shared (this model hands its networks to no one), so evaluated in
                 // place, with the network's own scratch buffers.
                 let network = std::sync::Arc::make_mut(self.networks.get(&s.weights)?);
-                let model = network.model();
-                let velocity =
-                    model.feature_with_role(stickslip::neural::FeatureRole::SlidingVelocity);
-                let normal = model.feature_with_role(stickslip::neural::FeatureRole::NormalForce);
                 features.clear();
-                let mut extra = 0;
-                for k in 0..model.features.len() {
-                    if Some(k) == velocity {
-                        features.push(s.sliding_velocity);
-                    } else if Some(k) == normal {
-                        features.push(s.normal_force);
-                    } else if extra < EXTRA_FEATURES {
-                        features.push(s.extra_features[extra]);
-                        extra += 1;
-                    } else {
-                        return Err(EvaluateError::TooManyFeatures { weights: s.weights });
-                    }
+                for input in feature_inputs(network.model(), &s.weights)? {
+                    features.push(s.input(input));
                 }
                 // A network without a velocity feature does not depend on it: slope 0.
                 let evaluated = network.evaluate_with_velocity_slope(&features);
@@ -203,6 +235,12 @@ const SLIDING_VELOCITY: u32 = 10;
 const NORMAL_FORCE: u32 = 11;
 /// extra_feature[1] ... extra_feature[4].
 const EXTRA_FEATURE: [u32; EXTRA_FEATURES] = [12, 13, 14, 15];
+const FRICTION_FORCE: u32 = 20;
+const FRICTION_FORCE_MAGNITUDE: u32 = 21;
+const FRICTION_COEFFICIENT: u32 = 22;
+const STATIC_LIMIT_OUTPUT: u32 = 23;
+const FRICTION_FORCE_SLOPE: u32 = 24;
+const EVALUATED_VELOCITY_OUTPUT: u32 = 25;
 /// The FMI 3.0 array `extra_feature` of those four: a value reference of its own (16,
 /// free in both descriptions), so that 12 means `extra_feature[1]` in FMI 2.0 and
 /// nothing in FMI 3.0, never the whole array.
@@ -331,7 +369,7 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         |m: NeuralFriction| m.settings.extra_features[3]
     ),
     real_output!(
-        20,
+        FRICTION_FORCE,
         "friction_force",
         Some("N"),
         "Kinetic friction force, signed: positive for positive sliding velocity",
@@ -339,7 +377,7 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         |m: NeuralFriction| m.outputs.force
     ),
     real_output!(
-        21,
+        FRICTION_FORCE_MAGNITUDE,
         "friction_force_magnitude",
         Some("N"),
         "Magnitude of the kinetic friction force",
@@ -347,7 +385,7 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         |m: NeuralFriction| m.outputs.force.abs()
     ),
     real_output!(
-        22,
+        FRICTION_COEFFICIENT,
         "friction_coefficient",
         None,
         "|friction_force| / normal_force (0 when normal_force = 0)",
@@ -355,7 +393,7 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         |m: NeuralFriction| m.outputs.coefficient
     ),
     real_output!(
-        23,
+        STATIC_LIMIT_OUTPUT,
         "static_limit",
         Some("N"),
         "Static limit mu_s F_n",
@@ -363,7 +401,7 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         |m: NeuralFriction| m.outputs.static_limit
     ),
     real_output!(
-        24,
+        FRICTION_FORCE_SLOPE,
         "friction_force_slope",
         Some("N.s/m"),
         "dF/dv of friction_force at sliding_velocity (the exponential law: beside its jump at 0)",
@@ -371,7 +409,7 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         |m: NeuralFriction| m.outputs.slope
     ),
     real_output!(
-        25,
+        EVALUATED_VELOCITY_OUTPUT,
         "evaluated_velocity",
         Some("m/s"),
         "The sliding_velocity the outputs were evaluated at: where friction_force and its slope hold",
@@ -389,6 +427,7 @@ impl Model for NeuralFriction {
         step_size: 1e-3,
         resources: WEIGHTS_RESOURCES,
         returns_early_at_events: false,
+        provides_directional_derivatives: true,
     };
 
     fn variables() -> &'static [Variable<Self>] {
@@ -405,6 +444,7 @@ impl Model for NeuralFriction {
             networks: Networks::default(),
             outputs: Outputs::default(),
             scratch: Vec::new(),
+            derivatives_at: None,
         }
     }
 
@@ -433,6 +473,10 @@ impl Model for NeuralFriction {
     fn do_step(&mut self, _to: f64, _events: &mut Vec<String>) -> Result<(), String> {
         self.outputs = self.evaluate().map_err(|e| e.to_string())?;
         Ok(())
+    }
+
+    fn partial_derivatives(&mut self) -> Result<PartialDerivatives, String> {
+        self.derivatives().map_err(|e| e.to_string())
     }
 
     fn save(&self) -> serde_json::Value {

@@ -23,6 +23,38 @@ pub struct ModelInfo {
     /// The model has internal events at which an FMI 3.0 step can end early
     /// (`Model::do_step_until_event`; modelDescription 3.0's mightReturnEarlyFromDoStep).
     pub returns_early_at_events: bool,
+    /// The model gives its outputs' partial derivatives with respect to its inputs
+    /// (`Model::partial_derivatives`; modelDescription's providesDirectionalDerivative in
+    /// FMI 2.0, providesDirectionalDerivatives in 3.0).
+    pub provides_directional_derivatives: bool,
+}
+
+/// Partial derivatives d(output)/d(input) at the current inputs, by value reference
+/// (outputs and inputs of the variable table); pairs not listed are 0.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PartialDerivatives {
+    entries: Vec<(u32, u32, f64)>,
+}
+
+impl PartialDerivatives {
+    /// Sets d(output)/d(input).
+    pub fn set(&mut self, output: u32, input: u32, value: f64) {
+        self.entries.push((output, input, value));
+    }
+
+    /// d(output)/d(input) (0 where not set).
+    pub fn get(&self, output: u32, input: u32) -> f64 {
+        self.entries
+            .iter()
+            .rev()
+            .find(|(o, i, _)| *o == output && *i == input)
+            .map_or(0.0, |e| e.2)
+    }
+
+    /// The first entry that is not finite: (output, input, value).
+    pub fn non_finite(&self) -> Option<(u32, u32, f64)> {
+        self.entries.iter().copied().find(|e| !e.2.is_finite())
+    }
 }
 
 /// A model behind an FMU. Plain Rust: no C types. The `instance` module drives it
@@ -93,4 +125,11 @@ pub trait Model: Send + Sized + 'static {
     /// refuses a state whose clock disagrees, because the next fmi2DoStep would
     /// otherwise have to bridge the gap.
     fn restore(&mut self, saved: serde_json::Value, version: u32, time: f64) -> Result<(), String>;
+
+    /// The outputs' partial derivatives with respect to the inputs at the current
+    /// inputs (fmi2GetDirectionalDerivative, fmi3GetDirectionalDerivative). Only called
+    /// when `INFO.provides_directional_derivatives`; the default refuses.
+    fn partial_derivatives(&mut self) -> Result<PartialDerivatives, String> {
+        Err("this model provides no directional derivatives".into())
+    }
 }

@@ -56,6 +56,9 @@ pub struct Names {
     pub deserialize_fmu_state: &'static str,
     /// The argument that holds an FMU state.
     pub fmu_state_argument: &'static str,
+    pub get_directional_derivative: &'static str,
+    /// The capability flag of directional derivatives in the model description.
+    pub directional_derivative_flag: &'static str,
 }
 
 const FMI2: Names = Names {
@@ -88,6 +91,8 @@ const FMI2: Names = Names {
     serialize_fmu_state: "fmi2SerializeFMUstate",
     deserialize_fmu_state: "fmi2DeSerializeFMUstate",
     fmu_state_argument: "FMUstate",
+    get_directional_derivative: "fmi2GetDirectionalDerivative",
+    directional_derivative_flag: "providesDirectionalDerivative",
 };
 
 const FMI3: Names = Names {
@@ -120,6 +125,8 @@ const FMI3: Names = Names {
     serialize_fmu_state: "fmi3SerializeFMUState",
     deserialize_fmu_state: "fmi3DeserializeFMUState",
     fmu_state_argument: "FMUState",
+    get_directional_derivative: "fmi3GetDirectionalDerivative",
+    directional_derivative_flag: "providesDirectionalDerivatives",
 };
 
 impl FmiVersion {

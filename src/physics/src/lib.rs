@@ -27,6 +27,7 @@ pub mod element;
 pub mod fidelity;
 pub mod friction;
 pub mod integrator;
+pub mod jacobian;
 pub mod law_source;
 pub mod mesh;
 pub mod metrics;

@@ -17,6 +17,7 @@ impl Model for StickSlipBeam {
         step_size: 1e-3,
         resources: WEIGHTS_RESOURCES,
         returns_early_at_events: true,
+        provides_directional_derivatives: false,
     };
 
     fn variables() -> &'static [Variable<Self>] {

@@ -1,31 +1,47 @@
 //! fmi2DoStep, the status functions (fmi2Get*Status: steps are synchronous, so only
-//! the last successful time and "terminated" are known), and the functions of
-//! capabilities this FMU does not have, which return fmi2Error and log why.
+//! the last successful time and "terminated" are known), directional derivatives, and
+//! the functions of capabilities this FMU does not have, which return fmi2Error and log
+//! why.
 
 use super::types::{
     fmi2Boolean, fmi2Component, fmi2Integer, fmi2Real, fmi2Status, fmi2StatusKind, fmi2String,
     fmi2ValueReference, FMI2_FALSE, FMI2_TRUE,
 };
-use crate::boundary::{each, fail, null_argument, status, unsupported, with_component, Component};
+use crate::boundary::{
+    each, fail, null_argument, slice, slice_mut, status, unsupported, with_component, Component,
+};
 use crate::instance::{Status, StatusKind};
 use libc::size_t;
 
+/// NeuralFriction: the outputs' sensitivities along a seed of the inputs; StickSlipBeam:
+/// Error (its providesDirectionalDerivative is false). See `Instance::get_directional_derivative`.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     c: fmi2Component,
-    _vUnknown_ref: *const fmi2ValueReference,
-    _nUnknown: size_t,
-    _vKnown_ref: *const fmi2ValueReference,
-    _nKnown: size_t,
-    _dvKnown: *const fmi2Real,
-    _dvUnknown: *mut fmi2Real,
+    vUnknown_ref: *const fmi2ValueReference,
+    nUnknown: size_t,
+    vKnown_ref: *const fmi2ValueReference,
+    nKnown: size_t,
+    dvKnown: *const fmi2Real,
+    dvUnknown: *mut fmi2Real,
 ) -> fmi2Status {
+    const CALL: &str = "fmi2GetDirectionalDerivative";
     unsafe {
-        with_component(c, "fmi2GetDirectionalDerivative", |component| {
-            unsupported(
-                component,
-                "fmi2GetDirectionalDerivative",
-                "providesDirectionalDerivative is false",
+        with_component(c, CALL, |component| {
+            let (Some(unknowns), Some(knowns), Some(seed), Some(out)) = (
+                slice(vUnknown_ref, nUnknown),
+                slice(vKnown_ref, nKnown),
+                slice(dvKnown, nKnown),
+                slice_mut(dvUnknown, nUnknown),
+            ) else {
+                return null_argument(
+                    component,
+                    CALL,
+                    "vUnknown_ref, vKnown_ref, dvKnown or dvUnknown",
+                );
+            };
+            status(
+                each!(&mut component.instance, i => i.get_directional_derivative(unknowns, knowns, seed, out)),
             )
         })
     }

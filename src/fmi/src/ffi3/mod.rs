@@ -25,19 +25,22 @@
 //!
 //! What FMI 3.0 co-simulation offers beyond FMI 2.0 and these FMUs do not
 //! (modelDescription.xml says so with its capability flags), returns fmi3Error with
-//! the reason logged: intermediate update, clocks, configuration mode, directional and adjoint derivatives, output derivatives,
+//! the reason logged: intermediate update, clocks, configuration mode, adjoint derivatives
+//! (and StickSlipBeam's directional derivatives; NeuralFriction's are in `derivatives`), output derivatives,
 //! per-element dependencies, and the Model Exchange and Scheduled Execution interfaces.
 //! Value types without variables (Float32, Int8, ..., Binary, Clock) accept empty
 //! requests and refuse any value reference.
 
 #![allow(non_snake_case, non_camel_case_types, clippy::missing_safety_doc)]
 
+mod derivatives;
 mod state;
 mod step;
 mod types;
 mod values;
 pub mod values3;
 
+pub use derivatives::*;
 pub use state::*;
 pub use step::*;
 pub use types::*;

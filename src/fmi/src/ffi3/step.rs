@@ -84,19 +84,6 @@ not_supported!(
     "providesPerElementDependencies is false; the dependencies are in modelDescription.xml"
 );
 not_supported!(
-    fmi3GetDirectionalDerivative(
-        *const fmi3ValueReference,
-        size_t,
-        *const fmi3ValueReference,
-        size_t,
-        *const fmi3Float64,
-        size_t,
-        *mut fmi3Float64,
-        size_t,
-    ),
-    "providesDirectionalDerivatives is false"
-);
-not_supported!(
     fmi3GetAdjointDerivative(
         *const fmi3ValueReference,
         size_t,

@@ -12,7 +12,8 @@
 //! value references are refused here with the array to use instead. Everything else
 //! goes through the instance's scalar accessors (those of fmi2GetReal and fmi2SetReal),
 //! so the state machine and the checks are the same, and the log names the FMI 3.0
-//! function.
+//! function. fmi3GetDirectionalDerivative's seed and sensitivity are such flat buffers
+//! too.
 
 use crate::instance::{Call, CallResult, Instance};
 use crate::model::Model;
@@ -114,6 +115,43 @@ pub fn set<M: Model>(instance: &mut Instance<M>, vrs: &[u32], values: &[f64]) ->
         .map(|(_, &v)| v)
         .collect();
     instance.set_real(&scalars(&slots), &scalar_values)
+}
+
+/// fmi3GetDirectionalDerivative: `seed` holds the values the `knowns` stand for (an
+/// array its elements), `sensitivity` those the `unknowns` stand for; `time` is neither
+/// an input nor an output, and is refused as either.
+pub fn directional_derivative<M: Model>(
+    instance: &mut Instance<M>,
+    unknowns: &[u32],
+    knowns: &[u32],
+    seed: &[f64],
+    sensitivity: &mut [f64],
+) -> CallResult<()> {
+    instance.directional_derivative_allowed()?;
+    let scalars_of = |vrs: &[u32], n_values: usize| -> Result<Vec<u32>, String> {
+        let slots = slots::<M>(vrs)?;
+        count_matches(vrs, &slots, n_values)?;
+        if slots.contains(&Slot::Time) {
+            return Err("time (value reference 0) is neither an input nor an output: the outputs do not depend on it".into());
+        }
+        Ok(scalars(&slots))
+    };
+    let expanded = scalars_of(unknowns, sensitivity.len())
+        .map_err(|reason| format!("unknowns: {reason} (nSensitivity)"))
+        .and_then(|u| {
+            scalars_of(knowns, seed.len())
+                .map(|k| (u, k))
+                .map_err(|reason| format!("knowns: {reason} (nSeed)"))
+        });
+    match expanded {
+        Ok((unknowns, knowns)) => {
+            instance.get_directional_derivative(&unknowns, &knowns, seed, sensitivity)
+        }
+        Err(reason) => {
+            let call = instance.names().get_directional_derivative;
+            Err(instance.fail(call, &reason))
+        }
+    }
 }
 
 #[cfg(test)]

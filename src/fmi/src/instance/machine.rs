@@ -30,6 +30,8 @@ pub enum Call {
     Terminate,
     Get,
     Set,
+    /// fmi2GetDirectionalDerivative, fmi3GetDirectionalDerivative.
+    GetDirectionalDerivative,
     GetState,
     SetState,
     FreeState,
@@ -53,6 +55,7 @@ impl Call {
             Call::Terminate => names.terminate,
             Call::Get => names.get_any,
             Call::Set => names.set_any,
+            Call::GetDirectionalDerivative => names.get_directional_derivative,
             Call::GetState => names.get_fmu_state,
             Call::SetState => names.set_fmu_state,
             Call::FreeState => names.free_fmu_state,
@@ -75,7 +78,9 @@ impl Call {
             Call::SetupExperiment | Call::EnterInitializationMode => &[Instantiated],
             Call::ExitInitializationMode => &[InitializationMode],
             Call::Terminate => &[StepComplete, StepFailed, EventMode],
-            Call::Get => &[
+            // FMI 2.0.x section 4.2.4: where the reads are (in stepFailed and error for
+            // debugging only); FMI 3.0: Initialization, Event and Step Mode, Terminated.
+            Call::Get | Call::GetDirectionalDerivative => &[
                 InitializationMode,
                 StepComplete,
                 StepFailed,

@@ -10,6 +10,7 @@
 //! - `machine`: the modes, the calls and the state table;
 //! - `modes`: the mode changes and FMI 3.0's events;
 //! - `values`: getting and setting variables;
+//! - `derivatives`: directional derivatives of outputs with respect to inputs;
 //! - `step`: the step, early return and the status functions;
 //! - `state`: the saved FMU state, its format and versions.
 //!
@@ -22,13 +23,15 @@
 //!   anything) and the FMU-state functions, so that a state kept as bytes can be
 //!   deserialized and set: the standard's way back from an error. Stepping, setting
 //!   and the mode changes are refused.
-//! - Functions whose capability flag is false (directional derivatives, input and
-//!   output derivatives, asynchronous steps) return Error and log why.
+//! - Functions whose capability flag is false (directional derivatives of
+//!   StickSlipBeam, input and output derivatives, asynchronous steps) return Error and
+//!   log why.
 //! - Errors are logged in category logStatusError, which is on even when the importer
 //!   instantiates with loggingOn = false; fmi2SetDebugLogging(false, 0, NULL) turns it
 //!   off too. The other categories are on only when asked for.
 
 mod base;
+mod derivatives;
 mod machine;
 mod modes;
 mod state;

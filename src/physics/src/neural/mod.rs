@@ -46,6 +46,7 @@
 
 mod error;
 pub mod forward;
+pub mod jacobian;
 pub mod law;
 pub mod network;
 pub mod onnx;

@@ -1,0 +1,110 @@
+//! NeuralFriction's partial derivatives for fmi2GetDirectionalDerivative and
+//! fmi3GetDirectionalDerivative: the law's input Jacobian (`stickslip::jacobian`: the
+//! network's exact one, or the exponential law's closed form) mapped from the law's
+//! inputs to the FMU's value references, and carried to the outputs made from it:
+//! - friction_force F and friction_force_slope S = dF/dv: the law's gradients (S's is
+//!   the second derivative d2F/dv dx);
+//! - friction_force_magnitude |F|: sign(F) dF (0 at F = 0, where |F| has its kink);
+//! - friction_coefficient c = |F| / F_n: sign(F) dF / F_n - |F| / F_n^2 dF_n (0 at
+//!   F_n = 0, where c is defined as 0);
+//! - static_limit mu_s F_n: mu_s along F_n; evaluated_velocity v: 1 along v.
+
+use super::*;
+use stickslip::friction::signum_or_zero;
+use stickslip::jacobian::LawJacobian;
+
+/// The FMU's inputs, in the order of the rows below.
+const INPUTS: [u32; 2 + EXTRA_FEATURES] = [
+    SLIDING_VELOCITY,
+    NORMAL_FORCE,
+    EXTRA_FEATURE[0],
+    EXTRA_FEATURE[1],
+    EXTRA_FEATURE[2],
+    EXTRA_FEATURE[3],
+];
+
+impl NeuralFriction {
+    /// The law's Jacobian at the current inputs, and the input that feeds each of the
+    /// law's inputs.
+    fn law_jacobian(&mut self) -> Result<(LawJacobian, Vec<u32>), EvaluateError> {
+        let s = &self.settings;
+        match s.law {
+            LawChoice::Exponential => {
+                let law = ExponentialLaw {
+                    static_coefficient: s.static_coefficient,
+                    kinetic_coefficient: s.kinetic_coefficient,
+                    decay: s.decay,
+                };
+                let jacobian = law.jacobian(s.sliding_velocity, s.normal_force);
+                Ok((jacobian, vec![SLIDING_VELOCITY, NORMAL_FORCE]))
+            }
+            LawChoice::Neural => {
+                let network = self.networks.get(&s.weights)?;
+                let inputs = feature_inputs(network.model(), &s.weights)?;
+                let features: Vec<f64> = inputs.iter().map(|&vr| s.input(vr)).collect();
+                let jacobian = network.input_jacobian(&features).map_err(|source| {
+                    EvaluateError::Evaluation {
+                        weights: s.weights.clone(),
+                        source,
+                    }
+                })?;
+                Ok((jacobian, inputs))
+            }
+        }
+    }
+
+    /// d(output)/d(input) for every output and input (module notes), reused while the
+    /// settings (parameters and inputs) stay the same.
+    pub(super) fn derivatives(&mut self) -> Result<PartialDerivatives, EvaluateError> {
+        if let Some((settings, partials)) = &self.derivatives_at {
+            if *settings == self.settings {
+                return Ok(partials.clone());
+            }
+        }
+        let partials = self.compute_derivatives()?;
+        self.derivatives_at = Some((self.settings.clone(), partials.clone()));
+        Ok(partials)
+    }
+
+    fn compute_derivatives(&mut self) -> Result<PartialDerivatives, EvaluateError> {
+        let (jacobian, law_inputs) = self.law_jacobian()?;
+        let s = &self.settings;
+        let gradient_of = |values: &[f64]| -> [f64; INPUTS.len()] {
+            let mut row = [0.0; INPUTS.len()];
+            for (value, input) in values.iter().zip(&law_inputs) {
+                if let Some(j) = INPUTS.iter().position(|i| i == input) {
+                    row[j] += value;
+                }
+            }
+            row
+        };
+        let force = gradient_of(&jacobian.force_gradient);
+        let slope = gradient_of(&jacobian.slope_gradient);
+        let sign = signum_or_zero(jacobian.force);
+        let normal = s.normal_force;
+        let mut partials = PartialDerivatives::default();
+        for (j, &input) in INPUTS.iter().enumerate() {
+            partials.set(FRICTION_FORCE, input, force[j]);
+            partials.set(FRICTION_FORCE_SLOPE, input, slope[j]);
+            partials.set(FRICTION_FORCE_MAGNITUDE, input, sign * force[j]);
+            let mut coefficient = 0.0;
+            if normal > 0.0 {
+                coefficient = sign * force[j] / normal;
+                if input == NORMAL_FORCE {
+                    coefficient -= jacobian.force.abs() / (normal * normal);
+                }
+            }
+            partials.set(FRICTION_COEFFICIENT, input, coefficient);
+        }
+        partials.set(STATIC_LIMIT_OUTPUT, NORMAL_FORCE, s.static_coefficient);
+        partials.set(EVALUATED_VELOCITY_OUTPUT, SLIDING_VELOCITY, 1.0);
+        if let Some((output, input, value)) = partials.non_finite() {
+            return Err(EvaluateError::NonFiniteDerivative {
+                output,
+                input,
+                value,
+            });
+        }
+        Ok(partials)
+    }
+}
