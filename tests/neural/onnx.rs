@@ -586,3 +586,35 @@ fn a_scene_reads_onnx_weights_and_names_what_is_missing() {
         std::fs::remove_file(path).unwrap();
     }
 }
+
+/// The paper authors' MATLAB network given where weights are read (the beam's
+/// `friction.weights`, NeuralFriction's `weights`, `--weights`) is refused with the
+/// command that converts it, found by its extension and, renamed, by its header; never
+/// a JSON syntax error.
+#[test]
+fn a_matlab_file_as_weights_names_the_converter() {
+    let authors = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../data/paper-authors/trained_regression_nn_friction_model.mat");
+    let renamed = scratch("authors.weights", &std::fs::read(&authors).unwrap());
+    for path in [authors.as_path(), renamed.as_path()] {
+        let error = NeuralLaw::from_file(path).unwrap_err();
+        assert!(
+            matches!(error, stickslip::neural::NeuralError::Matlab { .. }),
+            "{error:?}"
+        );
+        let mut scene = Scene::default();
+        scene.friction.law = FrictionLawKind::Neural;
+        scene.friction.weights = Some(path.display().to_string());
+        let message = LawSource::resolve(&scene.check().unwrap())
+            .unwrap_err()
+            .to_string();
+        for part in [
+            "MATLAB",
+            "stickslip_checks.import_fitrnet",
+            "--out NETWORK.onnx",
+        ] {
+            assert!(message.contains(part), "{part} missing from: {message}");
+        }
+    }
+    std::fs::remove_file(renamed).unwrap();
+}

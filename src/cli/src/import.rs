@@ -16,6 +16,7 @@ use nalgebra::DMatrix;
 
 use crate::error::CliError;
 use stickslip::choice::Choice;
+use stickslip::neural::file_kind::WeightsFileKind;
 use stickslip::neural::onnx::{
     describe, read_onnx, FeatureInfo, OnnxImport, OnnxNetwork, Precision, TargetInfo,
 };
@@ -152,7 +153,7 @@ pub struct Agreement {
 /// Runs `import-network`: imports, writes `--out`, checks `--check-data`, prints a
 /// summary.
 pub fn run_import(args: &ImportArgs) -> Result<ImportReport, CliError> {
-    if is_mat_file(&args.source) {
+    if WeightsFileKind::of(&args.source) == WeightsFileKind::Matlab {
         return Err(CliError::MatFile {
             path: args.source.clone(),
             out: args.out.clone(),
@@ -185,22 +186,6 @@ pub fn run_import(args: &ImportArgs) -> Result<ImportReport, CliError> {
     };
     print_report(args, &report);
     Ok(report)
-}
-
-/// A MATLAB MAT-file: the `.mat` extension (any case), or the text header every
-/// version-5 and version-7.3 MAT-file starts with ("MATLAB 5.0 MAT-file" / "MATLAB 7.3
-/// MAT-file"). A file that cannot be read is not one (the ONNX reader reports why).
-fn is_mat_file(path: &std::path::Path) -> bool {
-    use std::io::Read;
-    let named = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("mat"));
-    let mut head = [0u8; 6];
-    named
-        || std::fs::File::open(path)
-            .and_then(|mut f| f.read_exact(&mut head))
-            .is_ok_and(|()| &head == b"MATLAB")
 }
 
 /// MSE and R^2 of `law` on the CSV file, and the agreement with its prediction column.

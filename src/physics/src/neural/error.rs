@@ -85,6 +85,18 @@ pub enum NeuralError {
     /// `OnnxError` holds a `NeuralError` and its module depends on this one.
     #[error("{0}")]
     Onnx(Box<dyn std::error::Error + Send + Sync>),
+
+    /// A MATLAB MAT-file was given where weights are read. It is converted once, by the
+    /// Python package (docs/command-line.md, "A MATLAB fitrnet network").
+    #[error(
+        "weights file {}: a MATLAB .mat file (a fitrnet network?), which is converted \
+         once by the Python package python-checks, not read here: run `python -m \
+         stickslip_checks.import_fitrnet {} --out NETWORK.onnx` and give the .onnx file \
+         (docs/command-line.md, \"A MATLAB fitrnet network\")",
+        path.display(),
+        path.display()
+    )]
+    Matlab { path: PathBuf },
 }
 
 impl NeuralError {

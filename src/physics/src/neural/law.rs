@@ -23,6 +23,7 @@ use std::path::Path;
 use nalgebra::DMatrix;
 
 use super::error::NeuralError;
+use super::file_kind::WeightsFileKind;
 use super::forward::{Forward, Real};
 use super::onnx;
 use super::weights::FeatureRole;
@@ -176,14 +177,18 @@ impl NeuralLaw {
         }
     }
 
-    /// Loads and checks a weights file: our JSON, or an ONNX file (by its `.onnx`
-    /// extension or its first byte, `onnx::is_onnx_file`) described by its own metadata
-    /// (`neural::onnx`).
+    /// Loads and checks a weights file: our JSON, or an ONNX file described by its own
+    /// metadata (`neural::onnx`), told apart by `WeightsFileKind::of`. A MATLAB file is
+    /// refused with the command that converts it.
     pub fn from_file(path: &Path) -> Result<NeuralLaw, NeuralError> {
-        let model = if onnx::is_onnx_file(path) {
-            onnx::load_onnx(path, &onnx::OnnxImport::default())?
-        } else {
-            NeuralModel::load(path)?
+        let model = match WeightsFileKind::of(path) {
+            WeightsFileKind::Onnx => onnx::load_onnx(path, &onnx::OnnxImport::default())?,
+            WeightsFileKind::Json => NeuralModel::load(path)?,
+            WeightsFileKind::Matlab => {
+                return Err(NeuralError::Matlab {
+                    path: path.to_path_buf(),
+                })
+            }
         };
         NeuralLaw::new(model)
     }

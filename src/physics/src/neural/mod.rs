@@ -45,6 +45,7 @@
 //!   `network::gemm`.
 
 mod error;
+pub mod file_kind;
 pub mod forward;
 pub mod jacobian;
 pub mod law;
@@ -54,6 +55,7 @@ pub mod table;
 pub mod weights;
 
 pub use error::NeuralError;
+pub use file_kind::WeightsFileKind;
 pub use law::NeuralLaw;
 pub use network::Activation;
 pub use weights::{FeatureRole, NeuralModel, StopReason, SyntheticSpec, Variant};

@@ -89,20 +89,3 @@ pub fn load_onnx(path: &std::path::Path, options: &OnnxImport) -> Result<NeuralM
     }
     import_onnx(&bytes, &options)
 }
-
-/// Whether a weights file is ONNX rather than our JSON: a `.onnx` extension (any case),
-/// or a first byte of 0x08, the protobuf key of `ModelProto.ir_version` (field 1,
-/// varint) that exporters write first; JSON text never starts with that control
-/// character. A file that cannot be read counts as not ONNX (its reader reports why).
-pub fn is_onnx_file(path: &std::path::Path) -> bool {
-    use std::io::Read;
-    let named = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("onnx"));
-    let mut first = [0u8; 1];
-    named
-        || std::fs::File::open(path)
-            .and_then(|mut f| f.read_exact(&mut first))
-            .is_ok_and(|()| first[0] == 0x08)
-}

@@ -1,0 +1,81 @@
+//! Which reader a weights file needs, told from its name or its first bytes, so that a
+//! file given where weights are read is never parsed by the wrong reader and a MATLAB
+//! file gets the command that converts it rather than a JSON syntax error.
+
+use std::io::Read;
+use std::path::Path;
+
+/// The three kinds of network file a user may hand us.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WeightsFileKind {
+    /// Our weights format (`weights::NeuralModel`), JSON text.
+    Json,
+    /// An ONNX `ModelProto` (`neural::onnx`).
+    Onnx,
+    /// A MATLAB MAT-file (a `fitrnet` network). Read by the Python package, not here:
+    /// MATLAB stores the network as MCOS opaque data, an undocumented format.
+    Matlab,
+}
+
+impl WeightsFileKind {
+    /// By extension (`.onnx`, `.mat`, any case), else by content:
+    /// - ONNX: a first byte of 0x08, the protobuf key of `ModelProto.ir_version`
+    ///   (field 1, varint) that exporters write first; JSON text never starts with that
+    ///   control character;
+    /// - MATLAB: the text header both MAT-file formats start with ("MATLAB 5.0 MAT-file"
+    ///   for version 5 to 7, "MATLAB 7.3 MAT-file" in the HDF5 user block of 7.3).
+    ///
+    /// A file that cannot be read counts as JSON: its reader then reports why.
+    pub fn of(path: &Path) -> WeightsFileKind {
+        let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if extension.eq_ignore_ascii_case("onnx") {
+            return WeightsFileKind::Onnx;
+        }
+        if extension.eq_ignore_ascii_case("mat") {
+            return WeightsFileKind::Matlab;
+        }
+        let mut head = [0u8; 6];
+        let read = std::fs::File::open(path)
+            .and_then(|mut file| file.read(&mut head))
+            .unwrap_or(0);
+        match &head[..read] {
+            [0x08, ..] => WeightsFileKind::Onnx,
+            b"MATLAB" => WeightsFileKind::Matlab,
+            _ => WeightsFileKind::Json,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn kind_of(name: &str, bytes: &[u8]) -> WeightsFileKind {
+        let dir = std::env::temp_dir().join(format!("stickslip-file-kind-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(name);
+        std::fs::write(&path, bytes).unwrap();
+        WeightsFileKind::of(&path)
+    }
+
+    #[test]
+    fn extensions_decide_before_content() {
+        assert_eq!(kind_of("a.ONNX", b"{}"), WeightsFileKind::Onnx);
+        assert_eq!(kind_of("b.Mat", b"{}"), WeightsFileKind::Matlab);
+    }
+
+    #[test]
+    fn content_decides_without_an_extension() {
+        assert_eq!(kind_of("c", &[0x08, 0x08, 0x12]), WeightsFileKind::Onnx);
+        assert_eq!(
+            kind_of("d", b"MATLAB 5.0 MAT-file"),
+            WeightsFileKind::Matlab
+        );
+        assert_eq!(kind_of("e.json", b"{\"format\": 1}"), WeightsFileKind::Json);
+        assert_eq!(kind_of("f", b"MAT"), WeightsFileKind::Json);
+        assert_eq!(
+            WeightsFileKind::of(Path::new("/nonexistent/weights")),
+            WeightsFileKind::Json
+        );
+    }
+}
