@@ -5,7 +5,8 @@
 //! - `network`: fully connected network and its batched forward pass (the trainer's);
 //! - `forward`: the single-sample forward pass of the time-step loop (blocked layout,
 //!   vectorisable tanh, the slope by forward mode), in f64 or f32;
-//! - `weights`: the self-describing JSON weights file; `law`: `NeuralLaw`, the trained
+//! - `weights`: the self-describing JSON weights file (with `synthetic`'s
+//!   `SyntheticSpec`, the generator settings a trained model records); `law`: `NeuralLaw`, the trained
 //!   model as a `crate::friction::FrictionLaw`;
 //! - `table`: the network tabulated at initialisation, with its verified error (the
 //!   law as `friction.inference` asks is built by `crate::law_source`);
@@ -49,6 +50,7 @@ pub mod forward;
 pub mod law;
 pub mod network;
 pub mod onnx;
+mod synthetic;
 pub mod table;
 pub mod weights;
 
