@@ -32,7 +32,11 @@ const NATIVE: &str = "native JSON";
 /// The files compared: (label, writer of the file's bytes, file name).
 fn files(model: &NeuralModel) -> Vec<(&'static str, Vec<u8>, &'static str)> {
     vec![
-        (NATIVE, model.to_json().expect("json").into_bytes(), "native.json"),
+        (
+            NATIVE,
+            model.to_json().expect("json").into_bytes(),
+            "native.json",
+        ),
         (
             "ONNX torch f64",
             export(model, Exporter::Torch, false).encode(),

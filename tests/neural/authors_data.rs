@@ -107,14 +107,19 @@ fn ks_critical(n: f64, m: f64) -> f64 {
 /// Checks one set against the distribution; returns what failed, empty when all holds.
 fn departures(set: &Columns) -> Vec<String> {
     let mut failed = Vec::new();
-    let smallest_speed = set.velocity.iter().fold(f64::INFINITY, |m, v| m.min(v.abs()));
+    let smallest_speed = set
+        .velocity
+        .iter()
+        .fold(f64::INFINITY, |m, v| m.min(v.abs()));
     if smallest_speed <= V_CUT {
         failed.push(format!("|v_s| = {smallest_speed} m/s was not removed"));
     }
     let n = set.len();
     let mut check = |what: &str, value: f64, expected: f64, tolerance: f64| {
         if (value - expected).abs() > tolerance {
-            failed.push(format!("{what} {value} (expected {expected} +- {tolerance})"));
+            failed.push(format!(
+                "{what} {value} (expected {expected} +- {tolerance})"
+            ));
         }
     };
     // Removed draws ~ Binomial(5000, p), p = P(|v| <= cut) = 2 phi(0) cut / sigma to
@@ -136,7 +141,9 @@ fn departures(set: &Columns) -> Vec<String> {
     let (lo, hi) = set
         .normal_force
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), f| (l.min(*f), h.max(*f)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), f| {
+            (l.min(*f), h.max(*f))
+        });
     check("F_n min", lo, a + 5.0 * w / n, 5.0 * w / n);
     check("F_n max", hi, b - 5.0 * w / n, 5.0 * w / n);
     // v_s ~ N(0, sigma) (the cut removes 0.08 % of the mass, all at 0: the std grows by
@@ -189,7 +196,12 @@ fn the_default_generator_draws_the_authors_distribution() {
     assert!(gaps.is_empty(), "{gaps:#?}");
     // The means of both sets differ by less than Z standard errors of a difference.
     for (what, a, b, sigma) in [
-        ("F_n", &ours.normal_force, &theirs.normal_force, 4.0 / 12f64.sqrt()),
+        (
+            "F_n",
+            &ours.normal_force,
+            &theirs.normal_force,
+            4.0 / 12f64.sqrt(),
+        ),
         ("v_s", &ours.velocity, &theirs.velocity, V_STD),
         ("residual", &ours.residual, &theirs.residual, RELATIVE_NOISE),
     ] {

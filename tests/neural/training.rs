@@ -15,8 +15,19 @@ use stickslip_train::search::{grid_search, SearchConfig};
 use stickslip_train::train::{evaluate_model, DataSource, DEFAULT_SEED};
 use stickslip_train::{train, train_synthetic, TrainConfig};
 
+/// The generator settings a shipped file records: the former generator (F_n in
+/// [90, 110] N, 0.02 N additive noise; see `stickslip::neural::synthetic` and
+/// docs/decisions.md for why the shipped networks were not retrained on the authors'
+/// distribution). The regeneration tests below also show that a file describes the
+/// data it was trained on.
+fn recorded_spec(json: &str) -> SyntheticSpec {
+    let model = NeuralModel::from_json(json, "shipped").unwrap();
+    model.training.synthetic.expect("trained on synthetic data")
+}
+
+/// The split the shipped networks were trained and tested on.
 fn paper_split() -> stickslip_train::Split {
-    SyntheticSpec::default()
+    recorded_spec(PAPER_PLAIN_JSON)
         .generate_split(DEFAULT_SEED)
         .expect("paper data")
 }
@@ -49,7 +60,7 @@ fn shipped_plain_weights_generalise_on_fresh_samples() {
     let model = NeuralLaw::paper_default().unwrap().model().clone();
     let fresh = SyntheticSpec {
         samples: 100_000,
-        ..SyntheticSpec::default()
+        ..recorded_spec(PAPER_PLAIN_JSON)
     }
     .generate(987_654)
     .unwrap();
@@ -67,27 +78,19 @@ fn shipped_signed_weights_fit_down_to_the_noise() {
     assert_eq!(model.variant, Variant::Signed);
     let split = paper_split();
     let (mse, r2) = evaluate_model(model, &split.test).unwrap();
-    // The noise actually present in these test targets is the floor; the exact law would
-    // score exactly that. The authors' noise is 2 % of the force, so its variance is the
-    // mean of (0.02 F)^2 over the samples, about 0.70 N^2 (forces of 20 to 51 N); the
-    // measured floor is a mean of 1499 squared normals, within 4 of its relative
-    // standard errors sqrt(2 / n) = 3.7 %.
-    let spec = SyntheticSpec::default();
-    let (mut noise_mse, mut expected) = (0.0, 0.0);
-    for i in 0..split.test.len() {
-        let x = split.test.inputs.column(i);
-        let exact = spec.exact_force(x[0], x[1]);
-        noise_mse += (split.test.targets[i] - exact).powi(2);
-        expected += (spec.relative_noise_std * exact).powi(2) + spec.noise_std.powi(2);
-    }
-    let n = split.test.len() as f64;
-    (noise_mse, expected) = (noise_mse / n, expected / n);
-    let standard_error = expected * (2.0 / n).sqrt();
-    assert!(
-        (noise_mse - expected).abs() < 4.0 * standard_error,
-        "noise {noise_mse}, expected {expected}"
-    );
-    // Tolerance: the network's own error may add at most 25 % of the noise variance.
+    // The noise actually present in these test targets (variance ~0.02^2 = 0.0004 N^2)
+    // is the floor; the exact law would score exactly that.
+    let spec = recorded_spec(PAPER_SIGNED_JSON);
+    let noise_mse = (0..split.test.len())
+        .map(|i| {
+            let x = split.test.inputs.column(i);
+            (split.test.targets[i] - spec.exact_force(x[0], x[1])).powi(2)
+        })
+        .sum::<f64>()
+        / split.test.len() as f64;
+    assert!((noise_mse - 0.0004).abs() < 0.00005, "noise {noise_mse}");
+    // Tolerance: the network's own error may add at most 25 % of the noise variance,
+    // i.e. an RMS approximation error below 0.01 N on forces of 18 to 55 N.
     assert!(
         mse >= 0.9 * noise_mse,
         "MSE_test {mse} below the noise {noise_mse}?"
@@ -96,9 +99,7 @@ fn shipped_signed_weights_fit_down_to_the_noise() {
         mse <= 1.25 * noise_mse,
         "MSE_test {mse}, noise floor {noise_mse}"
     );
-    // R^2 = 1 - MSE / var(F): the noise alone (0.70 N^2 of a variance of about 1800 N^2)
-    // leaves 0.9996.
-    assert!(r2 > 0.9995, "R2_test {r2}");
+    assert!(r2 > 0.999_999);
 }
 
 #[test]
@@ -109,21 +110,16 @@ fn signed_law_is_odd_and_jumps_exactly_at_zero() {
         let plus = law.sliding_force(v, 100.0);
         assert_eq!(law.sliding_force(-v, 100.0), -plus);
     }
-    // Just past zero the force is mu_s F_n = 50 N (the paper's law). Tolerance: the
-    // network is fitted to data with 2 % noise (1 N at 50 N); 0.5 N (1 %, half the noise
-    // sigma) bounds the error of its fit of the mean, measured at 0.14 N at most for
-    // |v| < 0.05 m/s (docs/decisions.md).
-    assert!((law.sliding_force(1e-9, 100.0) - 50.0).abs() < 0.5);
+    // Just past zero the force is mu_s F_n = 50 N (the paper's law), within 0.1 N.
+    assert!((law.sliding_force(1e-9, 100.0) - 50.0).abs() < 0.1);
     let mut exact = ExponentialLaw {
         static_coefficient: 0.5,
         kinetic_coefficient: 0.2,
         decay: 5.0,
     };
-    // Inside the training range of F_n ([98, 102] N) and of v (|v| up to 0.31 m/s);
-    // same tolerance as above.
-    for v in [0.001, 0.02, 0.1, 0.2, 0.3] {
-        let error = law.sliding_force(v, 99.0) - exact.sliding_force(v, 99.0);
-        assert!(error.abs() < 0.5, "v {v}: error {error} N");
+    for v in [0.001, 0.02, 0.1, 0.2, 0.35] {
+        let error = law.sliding_force(v, 95.0) - exact.sliding_force(v, 95.0);
+        assert!(error.abs() < 0.05, "v {v}: error {error} N");
     }
 }
 
@@ -393,6 +389,7 @@ fn train_command_reads_csv_and_writes_weights_report_history_and_split() {
             test_fraction: 0.3,
             test_data: None,
             samples: 5000,
+            generator: Default::default(),
             seed: 4,
         },
         iterations: 10,
@@ -481,13 +478,6 @@ fn grid_search_scores_every_grid_point() {
         single_thread.iter().map(|r| r.mse_mean).collect::<Vec<_>>()
     );
     assert!(grid_search(&data, &SearchConfig { folds: 1, ..config }, |_| {}).is_err());
-}
-
-/// The generator settings a shipped file records (so these tests also show that a file
-/// describes the data it was trained on).
-fn recorded_spec(json: &str) -> SyntheticSpec {
-    let model = NeuralModel::from_json(json, "shipped").unwrap();
-    model.training.synthetic.expect("trained on synthetic data")
 }
 
 /// Full regeneration of the shipped plain weights (about 5 s in release, longer in the

@@ -253,7 +253,10 @@ impl Synthetic for SyntheticSpec {
             let f_n: f64 = normal_force.sample(&mut rng);
             let v = loop {
                 let candidate: f64 = velocity.sample(&mut rng);
-                if self.velocity_limit.map_or(true, |limit| candidate.abs() <= limit) {
+                if self
+                    .velocity_limit
+                    .map_or(true, |limit| candidate.abs() <= limit)
+                {
                     break candidate;
                 }
             };

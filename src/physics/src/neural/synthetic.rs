@@ -15,6 +15,19 @@
 
 use serde::{Deserialize, Serialize};
 
+crate::choice! {
+    /// Which synthetic data set `stickslip train` generates (`--generator`).
+    #[choice(name = "SyntheticData", description = "Distribution of the synthetic friction data")]
+    #[derive(Default)]
+    pub enum SyntheticPreset {
+        /// `SyntheticSpec::default()`: the authors' published data set's distribution.
+        #[default]
+        Authors = "authors": "the distribution of the paper authors' published data: F_n 98 to 102 N, 2 % relative noise, draws with |v_s| <= 1e-4 m/s removed",
+        /// `SyntheticSpec::former()`: the data the shipped networks were trained on.
+        Former = "former": "the generator before the authors' data were read, the shipped networks' data: F_n 90 to 110 N, 0.02 N additive noise, |v_s| <= 0.4 m/s",
+    }
+}
+
 /// The paper's synthetic friction data, every distribution a parameter.
 ///
 /// Each of the `samples` draws takes, in this order from one random stream:
@@ -85,6 +98,14 @@ impl Default for SyntheticSpec {
 }
 
 impl SyntheticSpec {
+    /// The settings of `preset`.
+    pub fn preset(preset: SyntheticPreset) -> Self {
+        match preset {
+            SyntheticPreset::Authors => SyntheticSpec::default(),
+            SyntheticPreset::Former => SyntheticSpec::former(),
+        }
+    }
+
     /// The generator as it was before the authors' data were read (see the module
     /// documentation): what a weights file without the new fields was trained on.
     pub fn former() -> Self {
@@ -203,7 +224,10 @@ mod tests {
         refused(|s| s.relative_noise_std = -0.01, "relative_noise_std");
         refused(|s| s.noise_std = -1.0, "noise_std");
         refused(|s| s.velocity_cut = -1e-4, "velocity_cut");
-        refused(|s| s.velocity_cut = 0.1, "velocity_cut must be below velocity_std");
+        refused(
+            |s| s.velocity_cut = 0.1,
+            "velocity_cut must be below velocity_std",
+        );
         refused(
             |s| {
                 s.velocity_limit = Some(0.05);

@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 
 use super::error::NeuralError;
 use super::network::{Activation, Network, Workspace};
-pub use super::synthetic::SyntheticSpec;
+pub use super::synthetic::{SyntheticPreset, SyntheticSpec};
 use crate::friction::signum_or_zero;
 
 /// What a feature means to the beam. The beam's `FrictionLaw` interface passes the
