@@ -9,7 +9,9 @@
 //! `FrictionLaw` the time loop and the FMUs get. Each is timed over one force-and-slope
 //! evaluation per input (what the slip solve calls), 20 000 inputs over the slip range,
 //! for each inference (exact, f32, table). The table at the end gives the time per call
-//! and the ratio imported / native from this run; it is a report, not an assertion.
+//! and the ratio imported / native from this run; it is a report, not an assertion. A
+//! second copy of the native file is timed too: its ratio shows how far two identical
+//! laws differ within one run.
 //!
 //! Run: `cargo bench -p stickslip-tests --bench onnx_import`.
 
@@ -29,13 +31,20 @@ use stickslip_tests::onnx::{export, Exporter};
 const SAMPLE_SIZE: usize = 20;
 const NATIVE: &str = "native JSON";
 
-/// The files compared: (label, writer of the file's bytes, file name).
+/// The files compared: (label, the file's bytes, file name).
 fn files(model: &NeuralModel) -> Vec<(&'static str, Vec<u8>, &'static str)> {
     vec![
         (
             NATIVE,
             model.to_json().expect("json").into_bytes(),
             "native.json",
+        ),
+        // The same file read again: how far two identical laws' times differ in one run
+        // (allocation, alignment, the load of a shared machine), the ratios' noise.
+        (
+            "native JSON, a copy",
+            model.to_json().expect("json").into_bytes(),
+            "native-copy.json",
         ),
         (
             "ONNX torch f64",
