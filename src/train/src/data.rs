@@ -255,7 +255,7 @@ impl Synthetic for SyntheticSpec {
                 let candidate: f64 = velocity.sample(&mut rng);
                 if self
                     .velocity_limit
-                    .map_or(true, |limit| candidate.abs() <= limit)
+                    .is_none_or(|limit| candidate.abs() <= limit)
                 {
                     break candidate;
                 }

@@ -214,6 +214,22 @@ mod tests {
     }
 
     #[test]
+    fn a_weights_file_with_bad_generator_settings_is_refused() {
+        let text = crate::neural::PAPER_PLAIN_JSON.replace(
+            "\"relative_noise_std\": 0.0",
+            "\"relative_noise_std\": -0.02",
+        );
+        assert_ne!(text, crate::neural::PAPER_PLAIN_JSON);
+        let message = crate::neural::NeuralModel::from_json(&text, "edited.json")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("edited.json") && message.contains("relative_noise_std"),
+            "{message}"
+        );
+    }
+
+    #[test]
     fn bad_settings_are_refused_with_their_name() {
         let refused = |change: fn(&mut SyntheticSpec), word: &str| {
             let mut spec = SyntheticSpec::default();
