@@ -37,7 +37,9 @@ fn presets(path: &std::path::Path) -> [DataArgs; 3] {
             velocity_feature: roles[0].map(str::to_string),
             normal_force_feature: roles[1].map(str::to_string),
             test_fraction: test,
+            test_data: None,
             samples: 5000,
+            generator: Default::default(),
             seed: 2,
         };
     [

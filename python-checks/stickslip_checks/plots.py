@@ -246,8 +246,8 @@ def training_history(history: dict[str, np.ndarray], report: dict, path: Path) -
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(8, 5))
     it = history["iteration"]
-    ax.semilogy(it, history["mse_train"], label="MSE, training set (3500 samples)", lw=1.4)
-    ax.semilogy(it, history["mse_test"], label="MSE, test set (1500 samples)", lw=1.4, ls="--")
+    ax.semilogy(it, history["mse_train"], label=f"MSE, training set ({report['train_samples']} samples)", lw=1.4)
+    ax.semilogy(it, history["mse_test"], label=f"MSE, test set ({report['test_samples']} samples)", lw=1.4, ls="--")
     ax.axhline(4.52, color="grey", lw=0.8, ls=":")
     ax.text(it[-1], 4.52 * 1.08, "paper: MSE test 4.52 N^2", fontsize=8, color="grey",
             ha="right")
@@ -282,7 +282,7 @@ def predicted_vs_true(
     ax.set_xlabel("true friction force, noisy data (N)")
     ax.set_ylabel("NeuralFriction.fmu friction_force (N)")
     ax.set_title(
-        f"Test set (1500 samples) through NeuralFriction.fmu (cf. paper Fig. 5a)\n"
+        f"Test set ({len(truth)} samples) through NeuralFriction.fmu (cf. paper Fig. 5a)\n"
         f"MSE {mse:.2f} N^2, R2 {r2:.5f} (paper: 4.52 N^2, 0.9974)",
         fontsize=10,
     )

@@ -1,5 +1,6 @@
 //! The neural friction law: inference, weights files, training and search.
 
+mod authors_data;
 mod inference;
 mod onnx;
 mod training;

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::CliError;
 use stickslip::choice::Choice;
-use stickslip::neural::{Activation, SyntheticSpec, Variant};
+use stickslip::neural::{Activation, SyntheticPreset, SyntheticSpec, Variant};
 use stickslip_train::csv::{read_csv_file, ColumnSelection};
 use stickslip_train::data::{Split, Synthetic, NORMAL_FORCE, SLIDING_VELOCITY};
 use stickslip_train::search::{format_table, grid_search, SearchConfig, SearchRow};
@@ -47,9 +47,18 @@ pub struct DataArgs {
         conflicts_with = "test_fraction"
     )]
     pub test_data: Option<PathBuf>,
-    /// Synthetic data: number of samples N (paper: 5000).
+    /// Synthetic data: number of draws N (paper: 5000; the authors' data set removes
+    /// those with |v_s| <= 1e-4 m/s).
     #[arg(long, default_value_t = 5000)]
     pub samples: usize,
+    /// Synthetic data: which distribution (`former` regenerates the shipped networks).
+    #[arg(
+        long,
+        value_parser = crate::choice::parser::<SyntheticPreset>(),
+        default_value = SyntheticPreset::default().name(),
+        conflicts_with = "data"
+    )]
+    pub generator: SyntheticPreset,
     /// Seed of data generation, split, folds and initial weights.
     #[arg(long, default_value_t = DEFAULT_SEED)]
     pub seed: u64,
@@ -155,7 +164,7 @@ pub fn load_split(args: &DataArgs) -> Result<(Split, DataSource), CliError> {
             let spec = SyntheticSpec {
                 samples: args.samples,
                 test_fraction: args.test_fraction,
-                ..SyntheticSpec::default()
+                ..SyntheticSpec::preset(args.generator)
             };
             let split = spec.generate_split(args.seed)?;
             Ok((

@@ -8,7 +8,7 @@ use nalgebra::DMatrix;
 use rand::seq::SliceRandom;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use rand_distr::{Distribution, Normal, Uniform};
+use rand_distr::{Distribution, Normal, StandardNormal, Uniform};
 use serde::{Deserialize, Serialize};
 
 use crate::error::TrainError;
@@ -222,42 +222,9 @@ pub trait Synthetic {
     fn generate_split(&self, seed: u64) -> Result<Split, TrainError>;
 }
 
-/// The settings' ranges, checked before any sample is drawn.
+/// The settings' ranges (`SyntheticSpec::check`), checked before any sample is drawn.
 fn check(spec: &SyntheticSpec) -> Result<(), TrainError> {
-    let bad = |what: &str| Err(TrainError::InvalidInput(format!("synthetic data: {what}")));
-    let all_finite = [
-        spec.normal_force_min,
-        spec.normal_force_max,
-        spec.velocity_std,
-        spec.velocity_limit,
-        spec.static_coefficient,
-        spec.kinetic_coefficient,
-        spec.decay,
-        spec.noise_std,
-        spec.test_fraction,
-    ]
-    .iter()
-    .all(|v| v.is_finite());
-    if !all_finite {
-        return bad("every parameter must be a finite number");
-    }
-    if spec.samples < 10 {
-        return bad("at least 10 samples are needed");
-    }
-    if spec.normal_force_min >= spec.normal_force_max {
-        return bad("normal_force_min must be below normal_force_max");
-    }
-    if spec.velocity_std <= 0.0 || spec.velocity_limit <= 0.0 {
-        return bad("velocity_std and velocity_limit must be positive");
-    }
-    // Below 0.05 sigma the rejection loop would need thousands of draws per sample.
-    if spec.velocity_limit < 0.05 * spec.velocity_std {
-        return bad("velocity_limit must be at least 0.05 velocity_std");
-    }
-    if spec.noise_std < 0.0 {
-        return bad("noise_std must not be negative");
-    }
-    Ok(())
+    spec.check().map_err(TrainError::InvalidInput)
 }
 
 impl Synthetic for SyntheticSpec {
@@ -270,7 +237,7 @@ impl Synthetic for SyntheticSpec {
     }
 
     /// All samples, features (sliding_velocity [m/s], normal_force [N]) and target
-    /// friction_force [N], reproducible from `seed`.
+    /// friction_force [N], reproducible from `seed`: the draws the velocity cut leaves.
     fn generate(&self, seed: u64) -> Result<Dataset, TrainError> {
         check(self)?;
         let mut rng = seeded_rng(seed, DATA_STREAM);
@@ -280,27 +247,42 @@ impl Synthetic for SyntheticSpec {
                 quantity: "velocity",
                 source: e,
             })?;
-        let noise = Normal::new(0.0, self.noise_std).map_err(|e| TrainError::Distribution {
-            quantity: "noise",
-            source: e,
-        })?;
-        let mut inputs = DMatrix::zeros(2, self.samples);
+        let mut columns = Vec::with_capacity(2 * self.samples);
         let mut targets = Vec::with_capacity(self.samples);
-        for sample in 0..self.samples {
+        for _ in 0..self.samples {
             let f_n: f64 = normal_force.sample(&mut rng);
             let v = loop {
                 let candidate: f64 = velocity.sample(&mut rng);
-                if candidate.abs() <= self.velocity_limit {
+                if self
+                    .velocity_limit
+                    .is_none_or(|limit| candidate.abs() <= limit)
+                {
                     break candidate;
                 }
             };
-            // Drawn even when noise_std = 0 (then e = 0), so the velocities and normal
-            // forces do not depend on the noise level.
-            let e: f64 = noise.sample(&mut rng);
-            inputs[(0, sample)] = v;
-            inputs[(1, sample)] = f_n;
-            targets.push(self.exact_force(v, f_n) + e);
+            // Drawn for every sample, whatever the noise level and the cut, so the
+            // velocities and normal forces of the other samples do not depend on them.
+            // For the additive noise alone, sigma z is the old generator's
+            // Normal(0, sigma) draw, bit for bit (hypot(sigma, 0) = sigma exactly).
+            let z: f64 = StandardNormal.sample(&mut rng);
+            if self.velocity_cut > 0.0 && v.abs() <= self.velocity_cut {
+                continue;
+            }
+            let force = self.exact_force(v, f_n);
+            let sigma = self.noise_std.hypot(self.relative_noise_std * force);
+            columns.extend([v, f_n]);
+            targets.push(force + sigma * z);
         }
+        if targets.len() < 10 {
+            return Err(TrainError::InvalidInput(format!(
+                "synthetic data: only {} of {} draws lie outside the velocity cut \
+                 {} m/s; at least 10 samples are needed",
+                targets.len(),
+                self.samples,
+                self.velocity_cut
+            )));
+        }
+        let inputs = DMatrix::from_vec(2, targets.len(), columns);
         Ok(Dataset {
             features: vec![
                 Quantity::new(SLIDING_VELOCITY, "m/s"),
@@ -323,6 +305,31 @@ impl Synthetic for SyntheticSpec {
 mod tests {
     use super::*;
 
+    /// Population mean and standard deviation.
+    fn mean_std(values: &[f64]) -> (f64, f64) {
+        let n = values.len() as f64;
+        let mean = values.iter().sum::<f64>() / n;
+        let var = values.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n;
+        (mean, var.sqrt())
+    }
+
+    /// The residual of each target against Eq. 6: additive (F_f - F) or relative
+    /// (F_f / F - 1).
+    fn residuals(spec: &SyntheticSpec, data: &Dataset, relative: bool) -> Vec<f64> {
+        (0..data.len())
+            .map(|i| {
+                let exact = spec.exact_force(data.inputs[(0, i)], data.inputs[(1, i)]);
+                if relative {
+                    data.targets[i] / exact - 1.0
+                } else {
+                    data.targets[i] - exact
+                }
+            })
+            .collect()
+    }
+
+    // Tolerances below: about 3.5 standard errors of each statistic for these n (the
+    // statistics against the authors' file are tests/neural/authors_data.rs).
     #[test]
     fn synthetic_data_follows_the_spec_and_is_reproducible() {
         let spec = SyntheticSpec::default();
@@ -330,24 +337,60 @@ mod tests {
         let b = spec.generate(7).unwrap();
         assert_eq!(a, b);
         assert_ne!(a, spec.generate(8).unwrap());
+        // P(|v| <= 1e-4) = 8.0e-4 for N(0, 0.1): 4.0 +- 2.0 of 5000 draws removed.
+        let removed = 5000 - a.len();
+        assert!(removed <= 12, "{removed} removed");
+        assert!(a.inputs.row(0).iter().all(|v| v.abs() > 1e-4));
+        let (f_min, f_max) = a.feature_range(1);
+        assert!(f_min >= 98.0 && f_max < 102.0);
+        // Relative residual: mean 0 +- 0.0003, std 0.02 +- 0.0002.
+        let (mean, std) = mean_std(&residuals(&spec, &a, true));
+        assert!(mean.abs() < 0.001, "relative noise mean {mean}");
+        assert!((std - 0.02).abs() < 0.0007, "relative noise std {std}");
+    }
+
+    #[test]
+    fn the_former_generator_limits_velocities_and_adds_absolute_noise() {
+        let spec = SyntheticSpec::former();
+        let a = spec.generate(7).unwrap();
         assert_eq!(a.len(), 5000);
         let (v_min, v_max) = a.feature_range(0);
         assert!(v_min >= -0.4 && v_max <= 0.4);
         let (f_min, f_max) = a.feature_range(1);
         assert!(f_min >= 90.0 && f_max < 110.0);
-        // Residual against Eq. 6 is the noise: mean ~ 0, std ~ 0.02 N.
-        let residuals: Vec<f64> = (0..a.len())
-            .map(|i| a.targets[i] - spec.exact_force(a.inputs[(0, i)], a.inputs[(1, i)]))
-            .collect();
-        let mean = residuals.iter().sum::<f64>() / residuals.len() as f64;
-        let std = (residuals.iter().map(|r| (r - mean).powi(2)).sum::<f64>()
-            / residuals.len() as f64)
-            .sqrt();
-        assert!(mean.abs() < 0.002, "noise mean {mean}");
-        assert!((std - 0.02).abs() < 0.001, "noise std {std}");
-        // Velocity std of N(0, 0.1) truncated at 4 sigma stays ~0.1.
+        // Additive residual: mean 0 +- 0.0003 N, std 0.02 +- 0.0002 N.
+        let (mean, std) = mean_std(&residuals(&spec, &a, false));
+        assert!(mean.abs() < 0.001, "noise mean {mean}");
+        assert!((std - 0.02).abs() < 0.0007, "noise std {std}");
+        // Velocity std of N(0, 0.1) truncated at 4 sigma stays ~0.1 (+- 0.001).
         let v_std = (a.inputs.row(0).iter().map(|v| v * v).sum::<f64>() / 5000.0).sqrt();
-        assert!((v_std - 0.1).abs() < 0.005, "velocity std {v_std}");
+        assert!((v_std - 0.1).abs() < 0.004, "velocity std {v_std}");
+    }
+
+    #[test]
+    fn the_cut_removes_draws_without_shifting_the_others() {
+        let uncut = SyntheticSpec {
+            velocity_cut: 0.0,
+            ..SyntheticSpec::default()
+        };
+        let wide_cut = SyntheticSpec {
+            velocity_cut: 0.01,
+            ..SyntheticSpec::default()
+        };
+        let (all, kept) = (uncut.generate(3).unwrap(), wide_cut.generate(3).unwrap());
+        let survivors: Vec<usize> = (0..all.len())
+            .filter(|&i| all.inputs[(0, i)].abs() > 0.01)
+            .collect();
+        // About 8 % of the draws lie within 0.01 m/s (one tenth of sigma).
+        assert!(all.len() - survivors.len() > 250);
+        assert_eq!(kept, all.subset(&survivors));
+        let too_few = SyntheticSpec {
+            samples: 10,
+            velocity_cut: 0.09,
+            ..SyntheticSpec::default()
+        };
+        let message = too_few.generate(1).unwrap_err().to_string();
+        assert!(message.contains("at least 10 samples"), "{message}");
     }
 
     #[test]
@@ -355,8 +398,9 @@ mod tests {
         let spec = SyntheticSpec::default();
         let data = spec.generate(1).unwrap();
         let split = data.split(0.3, 1).unwrap();
-        assert_eq!(split.train.len(), 3500);
-        assert_eq!(split.test.len(), 1500);
+        let n_test = (data.len() as f64 * 0.3).round() as usize;
+        assert_eq!(split.test.len(), n_test);
+        assert_eq!(split.train.len(), data.len() - n_test);
         let mut all: Vec<f64> = split
             .train
             .targets

@@ -17,6 +17,7 @@ use serde::{Deserialize, Serialize};
 
 use super::error::NeuralError;
 use super::network::{Activation, Network, Workspace};
+pub use super::synthetic::{SyntheticPreset, SyntheticSpec};
 use crate::friction::signum_or_zero;
 
 /// What a feature means to the beam. The beam's `FrictionLaw` interface passes the
@@ -30,57 +31,6 @@ pub enum FeatureRole {
     NormalForce,
     /// Any other measured quantity (temperature, humidity...).
     Other,
-}
-
-/// The paper's synthetic friction data (Sec. 3.1), every distribution a parameter.
-///
-/// Each sample draws, in this order from one ChaCha8 stream:
-/// - F_n ~ U[`normal_force_min`, `normal_force_max`) (N);
-/// - v_s ~ N(0, `velocity_std`) (m/s), drawn again while |v_s| > `velocity_limit`;
-/// - F_f = sign(v_s) [mu_k + (mu_s - mu_k) exp(-alpha |v_s|)] F_n + e, e ~ N(0, `noise_std`)
-///   (N), the paper's Eq. 6 made odd in v_s: the force acts in the direction of the
-///   sliding velocity, as in `crate::friction::ExponentialLaw`.
-///
-/// The defaults are the paper's values.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SyntheticSpec {
-    /// N, number of samples (5000).
-    pub samples: usize,
-    /// Lower bound of the normal force (90 N).
-    pub normal_force_min: f64,
-    /// Upper bound of the normal force (110 N).
-    pub normal_force_max: f64,
-    /// Standard deviation of the sliding velocity (0.1 m/s).
-    pub velocity_std: f64,
-    /// Velocities are redrawn outside [-limit, limit] (0.4 m/s).
-    pub velocity_limit: f64,
-    /// mu_s (0.5).
-    pub static_coefficient: f64,
-    /// mu_k (0.2).
-    pub kinetic_coefficient: f64,
-    /// alpha (5 s/m).
-    pub decay: f64,
-    /// Standard deviation of the additive force noise (0.02 N).
-    pub noise_std: f64,
-    /// Share of the samples held out for testing (0.3).
-    pub test_fraction: f64,
-}
-
-impl Default for SyntheticSpec {
-    fn default() -> Self {
-        SyntheticSpec {
-            samples: 5000,
-            normal_force_min: 90.0,
-            normal_force_max: 110.0,
-            velocity_std: 0.1,
-            velocity_limit: 0.4,
-            static_coefficient: 0.5,
-            kinetic_coefficient: 0.2,
-            decay: 5.0,
-            noise_std: 0.02,
-            test_fraction: 0.3,
-        }
-    }
 }
 
 /// Why the trainer's L-BFGS (`stickslip_train::lbfgs::minimize`) stopped.
@@ -415,6 +365,10 @@ impl NeuralModel {
             ));
         }
         finite("training.lambda".into(), self.training.lambda)?;
+        if let Some(spec) = &self.training.synthetic {
+            spec.check()
+                .map_err(|message| shape(format!("training.{message}")))?;
+        }
         let m = &self.metrics;
         for (what, v) in [
             ("mse_train", m.mse_train),
