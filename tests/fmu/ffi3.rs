@@ -73,7 +73,7 @@ fn outputs_of<M: Model>() -> (Vec<u32>, Vec<u32>, Vec<u32>) {
 unsafe fn read(c: fmi3Instance, vrs: &(Vec<u32>, Vec<u32>, Vec<u32>)) -> Vec<u64> {
     let mut reals = vec![0.0; vrs.0.len()];
     let mut integers = vec![0i32; vrs.1.len()];
-    let mut booleans = vec![false; vrs.2.len()];
+    let mut booleans = vec![0u8; vrs.2.len()];
     unsafe {
         assert_eq!(
             fmi3GetFloat64(
@@ -115,13 +115,13 @@ unsafe fn read(c: fmi3Instance, vrs: &(Vec<u32>, Vec<u32>, Vec<u32>)) -> Vec<u64
 }
 
 unsafe fn step(c: fmi3Instance, t: f64, h: f64) {
-    let (mut event, mut terminate, mut early, mut last) = (true, true, true, 0.0);
+    let (mut event, mut terminate, mut early, mut last) = (1u8, 1u8, 1u8, 0.0);
     let status = unsafe {
         fmi3DoStep(
             c,
             t,
             h,
-            false,
+            0,
             &mut event,
             &mut terminate,
             &mut early,
@@ -129,7 +129,7 @@ unsafe fn step(c: fmi3Instance, t: f64, h: f64) {
         )
     };
     assert_eq!(status, OK, "fmi3DoStep at {t} s");
-    assert!(!event && !terminate && !early);
+    assert_eq!((event, terminate, early), (0, 0, 0));
     assert_eq!(last, t + h);
 }
 
@@ -144,17 +144,14 @@ unsafe fn life(kind: FmuKind, steps: usize, name: &str) -> (Vec<Vec<u64>>, Vec<V
         let c = instantiate(kind, name, &messages);
         assert!(!c.is_null(), "{:?}", messages.lock().unwrap());
         // A step before initialisation is refused and logged; fmi3Reset recovers.
-        let (mut e, mut t_, mut r, mut l) = (false, false, false, 0.0);
+        let (mut e, mut t_, mut r, mut l) = (0u8, 0u8, 0u8, 0.0);
         assert_eq!(
-            fmi3DoStep(c, 0.0, h, false, &mut e, &mut t_, &mut r, &mut l),
+            fmi3DoStep(c, 0.0, h, 0, &mut e, &mut t_, &mut r, &mut l),
             ERROR
         );
         assert_eq!(fmi3Reset(c), OK);
 
-        assert_eq!(
-            fmi3EnterInitializationMode(c, false, 0.0, 0.0, true, 1.0),
-            OK
-        );
+        assert_eq!(fmi3EnterInitializationMode(c, 0, 0.0, 0.0, 1, 1.0), OK);
         let vrs = match kind {
             FmuKind::StickSlipBeam => {
                 let fidelity = [vr::<StickSlipBeam>("fidelity.level")];
@@ -206,9 +203,9 @@ unsafe fn life(kind: FmuKind, steps: usize, name: &str) -> (Vec<Vec<u64>>, Vec<V
         // fmi3Error with the reason, then the Error state refuses steps until
         // fmi3SetFMUState brings the saved state back.
         assert_eq!(fmi3EnterEventMode(c), ERROR);
-        let (mut e, mut t_, mut r, mut l) = (false, false, false, 0.0);
+        let (mut e, mut t_, mut r, mut l) = (0u8, 0u8, 0u8, 0.0);
         assert_eq!(
-            fmi3DoStep(c, t, h, false, &mut e, &mut t_, &mut r, &mut l),
+            fmi3DoStep(c, t, h, 0, &mut e, &mut t_, &mut r, &mut l),
             ERROR
         );
         assert_eq!(fmi3SetFMUState(c, state), OK);
@@ -278,10 +275,10 @@ fn fmi3_instantiation_refuses_what_the_fmu_does_not_offer() {
             name.as_ptr(),
             token.as_ptr(),
             resources.as_ptr(),
-            false,
-            false,
-            true,
-            true,
+            0,
+            0,
+            1,
+            1,
             if intermediate {
                 required.as_ptr()
             } else {
@@ -302,8 +299,8 @@ fn fmi3_instantiation_refuses_what_the_fmu_does_not_offer() {
             name.as_ptr(),
             token.as_ptr(),
             path.as_ptr(),
-            false,
-            false,
+            0,
+            0,
             environment,
             Some(log3),
         )
@@ -340,11 +337,8 @@ fn fmi3_reasons_containing_fmi2_are_logged_unaltered() {
         );
         assert!(!c.is_null());
         let unknown = CString::new("fmi2Category").unwrap();
-        assert_eq!(fmi3SetDebugLogging(c, true, 1, &unknown.as_ptr()), 1);
-        assert_eq!(
-            fmi3EnterInitializationMode(c, false, 0.0, 0.0, true, 1.0),
-            OK
-        );
+        assert_eq!(fmi3SetDebugLogging(c, 1, 1, &unknown.as_ptr()), 1);
+        assert_eq!(fmi3EnterInitializationMode(c, 0, 0.0, 0.0, 1, 1.0), OK);
         let law = [vr::<StickSlipBeam>("friction.law")];
         let neural = [stickslip::scene::FrictionLawKind::Neural.code()];
         assert_eq!(fmi3SetInt32(c, law.as_ptr(), 1, neural.as_ptr(), 1), OK);
@@ -414,10 +408,10 @@ pub(crate) unsafe fn instantiate_logging(
             name.as_ptr(),
             token.as_ptr(),
             resources.as_ptr(),
-            false,
-            logging_on,
-            event_mode_used,
-            early_return_allowed,
+            0,
+            u8::from(logging_on),
+            u8::from(event_mode_used),
+            u8::from(early_return_allowed),
             null(),
             0,
             messages as *const Messages as *mut c_void,
@@ -429,31 +423,31 @@ pub(crate) unsafe fn instantiate_logging(
 
 /// fmi3DoStep's result: (status, eventHandlingNeeded, earlyReturn, lastSuccessfulTime).
 pub(crate) unsafe fn do_step3(c: fmi3Instance, t: f64, h: f64) -> (fmi3Status, bool, bool, f64) {
-    let (mut event, mut terminate, mut early, mut last) = (false, true, false, f64::NAN);
+    let (mut event, mut terminate, mut early, mut last) = (0u8, 1u8, 0u8, f64::NAN);
     let status = unsafe {
         fmi3DoStep(
             c,
             t,
             h,
-            false,
+            0,
             &mut event,
             &mut terminate,
             &mut early,
             &mut last,
         )
     };
-    assert!(!terminate);
-    (status, event, early, last)
+    assert_eq!(terminate, 0);
+    (status, event != 0, early != 0, last)
 }
 
 /// fmi3UpdateDiscreteStates; its outputs must say: settled, no time event.
 unsafe fn update_discrete_states(c: fmi3Instance) -> fmi3Status {
-    let mut flags = [true; 5];
+    let mut flags = [1u8; 5];
     let mut next = f64::NAN;
     let [a, b, c_, d, e] = &mut flags;
     let status = unsafe { fmi3UpdateDiscreteStates(c, a, b, c_, d, e, &mut next) };
     if status == OK {
-        assert_eq!(flags, [false; 5]);
+        assert_eq!(flags, [0; 5]);
         assert_eq!(next, 0.0);
     }
     status
@@ -462,10 +456,7 @@ unsafe fn update_discrete_states(c: fmi3Instance) -> fmi3Status {
 /// StickSlipBeam (modal fidelity) initialised with eventModeUsed: in Event Mode at 0 s.
 unsafe fn initialise_in_event_mode(c: fmi3Instance) {
     unsafe {
-        assert_eq!(
-            fmi3EnterInitializationMode(c, false, 0.0, 0.0, true, 1.0),
-            OK
-        );
+        assert_eq!(fmi3EnterInitializationMode(c, 0, 0.0, 0.0, 1, 1.0), OK);
         let fidelity = [vr::<StickSlipBeam>("fidelity.level")];
         let modal = [FidelityLevel::Modal.code()];
         assert_eq!(fmi3SetInt32(c, fidelity.as_ptr(), 1, modal.as_ptr(), 1), OK);
@@ -637,7 +628,7 @@ unsafe fn event_life(name: &str, h: f64, end: f64) -> EventLife {
             assert!(t < end, "no switch before {end} s");
         };
         let mut transitions_at_switch = 0;
-        let mut stick_at_switch = true;
+        let mut stick_at_switch = 1u8;
         assert_eq!(
             fmi3GetInt32(c, transitions.as_ptr(), 1, &mut transitions_at_switch, 1),
             OK
@@ -698,7 +689,7 @@ unsafe fn event_life(name: &str, h: f64, end: f64) -> EventLife {
         EventLife {
             first_switch,
             transitions_at_switch,
-            stick_at_switch,
+            stick_at_switch: stick_at_switch != 0,
             straight,
             restored,
             fresh,
@@ -716,10 +707,7 @@ unsafe fn first_transition_without_events(end: f64) -> f64 {
     let dt_vr = [vr::<StickSlipBeam>("time.step")];
     unsafe {
         let c = instantiate_with(FmuKind::StickSlipBeam, "no-events", &messages, false, false);
-        assert_eq!(
-            fmi3EnterInitializationMode(c, false, 0.0, 0.0, true, 1.0),
-            OK
-        );
+        assert_eq!(fmi3EnterInitializationMode(c, 0, 0.0, 0.0, 1, 1.0), OK);
         let fidelity = [vr::<StickSlipBeam>("fidelity.level")];
         let modal = [FidelityLevel::Modal.code()];
         assert_eq!(fmi3SetInt32(c, fidelity.as_ptr(), 1, modal.as_ptr(), 1), OK);
@@ -802,7 +790,7 @@ fn fmi3_scalar_accessors_check_n_values_and_null_arrays() {
             unsafe { fmi3GetInt32(c, vr.as_ptr(), 1, out.as_mut_ptr(), 2) }
         }),
         ("fmi3GetBoolean", "nValues = 0", |c, _| {
-            let mut out = [false; 1];
+            let mut out = [0u8; 1];
             let vr = [vr::<StickSlipBeam>("stick")];
             unsafe { fmi3GetBoolean(c, vr.as_ptr(), 1, out.as_mut_ptr(), 0) }
         }),
@@ -824,10 +812,7 @@ fn fmi3_scalar_accessors_check_n_values_and_null_arrays() {
         unsafe {
             let c = instantiate(FmuKind::StickSlipBeam, "n-values", &messages);
             assert!(!c.is_null());
-            assert_eq!(
-                fmi3EnterInitializationMode(c, false, 0.0, 0.0, true, 1.0),
-                OK
-            );
+            assert_eq!(fmi3EnterInitializationMode(c, 0, 0.0, 0.0, 1, 1.0), OK);
             assert_eq!(case(c, &texts_ptrs), ERROR, "{call}: {reason}");
             fmi3FreeInstance(c);
         }
@@ -837,5 +822,41 @@ fn fmi3_scalar_accessors_check_n_values_and_null_arrays() {
                 .any(|m| m.starts_with(&format!("{call}: ")) && m.contains(reason)),
             "{call}: {reason}: {log:?}"
         );
+    }
+}
+
+/// FMI 3.0's Boolean is a C99 `bool`, one byte. A byte other than 0 or 1 from an
+/// importer (by value here) must not be undefined behaviour: any non-zero byte reads as
+/// true, as C converts it. With eventModeUsed = 2 or 0xFF the instance leaves
+/// Initialization Mode into Event Mode, as with 1, so fmi3EnterStepMode is legal; with 0
+/// it is in Step Mode already and the call is refused.
+#[test]
+fn boolean_bytes_other_than_0_or_1_read_as_true() {
+    let messages = Messages::default();
+    let name = CString::new("boolean-bytes").unwrap();
+    let token = CString::new(FmuKind::StickSlipBeam.guid()).unwrap();
+    let resources = CString::new(format!("{}/", stickslip_tests::weights_dir().display())).unwrap();
+    for (byte, expected) in [(0u8, ERROR), (1, OK), (2, OK), (0xFF, OK)] {
+        unsafe {
+            let c = fmi3InstantiateCoSimulation(
+                name.as_ptr(),
+                token.as_ptr(),
+                resources.as_ptr(),
+                0,
+                0,
+                byte,
+                0,
+                null(),
+                0,
+                &messages as *const Messages as *mut c_void,
+                Some(log3),
+                None,
+            );
+            assert!(!c.is_null(), "{:?}", messages.lock().unwrap());
+            assert_eq!(fmi3EnterInitializationMode(c, 0, 0.0, 0.0, byte, 1.0), OK);
+            assert_eq!(fmi3ExitInitializationMode(c), OK);
+            assert_eq!(fmi3EnterStepMode(c), expected, "eventModeUsed = {byte}");
+            fmi3FreeInstance(c);
+        }
     }
 }

@@ -42,7 +42,7 @@ fn set(c: fmi3Instance, vrs: &[u32], values: &[f64]) -> fmi3Status {
 
 fn enter_initialization(c: fmi3Instance, start: f64) {
     assert_eq!(
-        unsafe { fmi3EnterInitializationMode(c, false, 0.0, start, false, 0.0) },
+        unsafe { fmi3EnterInitializationMode(c, 0, 0.0, start, 0, 0.0) },
         OK
     );
 }

@@ -62,10 +62,7 @@ impl Fmu {
                 );
                 assert_eq!(fmi3SetInt32(c, law_vr.as_ptr(), 1, &law.code(), 1), OK);
                 if initialise {
-                    assert_eq!(
-                        fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0),
-                        OK
-                    );
+                    assert_eq!(fmi3EnterInitializationMode(c, 0, 0.0, 0.0, 0, 0.0), OK);
                     assert_eq!(fmi3ExitInitializationMode(c), OK);
                 }
                 Fmu::V3(c, messages)

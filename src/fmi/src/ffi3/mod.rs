@@ -120,7 +120,7 @@ pub unsafe extern "C" fn fmi3SetDebugLogging(
         boundary::set_debug_logging(
             instance,
             "fmi3SetDebugLogging",
-            loggingOn,
+            is_true(loggingOn),
             nCategories,
             categories,
         )
@@ -219,8 +219,8 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
         // Both FMUs have Event Mode, and an FMU that never returns early (NeuralFriction)
         // honours earlyReturnAllowed trivially.
         let events = EventOptions {
-            event_mode_used: eventModeUsed,
-            early_return_allowed: earlyReturnAllowed,
+            event_mode_used: is_true(eventModeUsed),
+            early_return_allowed: is_true(earlyReturnAllowed),
         };
         if nRequiredIntermediateVariables != 0 {
             return refuse(format!(
@@ -247,7 +247,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
             kind,
             &name,
             resources,
-            loggingOn,
+            is_true(loggingOn),
             boxed_logger,
         )
         .map_or(std::ptr::null_mut(), |mut c| {
@@ -277,7 +277,7 @@ pub unsafe extern "C" fn fmi3EnterInitializationMode(
 ) -> fmi3Status {
     unsafe {
         with_component(instance, "fmi3EnterInitializationMode", |component| {
-            let stop = stopTimeDefined.then_some(stopTime);
+            let stop = is_true(stopTimeDefined).then_some(stopTime);
             each!(&mut component.instance, i => status(
                 i.setup_experiment(startTime, stop)
                     .and_then(|()| i.enter_initialization_mode())
@@ -332,11 +332,13 @@ pub unsafe extern "C" fn fmi3UpdateDiscreteStates(
             }
             let result = each!(&mut component.instance, i => i.update_discrete_states());
             let update = result.unwrap_or_default();
-            *discreteStatesNeedUpdate = update.discrete_states_need_update;
-            *terminateSimulation = update.terminate_simulation;
-            *nominalsOfContinuousStatesChanged = update.nominals_of_continuous_states_changed;
-            *valuesOfContinuousStatesChanged = update.values_of_continuous_states_changed;
-            *nextEventTimeDefined = update.next_event_time.is_some();
+            *discreteStatesNeedUpdate = from_bool(update.discrete_states_need_update);
+            *terminateSimulation = from_bool(update.terminate_simulation);
+            *nominalsOfContinuousStatesChanged =
+                from_bool(update.nominals_of_continuous_states_changed);
+            *valuesOfContinuousStatesChanged =
+                from_bool(update.values_of_continuous_states_changed);
+            *nextEventTimeDefined = from_bool(update.next_event_time.is_some());
             *nextEventTime = update.next_event_time.unwrap_or(0.0);
             status(result.map(|_| ()))
         })

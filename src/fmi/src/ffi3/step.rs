@@ -40,9 +40,9 @@ pub unsafe extern "C" fn fmi3DoStep(
                 (result, i.time())
             });
             let outcome = result.ok();
-            *eventHandlingNeeded = outcome.is_some_and(|o| o.event_handling_needed);
-            *terminateSimulation = false;
-            *earlyReturn = outcome.is_some_and(|o| o.early_return);
+            *eventHandlingNeeded = from_bool(outcome.is_some_and(|o| o.event_handling_needed));
+            *terminateSimulation = from_bool(false);
+            *earlyReturn = from_bool(outcome.is_some_and(|o| o.early_return));
             *lastSuccessfulTime = outcome.map_or(time, |o| o.last_successful_time);
             status(result.map(|_| ()))
         })

@@ -169,8 +169,8 @@ scalars!(
     get_boolean,
     set_boolean,
     u8,
-    |v: bool| v,
-    |b: u8| b != 0
+    from_bool,
+    is_true
 );
 
 #[no_mangle]
