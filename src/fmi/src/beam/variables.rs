@@ -156,7 +156,7 @@ pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &[
     real_parameter!(
         23,
         "contact.preload",
-        Some("1"),
+        None,
         "Tip preload at t = 0 as a fraction of mu_s F_n, in [0, 1): start in the static shape under it",
         |m: StickSlipBeam| m.settings.scene.contact.preload
     ),
