@@ -229,3 +229,21 @@ fn the_finite_difference_velocity_is_the_integrators_to_first_order_in_dt() {
     }
     assert!(slip_steps > 1000, "the run slips ({slip_steps} steps)");
 }
+
+#[test]
+fn the_new_options_are_checked_at_construction() {
+    for preload in [-0.01, 1.0, f64::NAN] {
+        let mut s = Scene::default();
+        s.contact.preload = preload;
+        let error = s.check().unwrap_err();
+        assert_eq!(error.field(), Some("contact.preload"), "{preload}");
+    }
+    // Moreau-Jean's stick holds the tip velocity itself; a difference of displacements
+    // cannot stand in for it.
+    let mut s = Scene::default();
+    s.contact.tip_velocity = TipVelocity::FiniteDifference;
+    s.integrator.scheme = stickslip::scene::Scheme::MoreauJean;
+    let error = s.check().unwrap_err();
+    assert_eq!(error.field(), Some("contact.tip_velocity"));
+    assert!(error.to_string().contains("Moreau-Jean"), "{error}");
+}
