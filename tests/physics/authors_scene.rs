@@ -26,17 +26,24 @@ fn tip_displacement(sim: &Simulator) -> f64 {
 /// velocity stays below 0.2 m/s, so v_rel never changes sign), from the static shape
 /// under half of that force. The tip then vibrates freely about the 50 N shape.
 fn long_slip(phase: DampingPhase, stiffness_damping: f64) -> Scene {
-    let mut s = Scene::default();
-    s.fidelity.level = FidelityLevel::Beam;
+    let mut s = preloaded_beam(0.5, phase, stiffness_damping, 2.0);
     s.friction.law = FrictionLawKind::Coulomb;
     s.friction.kinetic_coefficient = s.friction.static_coefficient;
     s.loading.belt_speed = 10.0;
-    s.contact.preload = 0.5;
+    s
+}
+
+/// The paper's scene on beam elements, at rest under the preload `preload` (fraction of
+/// mu_s F_n), with stiffness-proportional damping `b` (s) in the phases `phase`.
+fn preloaded_beam(preload: f64, phase: DampingPhase, b: f64, end: f64) -> Scene {
+    let mut s = Scene::default();
+    s.fidelity.level = FidelityLevel::Beam;
+    s.contact.preload = preload;
     s.contact.initial_state = InitialState::AtRest;
     s.contact.damping_phase = phase;
     s.damping.mass_proportional = 0.0;
-    s.damping.stiffness_proportional = stiffness_damping;
-    s.time.end = 2.0;
+    s.damping.stiffness_proportional = b;
+    s.time.end = end;
     s
 }
 
@@ -79,17 +86,9 @@ fn in_a_long_slip_the_slip_only_damping_decays_mode_one_at_its_rayleigh_ratio() 
     );
 }
 
-/// The paper's scene from a preload, with the given damping phase and b = 1e-3 s.
+/// The paper's scene from the authors' 1 % preload.
 fn preloaded_paper(phase: DampingPhase, b: f64) -> Scene {
-    let mut s = Scene::default();
-    s.fidelity.level = FidelityLevel::Beam;
-    s.contact.preload = 0.01;
-    s.contact.initial_state = InitialState::AtRest;
-    s.contact.damping_phase = phase;
-    s.damping.mass_proportional = 0.0;
-    s.damping.stiffness_proportional = b;
-    s.time.end = 0.8;
-    s
+    preloaded_beam(0.01, phase, b, 0.8)
 }
 
 #[test]
