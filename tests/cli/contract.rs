@@ -457,3 +457,32 @@ fn three_input_weights() -> String {
     }
     model.to_json().unwrap()
 }
+
+#[test]
+fn the_paper_authors_preset_breaks_away_after_its_preload_and_excludes_a_scene_file() {
+    let (ok, stdout, stderr) = stickslip(&[
+        "simulate",
+        "--preset",
+        "paper-authors",
+        "--fidelity",
+        "modal",
+        "--t-end",
+        "0.45",
+    ]);
+    assert!(ok, "{stderr}");
+    // (mu_s F_n - 0.01 mu_s F_n) / (k v_b) = 0.396 s, detected at the end of its step:
+    // the summary's four digits show 0.3960 or 0.3961.
+    assert!(
+        stdout.contains("0.3960 s") || stdout.contains("0.3961 s"),
+        "{stdout}"
+    );
+    let (ok, _, stderr) = stickslip(&[
+        "simulate",
+        "--preset",
+        "paper-authors",
+        "--scene",
+        "scene.toml",
+    ]);
+    assert!(!ok);
+    assert!(stderr.contains("--preset"), "{stderr}");
+}

@@ -1,6 +1,7 @@
 //! The FMI 2.0 adapter: the instance state machine, the C ABI, the call matrix, threads and resources, fuzz regressions and the generated modelDescription.
 
 mod allocations;
+mod authors_options;
 mod call_matrix;
 mod dependencies;
 mod directional;

@@ -5,8 +5,8 @@ use std::collections::HashSet;
 use stickslip::choice::Choice;
 use stickslip::friction::LawChoice;
 use stickslip::scene::{
-    Clamp, FidelityLevel, FrictionLawKind, HoldingForce, Inference, InitialState, ModalBasis,
-    Scheme, SlidingVelocity,
+    Clamp, DampingPhase, FidelityLevel, FrictionLawKind, HoldingForce, Inference, InitialState,
+    ModalBasis, Scheme, SlidingVelocity, TipVelocity,
 };
 use stickslip::simulation::ExternalCoupling;
 use stickslip_fmi::beam::StickSlipBeam;
@@ -264,6 +264,8 @@ fn the_annotated_choices_are_the_scenes_choices() {
             declared::<HoldingForce>("contact.holding_force"),
             declared::<SlidingVelocity>("contact.sliding_velocity"),
             declared::<InitialState>("contact.initial_state"),
+            declared::<TipVelocity>("contact.tip_velocity"),
+            declared::<DampingPhase>("contact.damping_phase"),
             declared::<FidelityLevel>("fidelity.level"),
             declared::<ModalBasis>("fidelity.modal_basis"),
             declared::<Clamp>("fidelity.clamp"),

@@ -11,7 +11,11 @@ use clap::Args;
 use std::path::PathBuf;
 use stickslip::law_source::LawSource;
 use stickslip::run::RunError;
-use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Inference, Scene, Scheme};
+use stickslip::scene::{
+    CheckedScene, DampingPhase, FidelityLevel, FrictionLawKind, Inference, Scene, Scheme,
+    TipVelocity,
+};
+use stickslip::scene_preset::ScenePreset;
 
 /// `--friction`: the scene's laws, plus `analytical`, the command line's name for the
 /// exponential law before the values were the scene's words (scripts use it). The
@@ -29,8 +33,20 @@ pub fn friction_parser() -> ChoiceParser<FrictionLawKind> {
 #[derive(Args, Debug, Clone, Default)]
 pub struct SceneArgs {
     /// Scene file (.toml or .json); missing fields take the paper's values.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "preset")]
     pub scene: Option<PathBuf>,
+    /// A named scene to start from instead of a scene file (default: paper).
+    #[arg(long, value_parser = parser::<ScenePreset>())]
+    pub preset: Option<ScenePreset>,
+    /// Tip preload at t = 0 as a fraction of F_crit = mu_s F_n, in [0, 1).
+    #[arg(long, allow_negative_numbers = true)]
+    pub preload: Option<f64>,
+    /// The contact phases in which the Rayleigh damping acts.
+    #[arg(long, value_parser = parser::<DampingPhase>())]
+    pub damping_phase: Option<DampingPhase>,
+    /// The tip velocity the contact evaluates.
+    #[arg(long, value_parser = parser::<TipVelocity>())]
+    pub tip_velocity: Option<TipVelocity>,
     /// Structural model; `auto` also picks the time step and integrator.
     #[arg(long, value_parser = parser::<FidelityLevel>())]
     pub fidelity: Option<FidelityLevel>,
@@ -98,8 +114,17 @@ impl SceneArgs {
     fn build(&self) -> Result<(CheckedScene, Option<LawSource>), CliError> {
         let mut scene: Scene = match &self.scene {
             Some(path) => Scene::load(path)?.into_scene(),
-            None => Scene::default(),
+            None => self.preset.unwrap_or_default().scene(),
         };
+        if let Some(p) = self.preload {
+            scene.contact.preload = p;
+        }
+        if let Some(p) = self.damping_phase {
+            scene.contact.damping_phase = p;
+        }
+        if let Some(v) = self.tip_velocity {
+            scene.contact.tip_velocity = v;
+        }
         if let Some(level) = self.fidelity {
             scene.fidelity.level = level;
         }

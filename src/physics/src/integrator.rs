@@ -182,6 +182,11 @@ impl Integrator {
         self.dt
     }
 
+    /// The Rayleigh coefficients (a in 1/s, b in s) this integrator was factorised with.
+    pub fn damping(&self) -> (f64, f64) {
+        (self.mass_damping, self.stiffness_damping)
+    }
+
     /// The step from `state` without tip force, kept internally for [`Self::finish`].
     /// No allocation.
     pub fn trial(&mut self, model: &StructuralModel, state: &Kinematics) -> TrialStep {

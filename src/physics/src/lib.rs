@@ -35,6 +35,7 @@ pub mod modal;
 pub mod neural;
 pub mod run;
 pub mod scene;
+pub mod scene_preset;
 pub mod simulation;
 pub mod stability;
 pub mod statics;

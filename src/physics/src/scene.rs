@@ -195,6 +195,34 @@ crate::choice! {
     }
 }
 
+crate::choice! {
+    /// In which contact phases the Rayleigh damping C = a M + b K acts.
+    #[choice(name = "DampingPhase", description = "The contact phases in which the Rayleigh damping acts")]
+    #[derive(Default)]
+    pub enum DampingPhase {
+        /// In stick and in slip (default).
+        #[default]
+        Always = "always": "in stick and in slip",
+        /// Only while slipping: C = 0 in stick, switched at every transition (the paper
+        /// authors' published script, `V_beam_transient_fea.m`).
+        Slip = "slip": "only while slipping (C = 0 in stick)",
+    }
+}
+
+crate::choice! {
+    /// Which tip velocity the contact sees (the sliding velocity, the switch).
+    #[choice(name = "TipVelocity", description = "The tip velocity the contact evaluates")]
+    #[derive(Default)]
+    pub enum TipVelocity {
+        /// The integrator's velocity at t_{n+1} (default).
+        #[default]
+        Integrator = "integrator": "the integrator's tip velocity",
+        /// The backward difference (u_tip,n+1 - u_tip,n) / dt, as the paper authors'
+        /// script computes it; O(dt) from the integrator's. Generalised-alpha only.
+        FiniteDifference = "finite-difference": "(u_tip,n+1 - u_tip,n) / dt",
+    }
+}
+
 /// Contact options, including the ones that reproduce the paper literally.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -202,6 +230,17 @@ pub struct Contact {
     pub holding_force: HoldingForce,
     pub sliding_velocity: SlidingVelocity,
     pub initial_state: InitialState,
+    /// Tip preload at t = 0 as a fraction of F_crit = mu_s F_n (1), in [0, 1): the beam
+    /// starts in the static shape under the tip load P = preload mu_s F_n, so that the
+    /// tip deflection is u_0 = P / k (k the model's static tip stiffness, 3 EI / L^3 for
+    /// Euler-Bernoulli) and stick reaches F_crit at t_b = (mu_s F_n / k - u_0) / v_b.
+    /// `initial_state` still sets the velocity field. 0 (default): undeformed. The paper
+    /// authors' script starts at rest under 1 %.
+    pub preload: f64,
+    /// Which tip velocity the contact evaluates.
+    pub tip_velocity: TipVelocity,
+    /// In which phases the damping of `damping` acts.
+    pub damping_phase: DampingPhase,
 }
 
 impl Default for Contact {
@@ -210,6 +249,9 @@ impl Default for Contact {
             holding_force: HoldingForce::Reaction,
             sliding_velocity: SlidingVelocity::Relative,
             initial_state: InitialState::QuasiStatic,
+            preload: 0.0,
+            tip_velocity: TipVelocity::Integrator,
+            damping_phase: DampingPhase::Always,
         }
     }
 }
@@ -556,6 +598,18 @@ impl Scene {
                     requirement: "a path to a weights file, or absent".into(),
                 });
             }
+        }
+
+        let c = &self.contact;
+        within("contact.preload", c.preload, 0.0, 1.0, true)?;
+        if c.tip_velocity == TipVelocity::FiniteDifference
+            && self.integrator.scheme == Scheme::MoreauJean
+        {
+            return Err(SceneError::Invalid {
+                field: "contact.tip_velocity",
+                value: crate::choice::Choice::name(TipVelocity::FiniteDifference).into(),
+                requirement: "integrator (Moreau-Jean's stick holds the velocity itself, which a difference of displacements cannot)".into(),
+            });
         }
 
         let d = &self.damping;

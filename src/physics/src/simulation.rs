@@ -8,7 +8,7 @@
 use crate::contact::{Contact, ContactState, Kinetic, Previous, SlipSolve, SlipSolver, Transition};
 use crate::friction::FrictionLaw;
 use crate::integrator::{Coefficients, Integrator, Kinematics};
-use crate::scene::{CheckedScene, InitialState};
+use crate::scene::{CheckedScene, DampingPhase, InitialState, TipVelocity};
 use crate::structure::{singular, ModelError, StructuralModel};
 use serde::{Deserialize, Serialize};
 
@@ -126,14 +126,18 @@ pub struct Simulator {
     scene: CheckedScene,
     model: StructuralModel,
     integrator: Integrator,
+    /// With `contact.damping_phase = slip`: the undamped integrator of the stick phase
+    /// (`integrator` is then the slip phase's). None otherwise.
+    stick_integrator: Option<Integrator>,
     contact: Contact,
     law: Box<dyn FrictionLaw>,
     belt_speed: f64,
     normal_force: f64,
     external: Option<ExternalFriction>,
     /// Integrator for the shorter last step that lands on a requested time; rebuilt
-    /// only when that length changes.
+    /// only when that length (`landing_length`) or the phase's damping changes.
     landing: Option<Integrator>,
+    landing_length: f64,
     state: SimulationState,
     /// The most recent transitions, oldest first (see [`Simulator::transitions`]).
     transitions: Vec<Transition>,
@@ -169,13 +173,24 @@ impl Simulator {
         model: StructuralModel,
         law: Box<dyn FrictionLaw>,
     ) -> Result<Self, SimulationError> {
+        let (a, b) = phase_damping(&scene, ContactState::Slip);
         let integrator = Integrator::new(
             &model,
             Coefficients::from_scene(&scene),
             scene.time.step,
-            scene.damping.mass_proportional,
-            scene.damping.stiffness_proportional,
+            a,
+            b,
         )?;
+        let stick_integrator = match scene.contact.damping_phase {
+            DampingPhase::Always => None,
+            DampingPhase::Slip => Some(Integrator::new(
+                &model,
+                Coefficients::from_scene(&scene),
+                scene.time.step,
+                0.0,
+                0.0,
+            )?),
+        };
         let contact = Contact::new(&scene, integrator.coefficients());
         let state = initial_state(&scene, &model)?;
         Ok(Self {
@@ -184,10 +199,12 @@ impl Simulator {
             scene,
             model,
             integrator,
+            stick_integrator,
             contact,
             law,
             external: None,
             landing: None,
+            landing_length: 0.0,
             state,
             transitions: Vec::with_capacity(256),
             keep_all_transitions: false,
@@ -396,17 +413,7 @@ impl Simulator {
         let landing_steps = if split { 2 } else { 1 };
         let remaining = target - self.state.time;
         if remaining > tolerance {
-            let length = remaining / landing_steps as f64;
-            let reusable = matches!(&self.landing, Some(i) if i.dt() == length);
-            if !reusable {
-                self.landing = Some(Integrator::new(
-                    &self.model,
-                    Coefficients::from_scene(&self.scene),
-                    length,
-                    self.scene.damping.mass_proportional,
-                    self.scene.damping.stiffness_proportional,
-                )?);
-            }
+            self.landing_length = remaining / landing_steps as f64;
             for k in 0..landing_steps {
                 let switched = self.take_step(true)?;
                 if switched && stop_at_switch && k + 1 < landing_steps {
@@ -432,7 +439,24 @@ impl Simulator {
     }
 
     /// Takes one step; true when the contact switched between stick and slip in it.
+    /// The step's damping is that of the phase the contact is in at its start, so that
+    /// with `damping_phase = slip` the damping switches at the transitions.
     fn take_step(&mut self, landing: bool) -> Result<bool, SimulationError> {
+        let damping = phase_damping(&self.scene, self.state.contact);
+        if landing {
+            let length = self.landing_length;
+            let reusable =
+                matches!(&self.landing, Some(i) if i.dt() == length && i.damping() == damping);
+            if !reusable {
+                self.landing = Some(Integrator::new(
+                    &self.model,
+                    Coefficients::from_scene(&self.scene),
+                    length,
+                    damping.0,
+                    damping.1,
+                )?);
+            }
+        }
         let static_limit = self.static_limit();
         let kinetic = match self.external {
             Some(ExternalFriction {
@@ -457,10 +481,16 @@ impl Simulator {
                 normal_force: self.normal_force,
             },
         };
-        let integrator = match (landing, self.landing.as_mut()) {
-            (true, Some(short)) => short,
+        let integrator = match (
+            landing,
+            self.landing.as_mut(),
+            self.stick_integrator.as_mut(),
+        ) {
+            (true, Some(short), _) => short,
+            (false, _, Some(stick)) if self.state.contact == ContactState::Stick => stick,
             _ => &mut self.integrator,
         };
+        let finite_difference = self.scene.contact.tip_velocity == TipVelocity::FiniteDifference;
         let dt = integrator.dt();
         let vb = self.belt_speed;
         let state = &mut self.state;
@@ -469,7 +499,15 @@ impl Simulator {
             relative_velocity: state.relative_velocity,
             force: state.contact_force,
         };
-        let trial = integrator.trial(&self.model, &state.kinematics);
+        let mut trial = integrator.trial(&self.model, &state.kinematics);
+        if finite_difference {
+            // v_tip,n+1 = (u_tip,n+1 - u_tip,n) / dt is affine in F as the integrator's
+            // velocity is: the contact solves on it unchanged.
+            trial.start_tip_velocity = vb - state.relative_velocity;
+            trial.free_tip_velocity =
+                (trial.free_tip_displacement - trial.start_tip_displacement) / dt;
+            trial.velocity_per_force = trial.displacement_per_force / dt;
+        }
         let resolution = self
             .contact
             .resolve(&trial, previous, vb, static_limit, kinetic);
@@ -484,8 +522,12 @@ impl Simulator {
             state.steps_since_anchor += 1;
             state.time = state.anchor_time + state.steps_since_anchor as f64 * dt;
         }
-        let new_tip_v = self.model.tip_value(&state.kinematics.velocity);
         let new_tip_u = self.model.tip_value(&state.kinematics.displacement);
+        let new_tip_v = if finite_difference {
+            (new_tip_u - trial.start_tip_displacement) / dt
+        } else {
+            self.model.tip_value(&state.kinematics.velocity)
+        };
         let relative = vb - new_tip_v;
         if ![
             new_tip_u,
@@ -538,7 +580,19 @@ impl Simulator {
     }
 }
 
-/// The state at t = 0: undeformed, stuck to the belt.
+/// The Rayleigh coefficients (a, b) of a step that starts in contact state `contact`.
+fn phase_damping(scene: &CheckedScene, contact: ContactState) -> (f64, f64) {
+    match (scene.contact.damping_phase, contact) {
+        (DampingPhase::Slip, ContactState::Stick) => (0.0, 0.0),
+        _ => (
+            scene.damping.mass_proportional,
+            scene.damping.stiffness_proportional,
+        ),
+    }
+}
+
+/// The state at t = 0: stuck to the belt, undeformed or in the static shape under the
+/// preload.
 fn initial_state(
     scene: &CheckedScene,
     model: &StructuralModel,
@@ -547,6 +601,14 @@ fn initial_state(
     let mut kinematics = Kinematics::at_rest(n);
     let vb = scene.loading.belt_speed;
     let mut holding = 0.0;
+    if scene.contact.preload > 0.0 {
+        // u_0 = K^-1 c P: K u_0 = c P is balanced by a holding force P, so the
+        // acceleration below is unchanged by the preload.
+        let load =
+            scene.contact.preload * scene.friction.static_coefficient * scene.loading.normal_force;
+        kinematics.displacement = model.static_displacement(load)?;
+        holding = load;
+    }
     if scene.contact.initial_state == InitialState::QuasiStatic {
         // v_0 = v_b psi / (c . psi) with psi = K^-1 c: the tip at belt speed and the rest
         // of the beam moving in the static tip-load shape, so that the first step needs
@@ -557,10 +619,7 @@ fn initial_state(
         // Consistent acceleration with the tip held (c . a_0 = 0) under C = a M + b K:
         // M a_0 = -C v_0 + c lambda_0 gives a_0 = -a v_0 + (a v_b / (c . w)) w with
         // w = M^-1 c, and lambda_0 = a v_b / (c . w) + b v_b / (c . psi).
-        let (a, b) = (
-            scene.damping.mass_proportional,
-            scene.damping.stiffness_proportional,
-        );
+        let (a, b) = phase_damping(scene, ContactState::Stick);
         let mass_factor = model.mass.cholesky().map_err(singular("mass"))?;
         let mut w = model.tip_vector();
         mass_factor.solve_in_place(&mut w);
@@ -573,7 +632,7 @@ fn initial_state(
         {
             *acc = -a * vel + a * vb / tip_w * wi;
         }
-        holding = a * vb / tip_w + b * vb / tip_psi;
+        holding += a * vb / tip_w + b * vb / tip_psi;
     }
     Ok(SimulationState {
         step: 0,

@@ -12,8 +12,8 @@ use crate::variables::{
     Access, Causality, Dependencies, InitialDependencies, Variability, Variable,
 };
 use stickslip::scene::{
-    Clamp, FidelityLevel, FrictionLawKind, HoldingForce, Inference, InitialState, ModalBasis,
-    Scheme, SlidingVelocity,
+    Clamp, DampingPhase, FidelityLevel, FrictionLawKind, HoldingForce, Inference, InitialState,
+    ModalBasis, Scheme, SlidingVelocity, TipVelocity,
 };
 use stickslip::simulation::ExternalCoupling;
 
@@ -152,6 +152,27 @@ pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &[
         InitialState,
         "State at t = 0",
         |m: StickSlipBeam| m.settings.scene.contact.initial_state
+    ),
+    real_parameter!(
+        23,
+        "contact.preload",
+        None,
+        "Tip preload at t = 0 as a fraction of mu_s F_n, in [0, 1): start in the static shape under it",
+        |m: StickSlipBeam| m.settings.scene.contact.preload
+    ),
+    choice_parameter!(
+        24,
+        "contact.tip_velocity",
+        TipVelocity,
+        "Tip velocity the contact evaluates",
+        |m: StickSlipBeam| m.settings.scene.contact.tip_velocity
+    ),
+    choice_parameter!(
+        25,
+        "contact.damping_phase",
+        DampingPhase,
+        "Contact phases in which the Rayleigh damping acts",
+        |m: StickSlipBeam| m.settings.scene.contact.damping_phase
     ),
     real_parameter!(
         30,
