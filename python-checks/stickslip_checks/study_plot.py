@@ -1,7 +1,8 @@
 """Speed against accuracy: the plot of `stickslip study` (see study). Reads
 OUT_DIR/study.csv, draws pareto.png (RMS tip-deflection error against wall time, the
 Pareto front joined) and prints the size of the front and, if auto_verification.csv is
-there, how many fidelity = auto verification cases hold.
+there or in OUT_DIR/auto (where the main job's `study --verify-auto` writes it), how many
+fidelity = auto verification cases hold.
 
 Usage: python -m stickslip_checks.study_plot [OUT_DIR]   (or stickslip-study-plot;
 default <repo>/out/study). Exits 1 if study.csv is missing or its pareto column marks
@@ -32,8 +33,9 @@ def main(argv: list[str] | None = None) -> int:
     figure = out / "pareto.png"
     study.plot(rows, front, figure)
     print(f"{len(rows)} runs, {len(front)} on the Pareto front; plot {figure}")
-    verification = out / "auto_verification.csv"
-    if verification.exists():
+    for verification in (out / "auto_verification.csv", out / "auto" / "auto_verification.csv"):
+        if not verification.exists():
+            continue
         cases = study.read_rows(verification)
         holding = sum(c["holds"] == "1" for c in cases)
         print(f"fidelity = auto: {holding} of {len(cases)} verification cases hold")
