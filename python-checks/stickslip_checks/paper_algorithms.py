@@ -48,6 +48,7 @@ from .tables import format_table, write_csv
 
 ALGORITHMS = {"ours": "paper", "authors'": "paper-authors"}  # table name -> --preset
 FIDELITIES = ("modal", "beam", "plane-stress")
+TITLES = {"ours": "our transient algorithm", "authors'": "the paper authors' algorithm"}
 ANALYTICAL, NETWORK = "analytical", "authors' network"
 T_END = 1.2  # s, the paper's run
 PLOT_FIDELITY = "plane-stress"  # the paper's mesh
@@ -213,9 +214,9 @@ def plot(runs: list[Run], path: Path) -> None:
             run = next(r for r in runs if (r.algorithm, r.fidelity, r.law)
                        == (algorithm, PLOT_FIDELITY, law))
             period = run.summary.get("period")
-            label = f"{law} law" + ("" if period is None else f", period {1e3 * period:.1f} ms")
+            label = (law if law == NETWORK else f"{law} law") + ("" if period is None else f", period {1e3 * period:.1f} ms")
             axis.plot(run.time, 1e3 * run.tip_deflection, label=label, **styles[law])
-        axis.set_title(f"{algorithm} algorithm (--preset {ALGORITHMS[algorithm]})", fontsize=10)
+        axis.set_title(f"{TITLES[algorithm]} (--preset {ALGORITHMS[algorithm]})", fontsize=10)
         axis.set_ylabel("tip deflection (mm)")
         axis.grid(True, alpha=0.3)
         axis.legend(fontsize=9, loc="lower right")
