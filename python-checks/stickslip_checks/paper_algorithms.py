@@ -196,25 +196,31 @@ def spread_lines(numbers: list[list]) -> list[str]:
         mine = [r for r in numbers if r[2] == law]
         parts = []
         for name, (column, scale, unit) in columns.items():
-            fidelity = max(np.ptp([r[column] for r in mine if r[0] == a]) for a in ALGORITHMS)
-            algorithm = max(np.ptp([r[column] for r in mine if r[1] == f]) for f in FIDELITIES)
+            fidelity = max(_spread([r[column] for r in mine if r[0] == a]) for a in ALGORITHMS)
+            algorithm = max(_spread([r[column] for r in mine if r[1] == f]) for f in FIDELITIES)
             parts.append(f"{name} {scale * fidelity:.2f} / {scale * algorithm:.2f} {unit}")
         lines.append(f"  {law}: spread over fidelities / between algorithms: "
                      + "; ".join(parts))
     return lines
 
 
+def _spread(values: list) -> float:
+    """max - min of the numbers in `values` (NaN if one is missing: a run without slip)."""
+    return float(np.ptp(values)) if None not in values else float("nan")
+
+
 def plot(runs: list[Run], path: Path) -> None:
     """Tip deflection at PLOT_FIDELITY: one row per algorithm, both laws in each."""
     plt = plots._pyplot()
     fig, axes = plt.subplots(len(ALGORITHMS), 1, figsize=(10, 7), sharex=True, sharey=True)
+    legend = {ANALYTICAL: "analytical law (paper Eq. 6)", NETWORK: "the authors' network"}
     styles = {ANALYTICAL: dict(color="black", lw=1.4), NETWORK: dict(color="tab:red", lw=1.0)}
     for axis, algorithm in zip(axes, ALGORITHMS):
         for law in (ANALYTICAL, NETWORK):
             run = next(r for r in runs if (r.algorithm, r.fidelity, r.law)
                        == (algorithm, PLOT_FIDELITY, law))
             period = run.summary.get("period")
-            label = (law if law == NETWORK else f"{law} law") + ("" if period is None else f", period {1e3 * period:.1f} ms")
+            label = legend[law] + ("" if period is None else f", period {1e3 * period:.1f} ms")
             axis.plot(run.time, 1e3 * run.tip_deflection, label=label, **styles[law])
         axis.set_title(f"{TITLES[algorithm]} (--preset {ALGORITHMS[algorithm]})", fontsize=10)
         axis.set_ylabel("tip deflection (mm)")
