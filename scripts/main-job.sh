@@ -50,6 +50,9 @@ echo
 echo "== The paper authors' network (their MATLAB fitrnet, converted to ONNX) in the paper scene beside the analytical law (fmpy)"
 "$python" -m stickslip_checks.paper_authors "$out"
 echo
+echo "== The paper scene under our transient algorithm and the paper authors' (--preset paper / paper-authors), analytical law and their network, every fidelity (command line)"
+"$python" -m stickslip_checks.paper_algorithms "$out"
+echo
 echo "== The paper scene through the FMI 2.0 and the FMI 3.0 FMUs side by side (fmpy)"
 "$python" -m stickslip_checks.fmi_versions
 echo
