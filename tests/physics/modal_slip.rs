@@ -1,0 +1,115 @@
+//! The modal slip phase's change of basis (`modal_slip`): projection and expansion
+//! against the full plane-stress mesh they map to and from.
+
+use stickslip::modal_slip::{SlipBasis, SlipBasisError};
+use stickslip::scene::CheckedScene;
+use stickslip::structure::StructuralModel;
+
+/// The paper's scene on a coarse plane-stress mesh (4 mm elements: a few hundred dofs,
+/// so that the tests stay fast); the change of basis does not depend on the mesh size.
+fn mesh() -> StructuralModel {
+    StructuralModel::plane_stress(&CheckedScene::paper(), 0.04)
+}
+
+/// The authors' cut-off, 1e4 rad/s.
+const AUTHORS_CUTOFF: f64 = 1e4;
+
+fn full_energy(model: &StructuralModel, u: &[f64], v: &[f64]) -> f64 {
+    let mut scratch = vec![0.0; model.dofs()];
+    0.5 * (model.mass.bilinear(v, v, &mut scratch) + model.stiffness.bilinear(u, u, &mut scratch))
+}
+
+/// A deterministic vector with entries of every sign and size.
+fn pattern(n: usize, seed: f64) -> Vec<f64> {
+    (0..n)
+        .map(|i| ((i as f64 + 1.0) * seed).sin() * (1.0 + (i % 7) as f64))
+        .collect()
+}
+
+#[test]
+fn the_basis_holds_exactly_the_modes_below_the_cutoff() {
+    let model = mesh();
+    let basis = SlipBasis::below(&model, AUTHORS_CUTOFF).unwrap();
+    let omega = basis.frequencies();
+    assert!(omega.iter().all(|&w| w < AUTHORS_CUTOFF));
+    // The next mode of the full mesh is at or above the cut-off: none below was missed.
+    let more = stickslip::modal::modes_of(&model, basis.len() + 1).unwrap();
+    assert!(more.eigenvalues[basis.len()].sqrt() >= AUTHORS_CUTOFF);
+    // A higher cut-off keeps at least as many modes.
+    let wider = SlipBasis::below(&model, 4.0 * AUTHORS_CUTOFF).unwrap();
+    assert!(
+        wider.len() > basis.len(),
+        "{} vs {}",
+        wider.len(),
+        basis.len()
+    );
+}
+
+#[test]
+fn a_cutoff_below_the_first_mode_or_not_positive_is_refused() {
+    let model = mesh();
+    assert!(matches!(
+        SlipBasis::below(&model, 1.0),
+        Err(SlipBasisError::NoModeBelow { .. })
+    ));
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        assert!(matches!(
+            SlipBasis::below(&model, bad),
+            Err(SlipBasisError::InvalidCutoff(_))
+        ));
+    }
+}
+
+#[test]
+fn a_state_in_the_span_of_the_basis_comes_back_to_rounding() {
+    let model = mesh();
+    let basis = SlipBasis::below(&model, AUTHORS_CUTOFF).unwrap();
+    let q = pattern(basis.len(), 0.37);
+    let u = basis.expand(&q);
+    let back = basis.project(&u);
+    // Phi^T M Phi = I holds to ~1e-12 on the diagonal and 1e-9 off it (the Lanczos
+    // vectors' orthogonality, tested in modal.rs): the round trip's error is bounded by
+    // that times |q|, and 1e-8 |q| leaves a margin of ten.
+    let norm = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+    for (a, b) in q.iter().zip(&back) {
+        assert!((a - b).abs() < 1e-8 * norm, "{a} vs {b}");
+    }
+    // And expanding again gives the same full vector.
+    let again = basis.expand(&back);
+    let scale = u.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    for (a, b) in u.iter().zip(&again) {
+        assert!((a - b).abs() < 1e-8 * scale, "{a} vs {b}");
+    }
+}
+
+#[test]
+fn the_projected_energy_equals_the_full_energy_restricted_to_the_basis() {
+    let model = mesh();
+    let basis = SlipBasis::below(&model, AUTHORS_CUTOFF).unwrap();
+    // A full state with components outside the basis: the static tip-load shape (mostly
+    // mode 1, plus every higher bending mode) and an arbitrary velocity.
+    let u = model.static_displacement(50.0).unwrap();
+    let v: Vec<f64> = pattern(model.dofs(), 0.61)
+        .iter()
+        .map(|x| 1e-3 * x)
+        .collect();
+    let (q, q_dot) = (basis.project(&u), basis.project(&v));
+    let modal = basis.energy(&q, &q_dot);
+    // The full model's energy of the state restricted to the basis, Phi Phi^T M (u, v).
+    let restricted = full_energy(&model, &basis.expand(&q), &basis.expand(&q_dot));
+    // phi_i^T K phi_i = omega_i^2 to the eigenpairs' accuracy (relative residual 1e-10,
+    // RITZ_TOLERANCE) and u^T K u carries the round-off of K's axial entries (~1e11
+    // against bending ~1e3, cond ~1e8 x 1e-16): 1e-6 relative is well above both.
+    assert!(
+        (modal - restricted).abs() < 1e-6 * restricted,
+        "modal {modal} J vs restricted {restricted} J"
+    );
+    // The modes dropped carry energy: the full state's is larger, never smaller.
+    let full = full_energy(&model, &u, &v);
+    assert!(full > restricted, "{full} vs {restricted}");
+    // The static shape is almost all mode 1: its strain energy is kept to within the
+    // higher modes' share of the tip compliance (a few per cent for a slender beam).
+    let strain_kept = basis.energy(&q, &vec![0.0; q.len()]);
+    let strain_full = full_energy(&model, &u, &vec![0.0; u.len()]);
+    assert!(strain_kept > 0.9 * strain_full && strain_kept <= strain_full * (1.0 + 1e-9));
+}
