@@ -1,11 +1,15 @@
 //! The modal slip phase's change of basis (`modal_slip`): projection and expansion
 //! against the full plane-stress mesh they map to and from.
 
+use stickslip::law_source::LawSource;
 use stickslip::modal_slip::{SlipBasis, SlipBasisError};
 use stickslip::scene::CheckedScene;
+use stickslip::scene::FidelityLevel;
+use stickslip::scene_preset::ScenePreset;
+use stickslip::simulation::Simulator;
 use stickslip::structure::StructuralModel;
 
-/// The paper's scene on a coarse plane-stress mesh (4 mm elements: a few hundred dofs,
+/// The paper's scene on a coarse plane-stress mesh (4 cm elements: a few hundred dofs,
 /// so that the tests stay fast); the change of basis does not depend on the mesh size.
 fn mesh() -> StructuralModel {
     StructuralModel::plane_stress(&CheckedScene::paper(), 0.04)
@@ -112,4 +116,112 @@ fn the_projected_energy_equals_the_full_energy_restricted_to_the_basis() {
     let strain_kept = basis.energy(&q, &vec![0.0; q.len()]);
     let strain_full = full_energy(&model, &u, &vec![0.0; u.len()]);
     assert!(strain_kept > 0.9 * strain_full && strain_kept <= strain_full * (1.0 + 1e-9));
+}
+
+/// The paper authors' preset on the coarse mesh, slipping on the modes below `cutoff`
+/// (0: on the full mesh).
+fn authors_on_mesh(cutoff: f64) -> Simulator {
+    let mut scene = ScenePreset::PaperAuthors.scene();
+    scene.fidelity.level = FidelityLevel::PlaneStress;
+    scene.fidelity.element_size = 0.04;
+    scene.contact.slip_modes_below = cutoff;
+    if std::env::var("PLAIN").is_ok() {
+        scene.contact.tip_velocity = stickslip::scene::TipVelocity::Integrator;
+    }
+    if std::env::var("NODAMP").is_ok() {
+        scene.damping.stiffness_proportional = 1e-4;
+    }
+    let scene = scene.check().unwrap();
+    let law = LawSource::resolve(&scene).unwrap().law().unwrap();
+    Simulator::new(scene, law).unwrap()
+}
+
+/// Breakaway time and the tip deflection at every step of the first slip.
+fn first_slip(mut sim: Simulator) -> (f64, Vec<f64>) {
+    let breakaway = sim.advance_until_switch(1.0).unwrap().expect("breaks away");
+    assert!(!sim.sample().stick);
+    let mut tip = vec![sim.sample().tip_deflection];
+    while !sim.sample().stick && sim.state().time < 1.0 {
+        sim.step().unwrap();
+        tip.push(sim.sample().tip_deflection);
+    }
+    (breakaway, tip)
+}
+
+/// The share of the static tip compliance c^T K^-1 c that the modes above the cut-off
+/// carry: 1 - sum (c . phi_i)^2 / omega_i^2 / (c^T K^-1 c).
+fn truncated_compliance(model: &StructuralModel, basis: &SlipBasis) -> f64 {
+    let full = model.static_tip_deflection(1.0).unwrap();
+    let kept: f64 = basis
+        .model()
+        .tip
+        .iter()
+        .zip(basis.frequencies())
+        .map(|(&(_, c), w)| c * c / (w * w))
+        .sum();
+    1.0 - kept / full
+}
+
+#[test]
+fn the_first_slip_on_modes_follows_the_full_mesh() {
+    let (full_breakaway, full) = first_slip(authors_on_mesh(0.0));
+    let model = mesh();
+    let start = full[0];
+    let amplitude = full.iter().fold(0.0f64, |m, u| m.max((u - start).abs()));
+    let mut previous = f64::INFINITY;
+    for cutoff in [AUTHORS_CUTOFF, 4.0 * AUTHORS_CUTOFF, 16.0 * AUTHORS_CUTOFF] {
+        let (breakaway, modal) = first_slip(authors_on_mesh(cutoff));
+        // Stick runs on the full model: the breakaway is the same step, bit for bit.
+        assert_eq!(breakaway, full_breakaway);
+        let basis = SlipBasis::below(&model, cutoff).unwrap();
+        // The first slip step: the projection drops the modes above the cut-off, which
+        // at breakaway hold the static shape's share of the tip deflection, so the tip
+        // moves by about (truncated compliance share) x u_tip (these modes are
+        // overdamped, zeta = beta omega / 2 >= 50, and do not come back in one step).
+        // Measured 3.4e-7, 2.4e-8, 2.9e-9 m against 3.2e-7, 3.6e-8, 3.1e-9 m: within a
+        // factor 2 of the closed form, and shrinking with the cut-off.
+        let jump = (full[1] - modal[1]).abs();
+        let expected = truncated_compliance(&model, &basis) * start.abs();
+        assert!(
+            jump < 2.0 * expected && jump > 0.5 * expected,
+            "cut-off {cutoff}: first-step difference {jump:e} m against {expected:e} m"
+        );
+        assert!(jump < previous, "{jump:e} vs {previous:e}");
+        previous = jump;
+        // Over the whole slip (~0.12 s) the two runs differ by at most 2.2e-6 m, 0.16 %
+        // of the slip amplitude (1.4 mm), and this does NOT shrink with the cut-off
+        // (1.97, 2.17, 2.20e-6 m at 1e4, 4e4, 1.6e5 rad/s): a smooth drift that the
+        // truncation does not explain; its source is open (docs/paper-authors-scene.md).
+        // 0.5 % bounds the measured drift with a margin of three.
+        let n = full.len().min(modal.len());
+        let difference = full[..n]
+            .iter()
+            .zip(&modal[..n])
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(
+            difference < 5e-3 * amplitude,
+            "cut-off {cutoff}: {difference:e} m against the amplitude {amplitude:e} m"
+        );
+        // The re-stick comes within a step of the full mesh's.
+        assert!(full.len().abs_diff(modal.len()) <= 1);
+    }
+}
+
+#[test]
+fn slip_on_modes_is_refused_where_it_has_no_meaning() {
+    for level in [
+        FidelityLevel::Beam,
+        FidelityLevel::Modal,
+        FidelityLevel::Auto,
+    ] {
+        let mut scene = ScenePreset::PaperAuthors.scene();
+        scene.fidelity.level = level;
+        scene.contact.slip_modes_below = AUTHORS_CUTOFF;
+        let error = scene.check().unwrap_err().to_string();
+        assert!(error.contains("contact.slip_modes_below"), "{error}");
+    }
+    let mut scene = ScenePreset::PaperAuthors.scene();
+    scene.fidelity.level = FidelityLevel::PlaneStress;
+    scene.contact.slip_modes_below = -1.0;
+    assert!(scene.check().is_err());
 }

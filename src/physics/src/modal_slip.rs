@@ -19,6 +19,7 @@
 //! (`modal::modes_of`: shift-invert Lanczos for the plane-stress mesh).
 
 use crate::banded::{dots, SymBandMatrix};
+use crate::integrator::Kinematics;
 use crate::modal::{modes_of, Modes};
 use crate::scene::FidelityLevel;
 use crate::structure::{ModelError, StructuralModel};
@@ -153,6 +154,27 @@ impl SlipBasis {
         for (qi, phi) in q.iter().zip(&self.modes.vectors) {
             x.iter_mut().zip(phi).for_each(|(e, p)| *e += qi * p);
         }
+    }
+
+    /// q = Phi^T M x into `q` (no allocation).
+    pub fn project_into(&self, x: &[f64], q: &mut [f64]) {
+        for (qi, m_phi) in q.iter_mut().zip(&self.mass_modes) {
+            *qi = crate::banded::dot(x, m_phi);
+        }
+    }
+
+    /// Projects displacement, velocity and acceleration of a full state into `modal`.
+    pub fn project_kinematics(&self, full: &Kinematics, modal: &mut Kinematics) {
+        self.project_into(&full.displacement, &mut modal.displacement);
+        self.project_into(&full.velocity, &mut modal.velocity);
+        self.project_into(&full.acceleration, &mut modal.acceleration);
+    }
+
+    /// Expands a modal state into the full state `full`.
+    pub fn expand_kinematics(&self, modal: &Kinematics, full: &mut Kinematics) {
+        self.expand_into(&modal.displacement, &mut full.displacement);
+        self.expand_into(&modal.velocity, &mut full.velocity);
+        self.expand_into(&modal.acceleration, &mut full.acceleration);
     }
 
     /// Energy (J) of a modal state: (1/2) |q'|^2 + (1/2) sum omega_i^2 q_i^2.
