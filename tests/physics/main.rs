@@ -14,6 +14,7 @@ mod errors;
 mod extremes;
 mod layering;
 mod mesh_modes;
+mod modal_slip;
 mod scene_validation;
 mod slip_solve;
 mod statics;

@@ -47,6 +47,10 @@ pub struct SceneArgs {
     /// The tip velocity the contact evaluates.
     #[arg(long, value_parser = parser::<TipVelocity>())]
     pub tip_velocity: Option<TipVelocity>,
+    /// Slip on the plane-stress mesh's modes below this cut-off (rad/s; the paper
+    /// authors' 1e4); 0: on the full model. Plane-stress fidelity only.
+    #[arg(long, allow_negative_numbers = true)]
+    pub slip_modes_below: Option<f64>,
     /// Structural model; `auto` also picks the time step and integrator.
     #[arg(long, value_parser = parser::<FidelityLevel>())]
     pub fidelity: Option<FidelityLevel>,
@@ -124,6 +128,9 @@ impl SceneArgs {
         }
         if let Some(v) = self.tip_velocity {
             scene.contact.tip_velocity = v;
+        }
+        if let Some(cutoff) = self.slip_modes_below {
+            scene.contact.slip_modes_below = cutoff;
         }
         if let Some(level) = self.fidelity {
             scene.fidelity.level = level;

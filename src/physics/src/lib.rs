@@ -32,6 +32,7 @@ pub mod law_source;
 pub mod mesh;
 pub mod metrics;
 pub mod modal;
+pub mod modal_slip;
 pub mod neural;
 pub mod run;
 pub mod scene;

@@ -8,6 +8,7 @@
 use crate::contact::{Contact, ContactState, Kinetic, Previous, SlipSolve, SlipSolver, Transition};
 use crate::friction::FrictionLaw;
 use crate::integrator::{Coefficients, Integrator, Kinematics};
+use crate::modal_slip::{SlipBasis, SlipBasisError};
 use crate::scene::{CheckedScene, DampingPhase, InitialState, TipVelocity};
 use crate::structure::{singular, ModelError, StructuralModel};
 use serde::{Deserialize, Serialize};
@@ -62,6 +63,9 @@ pub struct Sample {
 pub enum SimulationError {
     #[error(transparent)]
     Model(#[from] ModelError),
+    /// The modes of `contact.slip_modes_below` could not be found.
+    #[error(transparent)]
+    SlipBasis(#[from] SlipBasisError),
     /// The state became NaN or infinite.
     #[error("{quantity} became non-finite at t = {time} s")]
     NonFinite { time: f64, quantity: &'static str },
@@ -129,6 +133,9 @@ pub struct Simulator {
     /// With `contact.damping_phase = slip`: the undamped integrator of the stick phase
     /// (`integrator` is then the slip phase's). None otherwise.
     stick_integrator: Option<Integrator>,
+    /// With `contact.slip_modes_below` > 0: the modes slip runs on, the slip phase's
+    /// integrator on their modal model, and the modal coordinates of a step (scratch).
+    modal_slip: Option<ModalSlip>,
     contact: Contact,
     law: Box<dyn FrictionLaw>,
     belt_speed: f64,
@@ -138,6 +145,8 @@ pub struct Simulator {
     /// only when that length (`landing_length`) or the phase's damping changes.
     landing: Option<Integrator>,
     landing_length: f64,
+    /// Whether `landing` was built on the modal slip model.
+    landing_modal: bool,
     state: SimulationState,
     /// The most recent transitions, oldest first (see [`Simulator::transitions`]).
     transitions: Vec<Transition>,
@@ -193,6 +202,10 @@ impl Simulator {
         };
         let contact = Contact::new(&scene, integrator.coefficients());
         let state = initial_state(&scene, &model)?;
+        let modal_slip = match scene.contact.slip_modes_below {
+            cutoff if cutoff > 0.0 => Some(ModalSlip::new(&scene, &model, cutoff)?),
+            _ => None,
+        };
         Ok(Self {
             belt_speed: scene.loading.belt_speed,
             normal_force: scene.loading.normal_force,
@@ -200,11 +213,13 @@ impl Simulator {
             model,
             integrator,
             stick_integrator,
+            modal_slip,
             contact,
             law,
             external: None,
             landing: None,
             landing_length: 0.0,
+            landing_modal: false,
             state,
             transitions: Vec::with_capacity(256),
             keep_all_transitions: false,
@@ -443,13 +458,21 @@ impl Simulator {
     /// with `damping_phase = slip` the damping switches at the transitions.
     fn take_step(&mut self, landing: bool) -> Result<bool, SimulationError> {
         let damping = phase_damping(&self.scene, self.state.contact);
+        let static_limit = self.static_limit();
+        // A step that starts in slip runs on the modal slip model, if there is one.
+        let modal = match &mut self.modal_slip {
+            Some(m) if self.state.contact == ContactState::Slip => Some(m),
+            _ => None,
+        };
+        let on_modes = modal.is_some();
         if landing {
             let length = self.landing_length;
-            let reusable =
-                matches!(&self.landing, Some(i) if i.dt() == length && i.damping() == damping);
+            let reusable = on_modes == self.landing_modal
+                && matches!(&self.landing, Some(i) if i.dt() == length && i.damping() == damping);
             if !reusable {
+                self.landing_modal = on_modes;
                 self.landing = Some(Integrator::new(
-                    &self.model,
+                    modal.as_ref().map_or(&self.model, |m| m.basis.model()),
                     Coefficients::from_scene(&self.scene),
                     length,
                     damping.0,
@@ -457,7 +480,6 @@ impl Simulator {
                 )?);
             }
         }
-        let static_limit = self.static_limit();
         let kinetic = match self.external {
             Some(ExternalFriction {
                 kinetic: ExternalKinetic::Magnitude(force),
@@ -481,14 +503,25 @@ impl Simulator {
                 normal_force: self.normal_force,
             },
         };
-        let integrator = match (
+        let (integrator, model, mut modal_state) = match (
             landing,
             self.landing.as_mut(),
             self.stick_integrator.as_mut(),
+            modal,
         ) {
-            (true, Some(short), _) => short,
-            (false, _, Some(stick)) if self.state.contact == ContactState::Stick => stick,
-            _ => &mut self.integrator,
+            (true, Some(short), _, Some(m)) => {
+                (short, m.basis.model(), Some((&m.basis, &mut m.state)))
+            }
+            (true, Some(short), _, None) => (short, &self.model, None),
+            (false, _, _, Some(m)) => (
+                &mut m.integrator,
+                m.basis.model(),
+                Some((&m.basis, &mut m.state)),
+            ),
+            (false, _, Some(stick), None) if self.state.contact == ContactState::Stick => {
+                (stick, &self.model, None)
+            }
+            _ => (&mut self.integrator, &self.model, None),
         };
         let finite_difference = self.scene.contact.tip_velocity == TipVelocity::FiniteDifference;
         let dt = integrator.dt();
@@ -499,7 +532,16 @@ impl Simulator {
             relative_velocity: state.relative_velocity,
             force: state.contact_force,
         };
-        let mut trial = integrator.trial(&self.model, &state.kinematics);
+        // In slip on modes: q = Phi^T M x of the full state (a state already in their
+        // span after the first slip step, so that this is exact; at stick -> slip it drops
+        // the modes above the cut-off), expanded back after the step.
+        if let Some((basis, q)) = &mut modal_state {
+            basis.project_kinematics(&state.kinematics, q);
+        }
+        let mut trial = match &modal_state {
+            Some((_, q)) => integrator.trial(model, q),
+            None => integrator.trial(model, &state.kinematics),
+        };
         if finite_difference {
             // v_tip,n+1 = (u_tip,n+1 - u_tip,n) / dt is affine in F as the integrator's
             // velocity is: the contact solves on it unchanged.
@@ -511,7 +553,13 @@ impl Simulator {
         let resolution = self
             .contact
             .resolve(&trial, previous, vb, static_limit, kinetic);
-        integrator.finish(&mut state.kinematics, resolution.force);
+        match modal_state {
+            Some((basis, q)) => {
+                integrator.finish(q, resolution.force);
+                basis.expand_kinematics(q, &mut state.kinematics);
+            }
+            None => integrator.finish(&mut state.kinematics, resolution.force),
+        }
         self.last_slip = resolution.slip;
         state.step += 1;
         if landing {
@@ -577,6 +625,39 @@ impl Simulator {
             }
         }
         Ok(samples)
+    }
+}
+
+/// The slip phase on modes below a cut-off (`contact.slip_modes_below`).
+struct ModalSlip {
+    basis: SlipBasis,
+    /// The slip phase's integrator on the modal model.
+    integrator: Integrator,
+    /// Modal coordinates during a step.
+    state: Kinematics,
+}
+
+impl ModalSlip {
+    fn new(
+        scene: &CheckedScene,
+        model: &StructuralModel,
+        cutoff: f64,
+    ) -> Result<Self, SimulationError> {
+        let basis = SlipBasis::below(model, cutoff)?;
+        let (a, b) = phase_damping(scene, ContactState::Slip);
+        let integrator = Integrator::new(
+            basis.model(),
+            Coefficients::from_scene(scene),
+            scene.time.step,
+            a,
+            b,
+        )?;
+        let state = Kinematics::at_rest(basis.len());
+        Ok(Self {
+            basis,
+            integrator,
+            state,
+        })
     }
 }
 
