@@ -124,7 +124,7 @@ impl LuGreLaw {
         let sigma0 = self.parameters.bristle_stiffness;
         let (mu, mu_slope) = self.steady.coefficient_and_slope(v);
         let (g, g_slope) = (mu * normal_force, mu_slope * normal_force);
-        if !(g > 0.0) {
+        if g.is_nan() || g <= 0.0 {
             return Step {
                 deflection: 0.0,
                 deflection_slope: 0.0,
