@@ -15,13 +15,14 @@ use serde::{Deserialize, Serialize};
 
 /// The scene's `[friction.lugre]` table.
 ///
-/// Defaults for the paper scene (tip stiffness 3 EI / L^3 = 6.25e4 N/m, effective tip
-/// mass ~4.9 kg, mu_s F_n = 50 N): sigma0 = 1e7 N/m is 160 times the tip stiffness, so
-/// that the presliding deflection at breakaway, mu_s F_n / sigma0 = 5 um, is 0.6 % of
-/// the 0.8 mm the tip deflects in stick; sigma1 = 1e3 N s/m damps the bristle mode
-/// against the tip mass (sqrt(sigma0 / m) ~ 1.4e3 rad/s) at about 7 % of critical;
+/// Defaults for the paper scene (tip stiffness 3 EI / L^3 = 6.25e3 N/m, first-mode tip
+/// mass M / 4 = 5 kg, mu_s F_n = 50 N): sigma0 = 1e7 N/m is 1600 times the tip
+/// stiffness, so that the presliding deflection at breakaway, mu_s F_n / sigma0 = 5 um,
+/// is 0.06 % of the 8 mm the tip deflects in stick; sigma1 = 1e3 N s/m damps the bristle
+/// mode against the tip mass (sqrt(sigma0 / m) ~ 1.4e3 rad/s) at about 7 % of critical;
 /// sigma2 = 0 because the exponential law g already carries all of the paper's velocity
-/// dependence.
+/// dependence. (The run converges to the memoryless one as sigma0 grows with sigma1 =
+/// sigma2 = 0: docs/friction-with-memory.md.)
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct LuGreParameters {

@@ -35,12 +35,12 @@ crate::choice! {
 
 /// The scene's `[friction.rate_and_state]` table.
 ///
-/// Defaults for the paper scene (F_n = 100 N, belt speed 0.02 m/s, tip stiffness
-/// 6.25e4 N/m, effective tip mass ~4.9 kg): a = 0.01 and b = 0.015 are laboratory
+/// Defaults for the paper scene (F_n = 100 N, belt speed 0.02 m/s, first-mode tip
+/// stiffness omega_1^2 M / 4 = 6.44e3 N/m and mass M / 4 = 5 kg): a = 0.01 and b = 0.015 are laboratory
 /// values for rock and metals (b - a = 0.005, velocity weakening); mu_0 = 0.5 at
 /// V_0 = 1e-3 m/s puts mu_ss at the belt speed at 0.485, beside the exponential law's
 /// 0.471 there; D_c = 1e-5 m lies well below the critical slip of the paper beam
-/// (about 1.3e-4 m, docs/friction-with-memory.md), so that the default scene stick-slips.
+/// (4.35e-4 m, docs/friction-with-memory.md), so that the default scene stick-slips.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RateStateParameters {
