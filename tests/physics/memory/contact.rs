@@ -5,7 +5,7 @@
 //! a test says otherwise.
 
 use stickslip::law_source::LawSource;
-use stickslip::memory::rate_state::StateEvolution;
+use stickslip::memory::parameters::StateEvolution;
 use stickslip::run::{run_scene, Run};
 use stickslip::scene::{FidelityLevel, FrictionLawKind, Scene, Scheme, SlidingVelocity};
 use stickslip::simulation::{Sample, Simulator};
@@ -290,7 +290,7 @@ fn the_scene_refuses_bad_parameters_and_options_with_the_reason() {
         edit(&mut s);
         s.check().unwrap_err().to_string()
     };
-    let cases: [(&dyn Fn(&mut Scene), &str); 5] = [
+    let cases: [(&dyn Fn(&mut Scene), &str); 6] = [
         (
             &|s| s.friction.lugre.bristle_stiffness = -1.0,
             "friction.lugre.bristle_stiffness",
@@ -311,6 +311,10 @@ fn the_scene_refuses_bad_parameters_and_options_with_the_reason() {
             &|s| s.contact.sliding_velocity = SlidingVelocity::Tip,
             "a law with state evolves with the relative slip velocity",
         ),
+        (
+            &|s| s.fidelity.level = FidelityLevel::Auto,
+            "none was measured for a law with state",
+        ),
     ];
     for (edit, expected) in cases {
         let text = message(edit);
@@ -324,4 +328,30 @@ fn the_scene_refuses_bad_parameters_and_options_with_the_reason() {
         StateEvolution::Slip
     );
     assert_eq!(parsed.friction.rate_and_state.characteristic_slip, 2e-5);
+}
+
+/// The FMI 3.0 early return stops at a switch of the stick output: for a law with state,
+/// where |v_rel| crosses the stick threshold. `advance_until_switch` ends the step in
+/// which the flag changed, with the transition recorded, and otherwise takes the steps
+/// `advance_to` takes.
+#[test]
+fn the_early_return_stops_where_the_stick_output_switches() {
+    for law in [FrictionLawKind::Lugre, FrictionLawKind::RateAndState] {
+        let checked = scene(law).check().unwrap();
+        let source = LawSource::resolve(&checked).unwrap();
+        let mut stopping = Simulator::new(checked.clone(), source.law().unwrap()).unwrap();
+        let mut plain = Simulator::new(checked.clone(), source.law().unwrap()).unwrap();
+        let mut stops = 0;
+        let mut stuck = stopping.sample().stick;
+        while let Some(time) = stopping.advance_until_switch(0.8).unwrap() {
+            assert_ne!(stopping.sample().stick, stuck, "{law:?} at {time}");
+            stuck = stopping.sample().stick;
+            assert_eq!(stopping.transitions().last().unwrap().time, time);
+            plain.advance_to(time).unwrap();
+            assert_eq!(plain.state(), stopping.state());
+            stops += 1;
+        }
+        assert!(stops >= 2, "{law:?}: {stops}");
+        assert_eq!(stopping.state().time, 0.8);
+    }
 }
