@@ -11,6 +11,7 @@ mod ffi3;
 mod fuzz_regressions;
 mod instance;
 mod long_run;
+mod memory_laws;
 mod model_description;
 mod threads_resources;
 mod values3;

@@ -1,0 +1,153 @@
+//! Friction laws with internal state ("memory"): the force depends on the sliding
+//! history through state variables that evolve with the slip, not on the current
+//! velocity alone. [`MemoryLaw`] is the interface; [`lugre`] (Canudas de Wit et al.
+//! 1995) and [`rate_state`] (Dieterich 1979, Ruina 1983) are the analytical laws, and a
+//! learned law with state implements the same trait.
+//!
+//! # How the time loop uses a law with state
+//!
+//! Over one step [t_n, t_n + dt] the sliding velocity v is held constant (the contact's
+//! slip argument: v_rel at the scheme's law level, see `contact`), and the law advances
+//! its state implicitly over the step from the state it last committed. The contact
+//! solves F = F_step(v(F)) with the step force and its exact total slope dF/dv, state
+//! update included ([`MemoryLaw::step_force_and_slope`], which must not change the
+//! committed state: the slip solve evaluates it many times), and then commits the
+//! step at the accepted velocity ([`MemoryLaw::commit`]). A law that integrates its
+//! state exactly for constant v over the step (both analytical laws do) is stable for
+//! any stiffness and any dt.
+//!
+//! # Example
+//!
+//! ```
+//! use stickslip::memory::{LawStep, MemoryLaw};
+//! use stickslip::memory::lugre::LuGreLaw;
+//! use stickslip::memory::parameters::LuGreParameters;
+//! use stickslip::friction::ExponentialLaw;
+//!
+//! let g = ExponentialLaw { static_coefficient: 0.5, kinetic_coefficient: 0.2, decay: 5.0 };
+//! let mut law = LuGreLaw::new(LuGreParameters::default(), g);
+//! let step = LawStep { dt: 1e-4, sliding_velocity: 0.01, normal_force: 100.0 };
+//! let (force, slope) = law.step_force_and_slope(step); // trial: state unchanged
+//! assert_eq!(law.state(), &[0.0]);
+//! law.commit(step); // accept the step at this velocity
+//! assert!(law.state()[0] > 0.0 && force > 0.0 && slope > 0.0);
+//! ```
+
+pub mod lugre;
+pub mod parameters;
+pub mod rate_state;
+mod relaxation;
+
+/// One time step of a law with state: the sliding velocity `sliding_velocity` (m/s),
+/// held over the step of length `dt` (s), under the normal force `normal_force` (N).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LawStep {
+    /// Step length (s), > 0.
+    pub dt: f64,
+    /// Signed sliding velocity v (m/s) over the step, the same convention as
+    /// `FrictionLaw::sliding_force`: the force acts in its direction.
+    pub sliding_velocity: f64,
+    /// Normal force F_n (N).
+    pub normal_force: f64,
+}
+
+/// One component of a law's state, for names in the FMU and in messages.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StateVariable {
+    /// Short name ("bristle_deflection", "state_theta").
+    pub name: &'static str,
+    /// SI unit ("m", "s", "1").
+    pub unit: &'static str,
+    /// Whether the value must be strictly positive (rate-and-state's theta).
+    pub positive: bool,
+}
+
+/// A state that does not fit a law: wrong length, non-finite, or outside its domain.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("friction law state does not fit: {0}")]
+pub struct MemoryStateError(pub String);
+
+/// A friction law with internal state.
+///
+/// It also implements `FrictionLaw`, whose methods give the **steady-state** force F_ss(v) (and slope): the
+/// force after sliding long at constant v, which is what a memoryless caller (a plot, a
+/// comparison) can be given. The time loop never uses them: it asks
+/// `FrictionLaw::as_memory_mut` for this trait and steps the state.
+///
+/// The state is a short vector of f64 (one entry for both analytical laws); it is part
+/// of a simulation's saved state, so it must round-trip through [`MemoryLaw::state`] and
+/// [`MemoryLaw::set_state`] bit for bit.
+pub trait MemoryLaw: Send {
+    /// The state's components, in the order of [`MemoryLaw::state`].
+    fn state_variables(&self) -> &[StateVariable];
+
+    /// The committed state (after the last [`MemoryLaw::commit`]).
+    fn state(&self) -> &[f64];
+
+    /// Replaces the committed state. Refused with the reason (the law unchanged) if the
+    /// length differs from [`MemoryLaw::state_variables`], a value is not finite, or a
+    /// positive component is not; see [`check_state`].
+    fn set_state(&mut self, state: &[f64]) -> Result<(), MemoryStateError>;
+
+    /// Returns the state to the law's initial state (a run's t = 0).
+    fn reset(&mut self);
+
+    /// The force (N) at the end of `step` from the committed state, and its exact total
+    /// derivative dF/dv (N s/m) with respect to the step's sliding velocity, the state
+    /// update's dependence on v included. Does not change the committed state.
+    fn step_force_and_slope(&mut self, step: LawStep) -> (f64, f64);
+
+    /// Advances the committed state over `step`: the state
+    /// [`MemoryLaw::step_force_and_slope`] used for the same step.
+    fn commit(&mut self, step: LawStep);
+
+    /// Puts the law in the state in which it carries `force` (N) at rest (v = 0) under
+    /// `normal_force` (N), where it can: the start of a preloaded run, whose beam is
+    /// held by that force at t = 0. The default keeps the initial state (a law whose
+    /// force at rest is 0, like rate-and-state's creep law, cannot hold a force at v = 0).
+    fn hold(&mut self, _force: f64, _normal_force: f64) {}
+
+    /// The force difference (N) below which the step's force is rounding noise (see
+    /// `FrictionLaw::resolution`; 0, the default, for laws evaluated in f64).
+    fn force_resolution(&self) -> f64 {
+        0.0
+    }
+}
+
+/// Checks `state` against `variables`: the same length, finite values, and positive
+/// where a variable must be.
+pub fn check_state(variables: &[StateVariable], state: &[f64]) -> Result<(), MemoryStateError> {
+    if state.len() != variables.len() {
+        return Err(MemoryStateError(format!(
+            "{} values for a state of {}",
+            state.len(),
+            variables.len()
+        )));
+    }
+    for (variable, &value) in variables.iter().zip(state) {
+        if !value.is_finite() || (variable.positive && value <= 0.0) {
+            let requirement = if variable.positive {
+                "finite and > 0"
+            } else {
+                "finite"
+            };
+            return Err(MemoryStateError(format!(
+                "{} = {value:e} {}; it must be {requirement}",
+                variable.name, variable.unit
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// [`check_state`], then `state` copied into `target` (of the same length once checked):
+/// a law's [`MemoryLaw::set_state`] in one call, the law unchanged on refusal.
+pub fn set_checked(
+    variables: &[StateVariable],
+    target: &mut [f64],
+    state: &[f64],
+) -> Result<(), MemoryStateError> {
+    check_state(variables, state)?;
+    target.copy_from_slice(state);
+    Ok(())
+}
