@@ -125,7 +125,9 @@ mod tests {
             );
             assert!((powf(x, 1.5) - x * x.sqrt()).abs() <= 4.0 * f64::EPSILON * x * x);
             assert!((cosh(x) - (e.sqrt() + 1.0 / e.sqrt()) / 2.0).abs() <= 8.0 * f64::EPSILON * e);
-            assert!((hypot(3.0 * x, 4.0 * x) - 5.0 * x).abs() <= 4.0 * f64::EPSILON * x);
+            // musl's hypot is within 1 ulp, not correctly rounded (8.694999999999999 for
+            // 5 x 1.739), so the bound is on the result's scale.
+            assert!((hypot(3.0 * x, 4.0 * x) - 5.0 * x).abs() <= 4.0 * f64::EPSILON * 5.0 * x);
             assert!((atan2(x, x) - std::f64::consts::FRAC_PI_4).abs() <= f64::EPSILON);
             let xf = x as f32;
             let (e, t) = (exp(f64::from(xf)), tanh(f64::from(xf)));
