@@ -3,7 +3,7 @@
 //! - the network's forward pass with its slope (the shipped plain network, f64), as the
 //!   time-step loop runs it (`stickslip::neural::forward::Forward`: unfused, AVX2 where
 //!   detected), against the fused AVX2 + FMA kernel it replaced, kept here only as the
-//!   baseline ([`fused`], the same blocked layout and tanh with every a b + c fused);
+//!   baseline (`fused`: forward.rs as it was, benches/reproducible/fused_forward.rs);
 //! - the paper scene with the analytical law (1.2 s, stepping only, modal and plane
 //!   stress), whose `exp` is now the `libm` crate's, against the same law with the
 //!   platform's `f64::exp` (glibc's, FMA kernel on this CPU) written here
@@ -29,162 +29,9 @@ use stickslip_tests::bench::{ratio, shown, table_note, Samples};
 const SAMPLE_SIZE: usize = 10;
 const INPUTS: usize = 2_000;
 
-/// The forward pass before issue 25: the blocked layout of `neural::forward` (blocks of
-/// 20 outputs, column after column), compiled for AVX2 + FMA with every a b + c fused.
-/// f64 and tanh only (the shipped networks).
-mod fused {
-    const BLOCK: usize = 20;
-
-    pub struct Layer {
-        inputs: usize,
-        padded: usize,
-        weights: Vec<f64>,
-        biases: Vec<f64>,
-    }
-
-    impl Layer {
-        pub fn new(rows: &[Vec<f64>], biases: &[f64]) -> Layer {
-            let inputs = rows[0].len();
-            let padded = rows.len().div_ceil(BLOCK) * BLOCK;
-            let mut weights = Vec::with_capacity(padded * inputs);
-            for start in (0..padded).step_by(BLOCK) {
-                for i in 0..inputs {
-                    for o in start..start + BLOCK {
-                        weights.push(rows.get(o).map_or(0.0, |row| row[i]));
-                    }
-                }
-            }
-            let mut biases = biases.to_vec();
-            biases.resize(padded, 0.0);
-            Layer {
-                inputs,
-                padded,
-                weights,
-                biases,
-            }
-        }
-    }
-
-    /// The old kernel's tanh: expm1 by Cody-Waite reduction and a degree-13 polynomial
-    /// by Estrin's scheme, fused.
-    #[inline(always)]
-    fn tanh(z: f64) -> f64 {
-        const LN2_HI: f64 = f64::from_bits(0x3FE6_2E42_FEE0_0000);
-        const LN2_LO: f64 = f64::from_bits(0x3DEA_39EF_3579_3C76);
-        const ROUND: f64 = 6_755_399_441_055_744.0;
-        // 1 / k! for k = 2..13.
-        const C: [f64; 12] = [
-            1.0 / 2.0,
-            1.0 / 6.0,
-            1.0 / 24.0,
-            1.0 / 120.0,
-            1.0 / 720.0,
-            1.0 / 5_040.0,
-            1.0 / 40_320.0,
-            1.0 / 362_880.0,
-            1.0 / 3_628_800.0,
-            1.0 / 39_916_800.0,
-            1.0 / 479_001_600.0,
-            1.0 / 6_227_020_800.0,
-        ];
-        let magnitude = z.abs();
-        let x = if 2.0 * magnitude > 40.0 {
-            40.0
-        } else {
-            2.0 * magnitude
-        };
-        let shifted = x.mul_add(std::f64::consts::LOG2_E, ROUND);
-        let n = shifted - ROUND;
-        let r = (-n).mul_add(LN2_LO, (-n).mul_add(LN2_HI, x));
-        let r2 = r * r;
-        let r4 = r2 * r2;
-        let pair = |k: usize| C[k + 1].mul_add(r, C[k]);
-        let q0 = pair(2).mul_add(r2, pair(0));
-        let q1 = pair(6).mul_add(r2, pair(4));
-        let q2 = pair(10).mul_add(r2, pair(8));
-        let q = q2.mul_add(r4 * r4, q1.mul_add(r4, q0));
-        let expm1_r = r2.mul_add(q, r);
-        let bits = shifted.to_bits().wrapping_sub(ROUND.to_bits());
-        let scale = f64::from_bits(bits.wrapping_add(1023) << 52);
-        let m = scale.mul_add(expm1_r, scale - 1.0);
-        (m / (m + 2.0)).copysign(z)
-    }
-
-    /// The network with its scratch buffers (no allocation per call, as in the old one).
-    pub struct Network {
-        layers: Vec<Layer>,
-        output: Vec<f64>,
-        bias: f64,
-        buffers: [Vec<f64>; 4],
-    }
-
-    impl Network {
-        pub fn new(layers: Vec<Layer>, output: Vec<f64>, bias: f64) -> Network {
-            let widest = layers
-                .iter()
-                .map(|l| l.padded.max(l.inputs))
-                .max()
-                .unwrap_or(0);
-            let buffers = std::array::from_fn(|_| vec![0.0; widest]);
-            Network {
-                layers,
-                output,
-                bias,
-                buffers,
-            }
-        }
-
-        /// Value and slope of the network at `x` along `dx` (standardised units).
-        #[target_feature(enable = "avx2,fma")]
-        pub fn run(&mut self, x: &[f64], dx: &[f64]) -> (f64, f64) {
-            let [a, b, da, db] = &mut self.buffers;
-            let (mut x_in, mut y) = (a.as_mut_slice(), b.as_mut_slice());
-            let (mut dx_in, mut dy) = (da.as_mut_slice(), db.as_mut_slice());
-            x_in[..x.len()].copy_from_slice(x);
-            dx_in[..dx.len()].copy_from_slice(dx);
-            for layer in &self.layers {
-                let n = layer.inputs;
-                for (b, start) in (0..layer.padded).step_by(BLOCK).enumerate() {
-                    let mut value: [f64; BLOCK] =
-                        layer.biases[start..start + BLOCK].try_into().unwrap();
-                    let mut tangent = [0.0; BLOCK];
-                    let block = &layer.weights[b * BLOCK * n..(b + 1) * BLOCK * n];
-                    for (i, column) in block.chunks_exact(BLOCK).enumerate() {
-                        let (xi, dxi) = (x_in[i], dx_in[i]);
-                        for l in 0..BLOCK {
-                            value[l] = column[l].mul_add(xi, value[l]);
-                            tangent[l] = column[l].mul_add(dxi, tangent[l]);
-                        }
-                    }
-                    for l in 0..BLOCK {
-                        let a = tanh(value[l]);
-                        y[start + l] = a;
-                        dy[start + l] = tangent[l] * (1.0 - a * a);
-                    }
-                }
-                std::mem::swap(&mut x_in, &mut y);
-                std::mem::swap(&mut dx_in, &mut dy);
-            }
-            let output = &self.output;
-            let dot = |v: &[f64]| {
-                let mut partial = [0.0; 8];
-                let (w8, v8) = (output.chunks_exact(8), v.chunks_exact(8));
-                let mut tail = 0.0;
-                for (w, v) in w8.remainder().iter().zip(v8.remainder()) {
-                    tail += w * v;
-                }
-                for (w, v) in w8.zip(v8) {
-                    for k in 0..8 {
-                        partial[k] = w[k].mul_add(v[k], partial[k]);
-                    }
-                }
-                partial.iter().sum::<f64>() + tail
-            };
-            let n = output.len();
-            (dot(&x_in[..n]) + self.bias, dot(&dx_in[..n]))
-        }
-    }
-}
+/// The forward pass before issue 25, fused on AVX2 + FMA CPUs (the baseline).
+#[path = "reproducible/fused_forward.rs"]
+mod fused;
 
 /// Eq. 6 with the platform's `exp`: `ExponentialLaw` as it was before issue 25.
 struct PlatformExp(ExponentialLaw);
@@ -248,18 +95,13 @@ fn main() {
         .model()
         .clone();
     let features = model.features.len();
-    let (last, hidden) = model.layers.split_last().unwrap();
     let rows: Vec<(Vec<Vec<f64>>, Vec<f64>)> = model
         .layers
         .iter()
         .map(|l| (l.weights.clone(), l.biases.clone()))
         .collect();
     let mut ours = Forward::<f64>::new(features, &rows, model.activation);
-    let layers = hidden
-        .iter()
-        .map(|l| fused::Layer::new(&l.weights, &l.biases))
-        .collect();
-    let mut old = fused::Network::new(layers, last.weights[0].clone(), last.biases[0]);
+    let mut old = fused::Forward::<f64>::new(features, &rows, model.activation);
     let points: Vec<Vec<f64>> = (0..INPUTS)
         .map(|i| {
             (0..features)
@@ -276,8 +118,12 @@ fn main() {
         tangents[..features].copy_from_slice(&tangent);
         ours.run::<true>()
     };
-    // SAFETY: AVX2 and FMA were detected above.
-    let mut run_old = |x: &[f64]| unsafe { old.run(x, &tangent) };
+    let mut run_old = |x: &[f64]| {
+        let (values, tangents) = old.inputs_mut();
+        values[..features].copy_from_slice(x);
+        tangents[..features].copy_from_slice(&tangent);
+        old.run::<true>()
+    };
     // The baseline is the same network: fusing moves the last bits only.
     let worst = points
         .iter()
