@@ -1,7 +1,8 @@
 //! The baseline of benches/reproducible.rs: the network's forward pass as it was before
 //! issue 25 (src/physics/src/neural/forward.rs at ae5887c, its tests left out), whose
 //! AVX2 build fuses every a b + c (FMA), so that its bits depend on the CPU. Kept only
-//! here, to measure what the fixed, unfused kernel costs against it in the same run.
+//! here (f64 only), to measure what the fixed, unfused kernel costs against it in the
+//! same run.
 #![allow(dead_code)]
 
 use std::fmt::Debug;
@@ -68,38 +69,6 @@ impl Real for f64 {
         buffers: &mut Buffers<f64>,
     ) -> (f64, f64) {
         run_network::<f64, 4, FUSED, SLOPE>(network, buffers)
-    }
-}
-
-impl Real for f32 {
-    const LANES: usize = 8;
-    const ZERO: f32 = 0.0;
-    const ONE: f32 = 1.0;
-    const HALF: f32 = 0.5;
-    fn from_f64(x: f64) -> f32 {
-        x as f32
-    }
-    fn to_f64(self) -> f64 {
-        f64::from(self)
-    }
-    #[inline(always)]
-    fn multiply_add<const FUSED: bool>(a: f32, b: f32, c: f32) -> f32 {
-        if FUSED {
-            a.mul_add(b, c)
-        } else {
-            a * b + c
-        }
-    }
-    #[inline(always)]
-    fn tanh<const FUSED: bool>(self) -> f32 {
-        tanh_f32::<FUSED>(self)
-    }
-    #[inline(always)]
-    fn network<const FUSED: bool, const SLOPE: bool>(
-        network: &Network<f32>,
-        buffers: &mut Buffers<f32>,
-    ) -> (f32, f32) {
-        run_network::<f32, 8, FUSED, SLOPE>(network, buffers)
     }
 }
 
@@ -439,45 +408,6 @@ pub fn tanh<const FUSED: bool>(z: f64) -> f64 {
     let expm1_r = fma(r2, q, r);
     let n_bits = shifted.to_bits().wrapping_sub(ROUND.to_bits());
     let scale = f64::from_bits(n_bits.wrapping_add(1023) << 52);
-    let m = fma(scale, expm1_r, scale - 1.0);
-    let t = m / (m + 2.0);
-    t.copysign(z)
-}
-
-#[inline(always)]
-pub fn tanh_f32<const FUSED: bool>(z: f32) -> f32 {
-    const LN2_HI: f32 = 0.693_359_4;
-    const LN2_LO: f32 = -2.121_944_4e-4;
-    const LOG2_E: f32 = std::f32::consts::LOG2_E;
-    const ROUND: f32 = 12_582_912.0;
-    const C: [f32; 6] = [
-        1.0 / 2.0,
-        1.0 / 6.0,
-        1.0 / 24.0,
-        1.0 / 120.0,
-        1.0 / 720.0,
-        1.0 / 5_040.0,
-    ];
-    let fma = <f32 as Real>::multiply_add::<FUSED>;
-    let magnitude = z.abs();
-    let x = if 2.0 * magnitude > 40.0 {
-        40.0
-    } else {
-        2.0 * magnitude
-    };
-    let shifted = fma(x, LOG2_E, ROUND);
-    let n = shifted - ROUND;
-    let r = fma(-n, LN2_LO, fma(-n, LN2_HI, x));
-    let r2 = r * r;
-    let r4 = r2 * r2;
-    let q = fma(
-        fma(C[5], r, C[4]),
-        r4,
-        fma(fma(C[3], r, C[2]), r2, fma(C[1], r, C[0])),
-    );
-    let expm1_r = fma(r2, q, r);
-    let n_bits = shifted.to_bits().wrapping_sub(ROUND.to_bits());
-    let scale = f32::from_bits(n_bits.wrapping_add(127) << 23);
     let m = fma(scale, expm1_r, scale - 1.0);
     let t = m / (m + 2.0);
     t.copysign(z)
