@@ -102,9 +102,9 @@ fn hashes() -> BTreeMap<String, u64> {
         .collect()
 }
 
-/// Runs this test in a child process (`wrapper` before the binary, `env` set) and
-/// parses its hashes and whether it saw FMA.
-fn child(wrapper: &[&str], env: &[(&str, &str)]) -> (BTreeMap<String, u64>, bool) {
+/// Starts this test in a child process (`wrapper` before the binary, `env` set); the
+/// children run while the parent computes its own hashes.
+fn spawn(wrapper: &[&str], env: &[(&str, &str)]) -> (String, std::process::Child) {
     let exe = std::env::current_exe().expect("the test binary");
     let mut command = match wrapper.split_first() {
         Some((program, args)) => {
@@ -122,12 +122,20 @@ fn child(wrapper: &[&str], env: &[(&str, &str)]) -> (BTreeMap<String, u64>, bool
             "--test-threads=1",
         ])
         .env(CHILD, "1")
-        .envs(env.iter().copied());
-    let out = command.output().expect("run the child");
+        .envs(env.iter().copied())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped());
+    let child = command.spawn().expect("start the child");
+    (format!("{wrapper:?} {env:?}"), child)
+}
+
+/// A child's hashes and whether it saw FMA.
+fn finish((what, child): (String, std::process::Child)) -> (BTreeMap<String, u64>, bool) {
+    let out = child.wait_with_output().expect("run the child");
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         out.status.success(),
-        "child {wrapper:?} {env:?} failed:\n{stdout}\n{}",
+        "child {what} failed:\n{stdout}\n{}",
         String::from_utf8_lossy(&out.stderr)
     );
     let mut hashes = BTreeMap::new();
@@ -178,18 +186,18 @@ fn same_bits_with_and_without_fma() {
         }
         return;
     }
-    let native = hashes();
-    let mut columns: Vec<(&str, BTreeMap<String, u64>)> = Vec::new();
-
     let (with, without) = (hwcaps_active(None), hwcaps_active(Some(NO_FMA_TUNABLES)));
     if with.is_some() && with == without {
         panic!("GLIBC_TUNABLES={NO_FMA_TUNABLES} does not change glibc's hwcaps ({with:?})");
     }
-    let (tuned, _) = child(&[], &[("GLIBC_TUNABLES", NO_FMA_TUNABLES)]);
-    columns.push(("glibc -AVX2,-FMA", tuned));
-
-    if found("qemu-x86_64-static") {
-        let (nehalem, fma) = child(&["qemu-x86_64-static", "-cpu", "Nehalem"], &[]);
+    let qemu = found("qemu-x86_64-static");
+    let nehalem = qemu.then(|| spawn(&["qemu-x86_64-static", "-cpu", "Nehalem"], &[]));
+    let tuned = spawn(&[], &[("GLIBC_TUNABLES", NO_FMA_TUNABLES)]);
+    let native = hashes();
+    let mut columns: Vec<(&str, BTreeMap<String, u64>)> = Vec::new();
+    columns.push(("glibc -AVX2,-FMA", finish(tuned).0));
+    if let Some(nehalem) = nehalem {
+        let (nehalem, fma) = finish(nehalem);
         assert!(!fma, "qemu's Nehalem has no FMA");
         columns.push(("qemu Nehalem", nehalem));
     } else {
