@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Debian packages the build needs beyond Rust, Python and gcc: libclang-dev, for the
 # bindgen step of the `fmi` importer crate used by fmu-build's tests, and libtbb12
-# (libtbb.so.12), which ecospy's Ecos library links (python-checks/tests/test_masters.py).
+# (libtbb.so.12), which ecospy's Ecos library links (python-checks/tests/test_masters.py),
+# and qemu-user-static, whose qemu-x86_64-static runs the bit-identity test on a CPU
+# without AVX2/FMA (tests/physics/reproducible.rs).
 # Installs only what is missing.
 set -euo pipefail
 missing=()
-for package in libclang-dev libtbb12; do
+for package in libclang-dev libtbb12 qemu-user-static; do
   dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")
 done
 if [ "${#missing[@]}" -eq 0 ]; then

@@ -16,6 +16,7 @@ mod layering;
 mod memory;
 mod mesh_modes;
 mod modal_slip;
+mod reproducible;
 mod scene_validation;
 mod slip_solve;
 mod statics;

@@ -3,6 +3,7 @@
 //! the closed forms to rounding whatever the step; the tolerances below are rounding
 //! (a few hundred ulps over thousands of steps) unless a comment says otherwise.
 
+use stickslip::elementary::{exp, ln};
 use stickslip::friction::{ExponentialLaw, FrictionLaw};
 use stickslip::memory::lugre::LuGreLaw;
 use stickslip::memory::parameters::{LuGreParameters, RateStateParameters, StateEvolution};
@@ -81,7 +82,7 @@ fn lugre_presliding_force_is_the_bristle_stiffness_times_the_displacement() {
     let force = hold(&mut law, dt, v, steps);
     let x = v * dt * steps as f64;
     let g = exponential().coefficient(v) * NORMAL;
-    let closed = g * (1.0 - (-1e7 * x / g).exp());
+    let closed = g * (1.0 - exp(-1e7 * x / g));
     assert!(
         (force - closed).abs() < 1e-12 * closed,
         "{force} vs {closed}"
@@ -219,7 +220,7 @@ fn a_velocity_step_jumps_by_the_direct_effect_and_relaxes_over_the_characteristi
         // A first step of a slip of 1e-9 D_c sees the state unmoved to 1e-9 b F_n.
         let tiny = 1e-9 * d_c / v2;
         let jump = law.step_force_and_slope(step(tiny, v2)).0 - before;
-        let direct = a * (v2 / v1).ln() * NORMAL;
+        let direct = a * ln(v2 / v1) * NORMAL;
         assert!(
             (jump - direct).abs() < 1e-8 * NORMAL,
             "{evolution:?}: {jump} vs {direct}"
@@ -230,10 +231,10 @@ fn a_velocity_step_jumps_by_the_direct_effect_and_relaxes_over_the_characteristi
             let force = law.step_force_and_slope(step(dt, v2)).0;
             law.commit(step(dt, v2));
             let slip = k as f64 * 0.25 * d_c;
-            let decay = (-slip / d_c).exp();
+            let decay = exp(-slip / d_c);
             let log_excess = match evolution {
-                StateEvolution::Aging => (1.0 + (v2 / v1 - 1.0) * decay).ln(),
-                StateEvolution::Slip => (v2 / v1).ln() * decay,
+                StateEvolution::Aging => ln(1.0 + (v2 / v1 - 1.0) * decay),
+                StateEvolution::Slip => ln(v2 / v1) * decay,
             };
             let expected = (p.steady_coefficient(v2) + b * log_excess) * NORMAL;
             assert!(

@@ -2,6 +2,7 @@
 //! `[friction.rate_and_state]`), with their checks: plain data that the scene, the FMU
 //! and the command line read, apart from the laws themselves (`lugre`, `rate_state`).
 
+use crate::elementary;
 use serde::{Deserialize, Serialize};
 
 /// A parameter's check: (dotted name, value, whether its range holds, requirement).
@@ -166,6 +167,7 @@ impl RateStateParameters {
     /// classical (unregularised) law, V > 0 (m/s).
     pub fn steady_coefficient(&self, speed: f64) -> f64 {
         self.reference_coefficient
-            + (self.direct_effect - self.evolution_effect) * (speed / self.reference_velocity).ln()
+            + (self.direct_effect - self.evolution_effect)
+                * elementary::ln(speed / self.reference_velocity)
     }
 }

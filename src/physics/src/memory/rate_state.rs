@@ -18,6 +18,7 @@
 use super::parameters::{RateStateParameters, StateEvolution};
 use super::relaxation::Relaxation;
 use super::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable};
+use crate::elementary;
 use crate::friction::FrictionLaw;
 
 const STATE: [StateVariable; 1] = [StateVariable {
@@ -73,23 +74,23 @@ impl RateStateLaw {
                 // d/dV of theta_n exp(-s) + dt P(s) with ds/dV = dt / D_c.
                 let slope = dt / d_c * (-theta * r.decay + dt * r.average_slope);
                 Step {
-                    log_theta: next.ln(),
+                    log_theta: elementary::ln(next),
                     log_theta_slope: slope / next,
                 }
             }
             StateEvolution::Slip if speed > 0.0 => {
-                let y = (speed * theta / d_c).ln();
+                let y = elementary::ln(speed * theta / d_c);
                 // (exp(-s) - 1) = -s P(s); d/dV [y (exp(-s) - 1)] with dy/dV = 1 / V:
                 // -s P / V - y exp(-s) dt / D_c = -(dt / D_c) (P + y exp(-s)).
                 Step {
-                    log_theta: theta.ln() - y * speed * dt / d_c * r.average,
+                    log_theta: elementary::ln(theta) - y * speed * dt / d_c * r.average,
                     log_theta_slope: -(dt / d_c) * (r.average + y * r.decay),
                 }
             }
             // V = 0: no slip, no change; the slope's log singularity meets a force
             // derivative proportional to v, and their product tends to 0.
             StateEvolution::Slip => Step {
-                log_theta: theta.ln(),
+                log_theta: elementary::ln(theta),
                 log_theta_slope: 0.0,
             },
         }
@@ -102,21 +103,25 @@ impl RateStateLaw {
         // Psi / a with Psi = mu_0 + b ln(V_0 theta / D_c).
         let exponent = (p.reference_coefficient
             + p.evolution_effect
-                * (log_theta + (p.reference_velocity / p.characteristic_slip).ln()))
+                * (log_theta + elementary::ln(p.reference_velocity / p.characteristic_slip)))
             / a;
         let sign = v.signum();
         let speed = v.abs();
         // w = v K with K = exp(Psi / a) / (2 V_0); ln |w|:
-        let log_w = speed.ln() - (2.0 * p.reference_velocity).ln() + exponent;
+        let log_w = elementary::ln(speed) - elementary::ln(2.0 * p.reference_velocity) + exponent;
         if log_w > LARGE_LOG {
             // asinh|w| = ln 2|w|, d asinh / dv = 1 / |v|, w / sqrt(1 + w^2) = sign.
             let mu = a * (log_w + std::f64::consts::LN_2);
             (sign * mu, a / speed, sign * p.evolution_effect)
         } else {
-            let w = sign * log_w.exp();
+            let w = sign * elementary::exp(log_w);
             let root = (1.0 + w * w).sqrt();
-            let k = (exponent - (2.0 * p.reference_velocity).ln()).exp();
-            (a * w.asinh(), a * k / root, p.evolution_effect * w / root)
+            let k = elementary::exp(exponent - elementary::ln(2.0 * p.reference_velocity));
+            (
+                a * elementary::asinh(w),
+                a * k / root,
+                p.evolution_effect * w / root,
+            )
         }
     }
 }
@@ -138,7 +143,7 @@ impl FrictionLaw for RateStateLaw {
             return (0.0, 0.0);
         }
         let speed = sliding_velocity.abs();
-        let log_theta = (self.parameters.characteristic_slip / speed).ln();
+        let log_theta = elementary::ln(self.parameters.characteristic_slip / speed);
         let (mu, mu_v, mu_log_theta) = self.coefficient(sliding_velocity, log_theta);
         // d ln theta_ss / dv = -1 / v.
         (
@@ -193,9 +198,7 @@ impl MemoryLaw for RateStateLaw {
     }
 
     fn commit(&mut self, step: LawStep) {
-        self.state[0] = self
-            .advance(step.dt, step.sliding_velocity.abs())
-            .log_theta
-            .exp();
+        self.state[0] =
+            elementary::exp(self.advance(step.dt, step.sliding_velocity.abs()).log_theta);
     }
 }

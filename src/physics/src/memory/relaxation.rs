@@ -3,6 +3,8 @@
 //! analytical laws advance their state this way for a velocity held over the step,
 //! which is stable (|E| <= 1) however stiff the relaxation.
 
+use crate::elementary;
+
 /// E = exp(-s), P = (1 - exp(-s)) / s and dP/ds at s = c dt >= 0.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Relaxation {
@@ -16,7 +18,7 @@ impl Relaxation {
     /// s = 0.5, where the closed forms lose digits to cancellation (dP/ds =
     /// (E (1 + s) - 1) / s^2 loses eps / s^2), and from the closed forms above.
     pub(crate) fn at(s: f64) -> Self {
-        let decay = (-s).exp();
+        let decay = elementary::exp(-s);
         if s < 0.5 {
             // P = sum_k (-s)^k / (k + 1)!, dP/ds = sum_k k (-s)^(k-1) (-1) / (k + 1)!;
             // 14 terms leave a remainder below 0.5^14 / 15! ~ 5e-17.
@@ -40,7 +42,7 @@ impl Relaxation {
         } else {
             Self {
                 decay,
-                average: -(-s).exp_m1() / s,
+                average: -elementary::exp_m1(-s) / s,
                 average_slope: (decay * (1.0 + s) - 1.0) / (s * s),
             }
         }
@@ -50,6 +52,7 @@ impl Relaxation {
 #[cfg(test)]
 mod tests {
     use super::Relaxation;
+    use crate::elementary;
 
     /// The series and the closed forms meet at s = 0.5 and agree with a central
     /// difference of P elsewhere (h = 1e-5: truncation P''' h^2 / 6 < 1e-11, rounding
@@ -65,7 +68,7 @@ mod tests {
         let h = 1e-5;
         for s in [1e-3, 0.1, 0.4, 0.7, 3.0, 40.0] {
             let r = Relaxation::at(s);
-            assert!((r.average - (1.0 - (-s).exp()) / s).abs() < 1e-15 * (1.0 + 1.0 / s));
+            assert!((r.average - (1.0 - elementary::exp(-s)) / s).abs() < 1e-15 * (1.0 + 1.0 / s));
             let difference =
                 (Relaxation::at(s + h).average - Relaxation::at(s - h).average) / (2.0 * h);
             assert!((r.average_slope - difference).abs() < 1e-10, "s {s}");
