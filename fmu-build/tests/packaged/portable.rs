@@ -252,8 +252,15 @@ fn both(kind: FmuKind, dir: &Path) -> [(&'static str, Fmi2Import); 2] {
         packaged != host_library(),
         "the packaged binary is the host build itself (fmu-build --host-toolchain?): nothing to compare"
     );
-    let host_fmu = fmu_build::package(kind, &fmu_build::host_library_path(), dir)
-        .expect("package the host library");
+    let host_fmu = fmu_build::package(
+        kind,
+        &[(
+            fmu_build::platform::Platform::X86_64Linux,
+            fmu_build::host_library_path(),
+        )],
+        dir,
+    )
+    .expect("package the host library");
     let open = |path: &Path| -> Fmi2Import {
         let import: Fmi2Import = fmi::import::from_path(path)
             .unwrap_or_else(|e| panic!("cannot import {}: {e}", path.display()));
