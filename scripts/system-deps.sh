@@ -4,6 +4,8 @@
 # (libtbb.so.12), which ecospy's Ecos library links (python-checks/tests/test_masters.py).
 # Installs only what is missing.
 set -euo pipefail
+# The foreign FMU binaries and their tests (win64, aarch64 Linux): scripts/cross-deps.sh.
+bash "$(dirname "${BASH_SOURCE[0]}")/cross-deps.sh"
 missing=()
 for package in libclang-dev libtbb12; do
   dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")

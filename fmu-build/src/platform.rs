@@ -136,7 +136,13 @@ pub fn build(platform: Platform, zigbuild: &Zigbuild) -> Result<PathBuf, BuildEr
                     "CARGO_TARGET_X86_64_PC_WINDOWS_GNU_LINKER",
                     "x86_64-w64-mingw32-gcc",
                 )
-                .env("CARGO_PROFILE_RELEASE_STRIP", "symbols");
+                .env("CARGO_PROFILE_RELEASE_STRIP", "symbols")
+                // GNU ld stamps a PE file with the link time by default; without it the
+                // same sources give the same DLL.
+                .env(
+                    "CARGO_TARGET_X86_64_PC_WINDOWS_GNU_RUSTFLAGS",
+                    "-C link-arg=-Wl,--no-insert-timestamp",
+                );
             command
         }
         Platform::Aarch64Linux => {
