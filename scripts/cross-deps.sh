@@ -11,21 +11,5 @@
 # - wine64, qemu-user-static: run the Windows DLL and the aarch64 binary in the tests.
 # Installs only what is missing (no network when everything is there).
 set -euo pipefail
-packages=(rustc-web cargo-web rust-web-src gcc-mingw-w64-x86-64 gcc-aarch64-linux-gnu
-  libc6-dev-arm64-cross wine64 qemu-user-static)
-missing=()
-for package in "${packages[@]}"; do
-  dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")
-done
-if [ "${#missing[@]}" -eq 0 ]; then
-  exit 0
-fi
-if [ "$(id -u)" -eq 0 ]; then
-  sudo=()
-else
-  sudo=(sudo)
-fi
-echo "== apt-get install ${missing[*]}" >&2
-"${sudo[@]}" apt-get update -qq >&2
-DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq --no-install-recommends \
-  "${missing[@]}" >&2
+bash "$(dirname "${BASH_SOURCE[0]}")/apt-install.sh" rustc-web cargo-web rust-web-src \
+  gcc-mingw-w64-x86-64 gcc-aarch64-linux-gnu libc6-dev-arm64-cross wine64 qemu-user-static
