@@ -75,7 +75,9 @@ fn main() {
     let s = model
         .mass
         .linear_combination(1.0 / (0.25 * 1e-8), &model.stiffness, 1.0);
-    let rhs: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+    let rhs: Vec<f64> = (0..n)
+        .map(|i| stickslip::elementary::sin(i as f64))
+        .collect();
     let factor = s.cholesky().unwrap();
     let dense = nalgebra::DMatrix::from_fn(n, n, |i, j| s.get(i, j));
     let dense_chol = dense.clone().cholesky().unwrap();

@@ -151,7 +151,9 @@ type Measured<'a> = (&'a Row, &'a Built, f64);
 
 /// Least-squares slope of log(y) against log(x).
 fn log_slope(points: impl Iterator<Item = (f64, f64)>) -> f64 {
-    let logs: Vec<(f64, f64)> = points.map(|(x, y)| (x.ln(), y.ln())).collect();
+    let logs: Vec<(f64, f64)> = points
+        .map(|(x, y)| (stickslip::elementary::ln(x), stickslip::elementary::ln(y)))
+        .collect();
     let count = logs.len() as f64;
     let mean_x = logs.iter().map(|p| p.0).sum::<f64>() / count;
     let mean_y = logs.iter().map(|p| p.1).sum::<f64>() / count;

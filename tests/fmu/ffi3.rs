@@ -166,7 +166,7 @@ unsafe fn life(kind: FmuKind, steps: usize, name: &str) -> (Vec<Vec<u64>>, Vec<V
         let mut t = 0.0;
         let advance = |t: &mut f64, k: usize| {
             if kind == FmuKind::NeuralFriction {
-                let v = [0.05 * (k as f64 * 0.1).sin()];
+                let v = [0.05 * stickslip::elementary::sin(k as f64 * 0.1)];
                 assert_eq!(fmi3SetFloat64(c, input.as_ptr(), 1, v.as_ptr(), 1), OK);
             }
             step(c, *t, h);

@@ -101,7 +101,7 @@ fn ks_distance(a: &[f64], b: &[f64]) -> f64 {
 /// The KS distance two samples of one distribution stay below with probability 99.9 %:
 /// c(alpha) sqrt((n + m) / (n m)), c = sqrt(-ln(alpha / 2) / 2).
 fn ks_critical(n: f64, m: f64) -> f64 {
-    (-(0.001_f64 / 2.0).ln() / 2.0).sqrt() * ((n + m) / (n * m)).sqrt()
+    (-stickslip::elementary::ln(0.001 / 2.0) / 2.0).sqrt() * ((n + m) / (n * m)).sqrt()
 }
 
 /// Checks one set against the distribution; returns what failed, empty when all holds.

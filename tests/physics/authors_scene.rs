@@ -73,7 +73,7 @@ fn in_a_long_slip_the_slip_only_damping_decays_mode_one_at_its_rayleigh_ratio() 
     let (first, last) = (peaks[0] - centre, peaks[peaks.len() - 1] - centre);
     let cycles = (peaks.len() - 1) as f64;
     // Log decrement delta = 2 pi zeta / sqrt(1 - zeta^2) per cycle (Chopra, Sec. 2.2).
-    let decrement = (first / last).ln() / cycles;
+    let decrement = stickslip::elementary::ln(first / last) / cycles;
     let expected = 2.0 * std::f64::consts::PI * zeta / (1.0 - zeta * zeta).sqrt();
     // 2 %: generalised-alpha adds O((omega dt)^3) damping at omega dt = 0.0036
     // (< 1e-6 of a cycle), sampled peaks miss the true ones by (omega dt)^2 / 2 = 6e-6

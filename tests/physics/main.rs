@@ -15,6 +15,7 @@ mod extremes;
 mod layering;
 mod mesh_modes;
 mod modal_slip;
+mod reproducible;
 mod scene_validation;
 mod slip_solve;
 mod statics;

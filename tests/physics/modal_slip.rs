@@ -26,7 +26,7 @@ fn full_energy(model: &StructuralModel, u: &[f64], v: &[f64]) -> f64 {
 /// A deterministic vector with entries of every sign and size.
 fn pattern(n: usize, seed: f64) -> Vec<f64> {
     (0..n)
-        .map(|i| ((i as f64 + 1.0) * seed).sin() * (1.0 + (i % 7) as f64))
+        .map(|i| stickslip::elementary::sin((i as f64 + 1.0) * seed) * (1.0 + (i % 7) as f64))
         .collect()
 }
 

@@ -783,7 +783,7 @@ fn friction_at(inst: &mut InstanceCS, vrs: &FrictionVrs, v: f64, normal: f64) ->
 
 /// The paper's law, Eq. 6, with mu_s = 0.5, mu_k = 0.2, alpha = 5 s/m.
 fn paper_law(v: f64, normal: f64) -> f64 {
-    v.signum() * (0.2 + 0.3 * (-5.0 * v.abs()).exp()) * normal
+    v.signum() * (0.2 + 0.3 * stickslip::elementary::exp(-5.0 * v.abs())) * normal
 }
 
 /// Tolerance of the shipped network (`weights/paper-plain.json`) against Eq. 6 at 0.1 m/s
@@ -817,7 +817,7 @@ fn e_neural_friction_fmu_matches_the_law() {
     assert_eq!(law[0], LawChoice::Exponential.code());
     for v in [0.1, -0.1] {
         let [force, magnitude, coefficient, limit] = friction_at(&mut exponential, &vrs, v, 100.0);
-        let expected = v.signum() * (0.2 + 0.3 * (-5.0f64 * 0.1).exp()) * 100.0;
+        let expected = v.signum() * (0.2 + 0.3 * stickslip::elementary::exp(-5.0 * 0.1)) * 100.0;
         assert!(
             (force - expected).abs() <= 1e-12,
             "exponential at v = {v}: {force} N, expected {expected} N"

@@ -7,6 +7,7 @@
 //! a run uses is `crate::law_source::LawSource`.
 
 use crate::choice::Choice;
+use crate::elementary;
 use crate::scene::{Friction, FrictionLawKind};
 
 crate::choice! {
@@ -75,7 +76,7 @@ impl ExponentialLaw {
     pub fn coefficient(&self, speed: f64) -> f64 {
         self.kinetic_coefficient
             + (self.static_coefficient - self.kinetic_coefficient)
-                * (-self.decay * speed.abs()).exp()
+                * elementary::exp(-self.decay * speed.abs())
     }
 
     /// mu(|v|) (1) and its slope d mu / d|v| = -alpha (mu_s - mu_k) exp(-alpha |v|)
@@ -83,7 +84,7 @@ impl ExponentialLaw {
     /// [`ExponentialLaw::coefficient`]'s.
     pub fn coefficient_and_slope(&self, speed: f64) -> (f64, f64) {
         let drop = (self.static_coefficient - self.kinetic_coefficient)
-            * (-self.decay * speed.abs()).exp();
+            * elementary::exp(-self.decay * speed.abs());
         (self.kinetic_coefficient + drop, -self.decay * drop)
     }
 
@@ -95,7 +96,7 @@ impl ExponentialLaw {
     pub fn slope(&self, sliding_velocity: f64, normal_force: f64) -> f64 {
         -self.decay
             * (self.static_coefficient - self.kinetic_coefficient)
-            * (-self.decay * sliding_velocity.abs()).exp()
+            * elementary::exp(-self.decay * sliding_velocity.abs())
             * normal_force
     }
 }
@@ -171,7 +172,7 @@ mod tests {
             -law.sliding_force(0.1, 100.0)
         );
         // Eq. 6 at v = 0.2 m/s: 0.2 + 0.3 e^-1.
-        let expected = (0.2 + 0.3 * (-1.0f64).exp()) * 100.0;
+        let expected = (0.2 + 0.3 * elementary::exp(-1.0)) * 100.0;
         assert!((law.sliding_force(0.2, 100.0) - expected).abs() < 1e-12);
         assert_eq!(law.sliding_force(0.0, 100.0), 0.0);
     }

@@ -15,6 +15,8 @@
 //! (Sec. 2.1); `stability`, closed-form cantilever frequencies, Rayleigh damping at two
 //! modes and the belt speed above which steady sliding is stable. `choice` is the
 //! `Choice` trait and `choice!` macro that every enumerated setting is declared with.
+//! `elementary` holds the transcendental functions (exp, tanh, ...), from the pure-Rust
+//! `libm` crate so that results are the same bits on every CPU and platform.
 //!
 //! The FMI adapter (`stickslip-fmi`), the command line (`stickslip-cli`) and the trainer
 //! (`stickslip-train`) depend on this crate, never the reverse.
@@ -24,6 +26,7 @@ pub mod banded;
 pub mod choice;
 pub mod contact;
 pub mod element;
+pub mod elementary;
 pub mod fidelity;
 pub mod friction;
 pub mod integrator;

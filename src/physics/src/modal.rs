@@ -13,6 +13,7 @@
 //! K = diag(omega_i^2), so its matrices are diagonal.
 
 use crate::banded::{dot, dots, SymBandMatrix};
+use crate::elementary;
 use crate::scene::FidelityLevel;
 use crate::structure::{ModelError, StructuralModel};
 use nalgebra::{DMatrix, SymmetricEigen};
@@ -32,15 +33,28 @@ fn dense_generalized(a: &DMatrix<f64>, b: &DMatrix<f64>) -> Option<(Vec<f64>, DM
     let chol = b.clone().cholesky()?;
     let l = chol.l();
     let l_inv = l.clone().try_inverse()?;
-    let mut c = &l_inv * a * l_inv.transpose();
+    let l_inv_t = l_inv.transpose();
+    let mut c = product(&product(&l_inv, a), &l_inv_t);
     c = (&c + c.transpose()) * 0.5;
     let eig = SymmetricEigen::new(c);
-    let q = l_inv.transpose() * eig.eigenvectors;
+    let q = product(&l_inv_t, &eig.eigenvectors);
     let mut order: Vec<usize> = (0..eig.eigenvalues.len()).collect();
     order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
     let values = order.iter().map(|&i| eig.eigenvalues[i]).collect();
     let vectors = DMatrix::from_fn(q.nrows(), order.len(), |r, c| q[(r, order[c])]);
     Some((values, vectors))
+}
+
+/// A B, each entry summed over k in ascending order with separate products and sums.
+/// Not nalgebra's `*`: above a few rows that calls matrixmultiply, which picks an FMA
+/// kernel at run time, so the modes (and every modal run) had different last bits on a
+/// CPU without FMA (tests/physics/reproducible.rs). These matrices are the subspace's,
+/// at most 2 q x 2 q, so the plain loop costs nothing that shows.
+fn product(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
+    assert_eq!(a.ncols(), b.nrows());
+    DMatrix::from_fn(a.nrows(), b.ncols(), |i, j| {
+        (0..a.ncols()).fold(0.0, |s, k| s + a[(i, k)] * b[(k, j)])
+    })
 }
 
 /// Gram matrix X^T A Y of column sets.
@@ -102,7 +116,9 @@ pub fn lowest_modes(model: &StructuralModel, count: usize) -> Result<Modes, Mode
         .map(|c| {
             (0..n)
                 .map(|i| {
-                    let s = ((i as f64 + 1.0) * (c as f64 + 1.0) * 0.618_033_988_749_895).sin();
+                    let s = elementary::sin(
+                        (i as f64 + 1.0) * (c as f64 + 1.0) * 0.618_033_988_749_895,
+                    );
                     mdiag[i] * if c == 0 { 1.0 } else { s }
                 })
                 .collect()

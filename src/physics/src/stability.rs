@@ -2,6 +2,7 @@
 //! up a sweep: its natural frequencies, the Rayleigh damping that gives a ratio at two of
 //! them, and the belt speed above which steady sliding is linearly stable.
 
+use crate::elementary;
 use crate::scene::{CheckedScene, Damping, FrictionLawKind, SlidingVelocity};
 
 /// beta_n L of the clamped-free beam: the roots of cos(x) cosh(x) = -1 (Meirovitch,
@@ -69,7 +70,7 @@ pub fn sliding_stability_speed(scene: &CheckedScene) -> Option<f64> {
     if damping <= 0.0 {
         return Some(f64::INFINITY);
     }
-    Some((gain / damping).ln().max(0.0) / alpha)
+    Some(elementary::ln(gain / damping).max(0.0) / alpha)
 }
 
 #[cfg(test)]
@@ -80,7 +81,11 @@ mod tests {
     #[test]
     fn the_roots_solve_the_cantilever_frequency_equation() {
         for x in CANTILEVER_BETA_L {
-            assert!((x.cos() * x.cosh() + 1.0).abs() < 1e-12 * x.cosh(), "{x}");
+            assert!(
+                (elementary::cos(x) * elementary::cosh(x) + 1.0).abs()
+                    < 1e-12 * elementary::cosh(x),
+                "{x}"
+            );
         }
     }
 
@@ -123,7 +128,7 @@ mod tests {
         let v = sliding_stability_speed(&scene).unwrap();
         // At v the negative damping of the law equals a + b omega_1^2 = 1 / s.
         let mass = scene.mass_per_length() * scene.geometry.length;
-        let slope = 5.0 * 0.3 * 100.0 * (-5.0 * v).exp();
+        let slope = 5.0 * 0.3 * 100.0 * elementary::exp(-5.0 * v);
         assert!((4.0 / mass * slope - 1.0).abs() < 1e-12);
         raw.friction.law = FrictionLawKind::Coulomb;
         assert_eq!(sliding_stability_speed(&raw.check().unwrap()), None);

@@ -12,6 +12,7 @@ use rand_distr::{Distribution, Normal, StandardNormal, Uniform};
 use serde::{Deserialize, Serialize};
 
 use crate::error::TrainError;
+use stickslip::elementary;
 use stickslip::friction::signum_or_zero;
 use stickslip::neural::{FeatureRole, SyntheticSpec};
 
@@ -232,7 +233,7 @@ impl Synthetic for SyntheticSpec {
     fn exact_force(&self, sliding_velocity: f64, normal_force: f64) -> f64 {
         let coefficient = self.kinetic_coefficient
             + (self.static_coefficient - self.kinetic_coefficient)
-                * (-self.decay * sliding_velocity.abs()).exp();
+                * elementary::exp(-self.decay * sliding_velocity.abs());
         signum_or_zero(sliding_velocity) * coefficient * normal_force
     }
 
@@ -269,7 +270,7 @@ impl Synthetic for SyntheticSpec {
                 continue;
             }
             let force = self.exact_force(v, f_n);
-            let sigma = self.noise_std.hypot(self.relative_noise_std * force);
+            let sigma = elementary::hypot(self.noise_std, self.relative_noise_std * force);
             columns.extend([v, f_n]);
             targets.push(force + sigma * z);
         }

@@ -55,11 +55,11 @@ impl FrictionLaw for SteepLaw {
     }
 
     fn sliding_force(&mut self, v: f64, _normal_force: f64) -> f64 {
-        50.0 * (v / 1e-4).tanh()
+        50.0 * stickslip::elementary::tanh(v / 1e-4)
     }
 
     fn sliding_force_and_slope(&mut self, v: f64, _normal_force: f64) -> (f64, f64) {
-        let t = (v / 1e-4).tanh();
+        let t = stickslip::elementary::tanh(v / 1e-4);
         (50.0 * t, 50.0 / 1e-4 * (1.0 - t * t))
     }
 }

@@ -36,6 +36,7 @@ use nalgebra::{DMatrixView, DMatrixViewMut};
 
 use super::network::{Activation, LayerShape};
 use super::weights::{network_input_range, FeatureRole, NeuralModel, Variant};
+use crate::elementary;
 use crate::friction::signum_or_zero;
 use crate::jacobian::{magnitude_slope, LawJacobian};
 
@@ -121,12 +122,12 @@ impl Jet {
 fn derivatives(activation: Activation, z: f64) -> (f64, f64, f64) {
     match activation {
         Activation::Tanh => {
-            let t = z.tanh();
+            let t = elementary::tanh(z);
             let d1 = 1.0 - t * t;
             (t, d1, -2.0 * t * d1)
         }
         Activation::Sigmoid => {
-            let s = 1.0 / (1.0 + (-z).exp());
+            let s = 1.0 / (1.0 + elementary::exp(-z));
             let d1 = s * (1.0 - s);
             (s, d1, d1 * (1.0 - 2.0 * s))
         }
