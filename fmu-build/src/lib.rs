@@ -419,8 +419,7 @@ fn package_with(
     description: String,
     version: u8,
 ) -> Result<PathBuf, BuildError> {
-    fs::create_dir_all(out_dir).map_err(io(out_dir))?;
-    let path = out_dir.join(format!("{}.fmu", kind.model_identifier()));
+    // The binaries are read before anything is written: a missing one leaves no folder.
     let mut entries = vec![Entry::deflated(
         "modelDescription.xml",
         description.into_bytes(),
@@ -443,6 +442,8 @@ fn package_with(
         })?;
         entries.push(Entry::deflated(format!("resources/{name}"), contents));
     }
+    fs::create_dir_all(out_dir).map_err(io(out_dir))?;
+    let path = out_dir.join(format!("{}.fmu", kind.model_identifier()));
     write_zip(&path, entries)?;
     Ok(path)
 }
