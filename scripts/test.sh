@@ -31,6 +31,7 @@ python="$(bash scripts/python-env.sh)"
 # --workspace: the same feature set as fmu-build's builds, so nothing is rebuilt.
 cargo build --release --workspace --bins
 export STICKSLIP_BIN="$root/target/release/stickslip"
+rm -f target/cross-platform.md  # written afresh by test_cross_platform.py
 set +e
 "$python" -m pytest -q python-checks
 status=$?
