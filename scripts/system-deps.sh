@@ -3,21 +3,10 @@
 # bindgen step of the `fmi` importer crate used by fmu-build's tests, and libtbb12
 # (libtbb.so.12), which ecospy's Ecos library links (python-checks/tests/test_masters.py),
 # and qemu-user-static, whose qemu-x86_64-static runs the bit-identity test on a CPU
-# without AVX2/FMA (tests/physics/reproducible.rs).
+# without AVX2/FMA (tests/physics/reproducible.rs); then those of the Windows and
+# aarch64 FMU binaries and their tests (cross-deps.sh).
 # Installs only what is missing.
 set -euo pipefail
-missing=()
-for package in libclang-dev libtbb12 qemu-user-static; do
-  dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")
-done
-if [ "${#missing[@]}" -eq 0 ]; then
-  exit 0
-fi
-if [ "$(id -u)" -eq 0 ]; then
-  sudo=()
-else
-  sudo=(sudo)
-fi
-echo "== apt-get install ${missing[*]}" >&2
-"${sudo[@]}" apt-get update -qq >&2
-DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq "${missing[@]}" >&2
+scripts="$(dirname "${BASH_SOURCE[0]}")"
+bash "$scripts/apt-install.sh" libclang-dev libtbb12 qemu-user-static
+bash "$scripts/cross-deps.sh"

@@ -31,10 +31,15 @@ python="$(bash scripts/python-env.sh)"
 # --workspace: the same feature set as fmu-build's builds, so nothing is rebuilt.
 cargo build --release --workspace --bins
 export STICKSLIP_BIN="$root/target/release/stickslip"
+rm -f target/cross-platform.md  # written afresh by test_cross_platform.py
 set +e
 "$python" -m pytest -q python-checks
 status=$?
 set -e
+# The foreign-binary table test_cross_platform.py wrote (pytest -q does not show it).
+if [ -f target/cross-platform.md ]; then
+  cat target/cross-platform.md
+fi
 # pytest exits 5 when it collects no test; that is not a failure of this project.
 if [ "$status" -ne 0 ] && [ "$status" -ne 5 ]; then
   exit "$status"

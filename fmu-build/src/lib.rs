@@ -1,6 +1,8 @@
 //! Packages the FMUs: `modelDescription.xml` (generated from the Rust variable tables),
-//! `binaries/linux64/<modelIdentifier>.so` (the one stickslip-fmi cdylib under each
-//! model's name) and `resources/` (the network weights). Then the SSP system files
+//! the stickslip-fmi cdylib of each platform under each model's name
+//! (`binaries/linux64/<modelIdentifier>.so`, `binaries/win64/<modelIdentifier>.dll`,
+//! `binaries/aarch64-linux/<modelIdentifier>.so` in FMI 2.0; [`platform`]) and
+//! `resources/` (the network weights). Then the SSP system files
 //! around them and fmucontainer's link lists (`ssp`).
 //!
 //! The packaged cdylib is the portable one ([`build_portable_library`]): linked by zig
@@ -14,6 +16,7 @@
 
 pub mod archive;
 pub mod glibc;
+pub mod platform;
 pub mod ssp;
 
 use std::fs;
@@ -23,6 +26,7 @@ use stickslip_fmi::FmuKind;
 use zip::result::ZipError;
 
 use archive::{write_zip, Entry};
+use platform::Platform;
 
 /// Why the FMUs could not be built; `main` prints it as `fmu-build: {e}`.
 #[derive(Debug, thiserror::Error)]
@@ -62,6 +66,23 @@ pub enum BuildError {
     },
     #[error("cargo zigbuild of the portable stickslip-fmi library failed ({0})")]
     ZigbuildFailed(ExitStatus),
+    /// The foreign build's cargo could not be started.
+    #[error("cannot run the {platform} build: {source}")]
+    CrossNotRun {
+        platform: &'static str,
+        source: std::io::Error,
+    },
+    #[error("the {platform} build of the stickslip-fmi library failed ({status})")]
+    CrossFailed {
+        platform: &'static str,
+        status: ExitStatus,
+    },
+    /// Debian packages of the foreign builds are not installed.
+    #[error(
+        "the win64 and aarch64 builds need {}; install them with `bash scripts/cross-deps.sh`, or set {}=1 to package the x86_64 Linux binary only",
+        .0.join(", "), platform::HOST_ONLY_VAR
+    )]
+    CrossToolsMissing(Vec<String>),
     /// The library is not an ELF file this module can read.
     #[error("{}: {source}", .path.display())]
     Elf {
@@ -376,47 +397,43 @@ pub fn drifted_descriptions() -> Vec<PathBuf> {
         .collect()
 }
 
-/// Writes the FMI 2.0 FMU of `kind` around `library` into `out_dir`; returns its path.
-pub fn package(kind: FmuKind, library: &Path, out_dir: &Path) -> Result<PathBuf, BuildError> {
-    package_with(
-        kind,
-        library,
-        out_dir,
-        kind.model_description(),
-        "binaries/linux64",
-    )
+/// One packaged binary: the platform and the built library.
+pub type Binary = (Platform, PathBuf);
+
+/// Writes the FMI 2.0 FMU of `kind` around `binaries` into `out_dir`; returns its path.
+pub fn package(kind: FmuKind, binaries: &[Binary], out_dir: &Path) -> Result<PathBuf, BuildError> {
+    package_with(kind, binaries, out_dir, kind.model_description(), 2)
 }
 
-/// Writes the FMI 3.0 FMU of `kind` around the same `library` (it exports the fmi3*
+/// Writes the FMI 3.0 FMU of `kind` around the same `binaries` (they export the fmi3*
 /// functions too) into `out_dir`; returns its path. FMI 3.0 names the platform folder
 /// `<arch>-<sys>` (standard, section 2.5.1.2).
-pub fn package3(kind: FmuKind, library: &Path, out_dir: &Path) -> Result<PathBuf, BuildError> {
-    package_with(
-        kind,
-        library,
-        out_dir,
-        kind.model_description3(),
-        "binaries/x86_64-linux",
-    )
+pub fn package3(kind: FmuKind, binaries: &[Binary], out_dir: &Path) -> Result<PathBuf, BuildError> {
+    package_with(kind, binaries, out_dir, kind.model_description3(), 3)
 }
 
 fn package_with(
     kind: FmuKind,
-    library: &Path,
+    binaries: &[Binary],
     out_dir: &Path,
     description: String,
-    binaries: &str,
+    version: u8,
 ) -> Result<PathBuf, BuildError> {
-    let binary = fs::read(library).map_err(io(library))?;
-    fs::create_dir_all(out_dir).map_err(io(out_dir))?;
-    let path = out_dir.join(format!("{}.fmu", kind.model_identifier()));
-    let mut entries = vec![
-        Entry::deflated("modelDescription.xml", description.into_bytes()),
-        Entry {
+    // The binaries are read before anything is written: a missing one leaves no folder.
+    let mut entries = vec![Entry::deflated(
+        "modelDescription.xml",
+        description.into_bytes(),
+    )];
+    for (platform, library) in binaries {
+        let binary = fs::read(library).map_err(io(library))?;
+        entries.push(Entry {
             mode: 0o755,
-            ..Entry::deflated(format!("{binaries}/{}.so", kind.model_identifier()), binary)
-        },
-    ];
+            ..Entry::deflated(
+                platform.binary_entry(version, kind.model_identifier()),
+                binary,
+            )
+        });
+    }
     for name in kind.info().resources {
         let source = workspace_root().join("weights").join(name);
         let contents = fs::read(&source).map_err(|source_error| BuildError::Resource {
@@ -425,6 +442,8 @@ fn package_with(
         })?;
         entries.push(Entry::deflated(format!("resources/{name}"), contents));
     }
+    fs::create_dir_all(out_dir).map_err(io(out_dir))?;
+    let path = out_dir.join(format!("{}.fmu", kind.model_identifier()));
     write_zip(&path, entries)?;
     Ok(path)
 }

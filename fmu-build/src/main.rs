@@ -16,7 +16,14 @@
 //! here and fails to load on the older systems it is meant for. `--host-toolchain` is
 //! the explicit way out for a developer without zig: it packages the host build, says so
 //! loudly and names the glibc it needs; the packaged-binary tests then fail on it.
+//!
+//! Every FMU also carries the Windows x86_64 and the aarch64 Linux (glibc 2.17) binary
+//! (`fmu_build::platform`; Debian packages from `bash scripts/cross-deps.sh`).
+//! `STICKSLIP_HOST_ONLY=1` skips those two builds for quick iteration (the FMUs then
+//! carry the x86_64 Linux binary only, and the packaged-FMU tests expect only it);
+//! `--host-toolchain` implies it.
 
+use fmu_build::platform::{self, Platform};
 use fmu_build::{glibc, BuildError};
 use std::process::ExitCode;
 use stickslip_fmi::FmuKind;
@@ -35,12 +42,23 @@ fn run() -> Result<(), BuildError> {
     if !drifted.is_empty() {
         return Err(BuildError::Drift(drifted));
     }
-    // Look for zig before the long host build, so a missing tool is reported at once.
+    // Look for zig and the foreign toolchains before the long host build, so a missing
+    // tool is reported at once.
     let zigbuild = if host_toolchain {
         None
     } else {
         Some(fmu_build::find_zigbuild()?)
     };
+    let foreign: Vec<Platform> = match &zigbuild {
+        Some(_) => platform::packaged_platforms()
+            .into_iter()
+            .filter(|p| *p != Platform::X86_64Linux)
+            .collect(),
+        None => Vec::new(),
+    };
+    if !foreign.is_empty() {
+        platform::check_tools()?;
+    }
     // The host build: the reference the tests compare the packaged library with.
     let host_library = fmu_build::build_library()?;
     let library = match &zigbuild {
@@ -89,6 +107,23 @@ fn run() -> Result<(), BuildError> {
             problems.join(", ")
         );
     }
+    let mut binaries = vec![(Platform::X86_64Linux, library)];
+    if let Some(zigbuild) = &zigbuild {
+        for platform in foreign {
+            let library = platform::build(platform, zigbuild)?;
+            if platform == Platform::Aarch64Linux {
+                check_portable(&library)?;
+            }
+            println!("{}: {}", platform.rust_target(), library.display());
+            binaries.push((platform, library));
+        }
+    }
+    if binaries.len() == 1 && zigbuild.is_some() {
+        println!(
+            "{}: the FMUs carry the x86_64 Linux binary only",
+            platform::HOST_ONLY_VAR
+        );
+    }
     for path in fmu_build::remove_old_layout(&fmu_build::fmu_root())? {
         println!(
             "removed {} (the FMI 2.0 files are in 2.0/ now)",
@@ -96,9 +131,9 @@ fn run() -> Result<(), BuildError> {
         );
     }
     for kind in FmuKind::ALL {
-        let path = fmu_build::package(kind, &library, &fmu_build::fmu_dir())?;
+        let path = fmu_build::package(kind, &binaries, &fmu_build::fmu_dir())?;
         println!("wrote {} (GUID {})", path.display(), kind.guid());
-        let path = fmu_build::package3(kind, &library, &fmu_build::fmu3_dir())?;
+        let path = fmu_build::package3(kind, &binaries, &fmu_build::fmu3_dir())?;
         println!("wrote {} (FMI 3.0)", path.display());
     }
     let dir = fmu_build::fmu_dir();
@@ -114,6 +149,19 @@ fn run() -> Result<(), BuildError> {
         );
     }
     Ok(())
+}
+
+/// The aarch64 binary, linked by zig as the x86_64 one, must load on glibc 2.17 too.
+fn check_portable(library: &std::path::Path) -> Result<(), BuildError> {
+    let problems = fmu_build::requirements(library)?.problems_on(glibc::FLOOR);
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(BuildError::NotPortable {
+            path: library.to_path_buf(),
+            problems,
+        })
+    }
 }
 
 fn main() -> ExitCode {

@@ -2,6 +2,7 @@
 //! 75 FMI 3.0 functions and nothing else of ours, and each archive holds what an
 //! importer expects.
 
+use fmu_build::platform::{packaged_platforms, Platform};
 use std::collections::BTreeSet;
 use std::io::Read;
 use stickslip_fmi::FmuKind;
@@ -142,13 +143,18 @@ fn archives_hold_description_binary_and_weights() {
             .map(|k| archive.by_index(k).unwrap().name().unwrap().into_owned())
             .collect();
         let id = kind.model_identifier();
+        // Every platform's binary (x86_64 Linux alone under STICKSLIP_HOST_ONLY=1).
         let expected: BTreeSet<String> = [
             "modelDescription.xml".to_string(),
-            format!("binaries/linux64/{id}.so"),
             "resources/paper-plain.json".into(),
             "resources/paper-signed.json".into(),
         ]
         .into_iter()
+        .chain(
+            packaged_platforms()
+                .into_iter()
+                .map(|p| p.binary_entry(2, id)),
+        )
         .collect();
         assert_eq!(names, expected);
         let mut xml = String::new();
@@ -249,9 +255,10 @@ fn packaging_is_reproducible() {
         .join("release")
         .join("libstickslip_fmi.so");
     let dir = std::env::temp_dir().join(format!("stickslip-repro-{}", std::process::id()));
+    let binaries = [(Platform::X86_64Linux, library)];
     for package in [fmu_build::package, fmu_build::package3] {
-        let first = package(FmuKind::NeuralFriction, &library, &dir.join("a")).unwrap();
-        let second = package(FmuKind::NeuralFriction, &library, &dir.join("b")).unwrap();
+        let first = package(FmuKind::NeuralFriction, &binaries, &dir.join("a")).unwrap();
+        let second = package(FmuKind::NeuralFriction, &binaries, &dir.join("b")).unwrap();
         assert_eq!(
             std::fs::read(first).unwrap(),
             std::fs::read(second).unwrap()
@@ -265,7 +272,12 @@ fn packaging_is_reproducible() {
 fn packaging_errors_name_the_file() {
     let dir = std::env::temp_dir().join(format!("stickslip-missing-{}", std::process::id()));
     let missing = dir.join("libmissing.so");
-    let error = fmu_build::package(FmuKind::NeuralFriction, &missing, &dir).unwrap_err();
+    let error = fmu_build::package(
+        FmuKind::NeuralFriction,
+        &[(Platform::X86_64Linux, missing.clone())],
+        &dir,
+    )
+    .unwrap_err();
     assert!(
         matches!(&error, fmu_build::BuildError::Io { path, .. } if *path == missing),
         "{error:?}"

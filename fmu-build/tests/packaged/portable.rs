@@ -95,6 +95,48 @@ fn packaged_binaries_need_nothing_newer_than_glibc_2_17() {
     }
 }
 
+/// The aarch64 Linux binary of both FMI versions is linked like the x86_64 one (zig,
+/// glibc 2.17 symbol versions): an aarch64 ELF file that loads on glibc 2.17. Not
+/// checked under STICKSLIP_HOST_ONLY, whose FMUs do not carry it.
+#[test]
+fn aarch64_binaries_need_nothing_newer_than_glibc_2_17() {
+    use fmu_build::platform::{packaged_platforms, Platform};
+    if !packaged_platforms().contains(&Platform::Aarch64Linux) {
+        return;
+    }
+    const EM_AARCH64: u16 = 183;
+    for kind in FmuKind::ALL {
+        let id = kind.model_identifier();
+        for (version, path) in [
+            (2, fmu_build::fmu_path(kind)),
+            (3, fmu_build::fmu3_path(kind)),
+        ] {
+            let entry = Platform::Aarch64Linux.binary_entry(version, id);
+            let file = std::fs::File::open(&path).expect("the FMU was built");
+            let mut binary = Vec::new();
+            zip::ZipArchive::new(file)
+                .expect("an FMU is a zip archive")
+                .by_name(&entry)
+                .unwrap_or_else(|e| panic!("{}: {entry}: {e}", path.display()))
+                .read_to_end(&mut binary)
+                .expect("readable");
+            let requirements =
+                Requirements::of_elf(&binary).unwrap_or_else(|e| panic!("{entry}: {e}"));
+            assert_eq!(requirements.machine, EM_AARCH64, "{entry}");
+            assert!(
+                requirements.versions.iter().any(|n| n.file == "libc.so.6"),
+                "{entry}: no version needed from libc.so.6 was found: {requirements:?}"
+            );
+            let problems = requirements.problems_on(FLOOR);
+            assert!(
+                problems.is_empty(),
+                "{entry}: needs {}",
+                problems.join(", ")
+            );
+        }
+    }
+}
+
 /// `readelf -V` and `readelf -d` (binutils) on `path`: the version needs and the
 /// DT_NEEDED libraries, as an independent reading of the same sections.
 fn readelf(path: &Path) -> (BTreeSet<VersionNeed>, Vec<String>) {
@@ -252,8 +294,15 @@ fn both(kind: FmuKind, dir: &Path) -> [(&'static str, Fmi2Import); 2] {
         packaged != host_library(),
         "the packaged binary is the host build itself (fmu-build --host-toolchain?): nothing to compare"
     );
-    let host_fmu = fmu_build::package(kind, &fmu_build::host_library_path(), dir)
-        .expect("package the host library");
+    let host_fmu = fmu_build::package(
+        kind,
+        &[(
+            fmu_build::platform::Platform::X86_64Linux,
+            fmu_build::host_library_path(),
+        )],
+        dir,
+    )
+    .expect("package the host library");
     let open = |path: &Path| -> Fmi2Import {
         let import: Fmi2Import = fmi::import::from_path(path)
             .unwrap_or_else(|e| panic!("cannot import {}: {e}", path.display()));
