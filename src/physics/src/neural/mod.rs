@@ -55,6 +55,7 @@ pub mod file_kind;
 pub mod forward;
 pub mod jacobian;
 pub mod law;
+pub mod memory;
 pub mod network;
 pub mod onnx;
 mod synthetic;
