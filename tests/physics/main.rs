@@ -13,6 +13,7 @@ mod dynamics;
 mod errors;
 mod extremes;
 mod layering;
+mod memory;
 mod mesh_modes;
 mod modal_slip;
 mod scene_validation;

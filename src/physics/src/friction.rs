@@ -7,6 +7,7 @@
 //! a run uses is `crate::law_source::LawSource`.
 
 use crate::choice::Choice;
+use crate::memory::MemoryLaw;
 use crate::scene::{Friction, FrictionLawKind};
 
 crate::choice! {
@@ -46,6 +47,18 @@ pub trait FrictionLaw: Send {
     /// resolves the force no finer (0, the default, for laws evaluated in f64).
     fn resolution(&self) -> f64 {
         0.0
+    }
+
+    /// This law as a law with internal state (`crate::memory`), if it is one; the time
+    /// loop then steps its state instead of calling the methods above. `None` (the
+    /// default) for a memoryless law.
+    fn as_memory(&self) -> Option<&dyn MemoryLaw> {
+        None
+    }
+
+    /// [`FrictionLaw::as_memory`], mutable.
+    fn as_memory_mut(&mut self) -> Option<&mut dyn MemoryLaw> {
+        None
     }
 }
 

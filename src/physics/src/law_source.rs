@@ -9,6 +9,8 @@
 //! the force's slope included.
 
 use crate::friction::{CoulombLaw, ExponentialLaw, FrictionLaw};
+use crate::memory::lugre::LuGreLaw;
+use crate::memory::rate_state::RateStateLaw;
 use crate::neural::table::TableLaw;
 use crate::neural::{NeuralError, NeuralLaw, SceneLawError};
 use crate::scene::{CheckedScene, Friction, FrictionLawKind, Inference};
@@ -45,6 +47,10 @@ pub enum LawSource {
     /// (`stand_in`), which the FMU's calibration runs also use; a stand-alone run refuses
     /// this source (`run::RunError::External`).
     External { stand_in: ExponentialLaw },
+    /// The LuGre law with state (`memory::lugre`), at its initial state.
+    LuGre(LuGreLaw),
+    /// The rate-and-state law with state (`memory::rate_state`), at its initial state.
+    RateAndState(RateStateLaw),
 }
 
 /// A loaded network with what its law needs besides: the evaluation, the normal force
@@ -140,6 +146,13 @@ impl LawSource {
             FrictionLawKind::External => LawSource::External {
                 stand_in: ExponentialLaw::of(friction),
             },
+            FrictionLawKind::Lugre => LawSource::LuGre(LuGreLaw::new(
+                friction.lugre.clone(),
+                ExponentialLaw::of(friction),
+            )),
+            FrictionLawKind::RateAndState => {
+                LawSource::RateAndState(RateStateLaw::new(friction.rate_and_state.clone()))
+            }
             FrictionLawKind::Neural => {
                 let (network, origin) = network()?;
                 LawSource::Network(NetworkSource::new(
@@ -212,6 +225,8 @@ impl LawSource {
             LawSource::Exponential(law) => Ok(Box::new(law.clone())),
             LawSource::Coulomb(law) => Ok(Box::new(law.clone())),
             LawSource::External { stand_in } => Ok(Box::new(stand_in.clone())),
+            LawSource::LuGre(law) => Ok(Box::new(law.clone())),
+            LawSource::RateAndState(law) => Ok(Box::new(law.clone())),
             LawSource::Network(n) => network_law((*n.network).clone(), n.inference, n.normal_force)
                 .map_err(|source| n.origin.error(source)),
         }
@@ -228,6 +243,8 @@ impl LawSource {
             LawSource::Exponential(_) => Some("exponential".into()),
             LawSource::Coulomb(_) => Some("coulomb".into()),
             LawSource::External { .. } => Some("external".into()),
+            LawSource::LuGre(_) => Some("lugre".into()),
+            LawSource::RateAndState(_) => Some("rate-and-state".into()),
         }
     }
 }

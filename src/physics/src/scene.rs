@@ -21,6 +21,8 @@
 //! v_b = 0.02 m/s, F_n = 100 N, mu_s = 0.5, mu_k = 0.2, alpha = 5 s/m, eps = 1e-3 m/s,
 //! dt = 1e-4 s, t_end = 1.2 s. The paper does not give Poisson's ratio; 0.3 (steel) is used.
 
+use crate::memory::lugre::LuGreParameters;
+use crate::memory::rate_state::RateStateParameters;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -106,6 +108,20 @@ crate::choice! {
         /// `external.static_limit`. Only a run that has those inputs can honour it: a
         /// stand-alone run refuses it (`run::run_scene`).
         External = "external": "inputs external.*: the kinetic force as external.coupling says, and external.static_limit",
+        /// LuGre (Canudas de Wit et al. 1995), a law with the bristle deflection as state
+        /// (`memory::lugre`), parameters in `friction.lugre`; g(v) is the exponential law.
+        Lugre = "lugre": "LuGre: bristle state z, dz/dt = v - sigma0 |v| z / g(v), F = sigma0 z + sigma1 dz/dt + sigma2 v, g the exponential law (friction.lugre)",
+        /// Rate-and-state friction (Dieterich-Ruina), regularised at v = 0, with the state
+        /// theta (`memory::rate_state`), parameters in `friction.rate_and_state`.
+        RateAndState = "rate-and-state": "rate-and-state: mu = a asinh(v / (2 V_0) exp((mu_0 + b ln(V_0 theta / D_c)) / a)), theta by the aging or slip law (friction.rate_and_state)",
+    }
+}
+
+impl FrictionLawKind {
+    /// Whether the law has internal state (`crate::memory`): no set-valued stick, its
+    /// state stepped with the structure (see `contact`).
+    pub fn has_memory(self) -> bool {
+        matches!(self, FrictionLawKind::Lugre | FrictionLawKind::RateAndState)
     }
 }
 
@@ -144,6 +160,10 @@ pub struct Friction {
     /// How the neural law's network is evaluated (speed for accuracy; the other laws
     /// ignore it).
     pub inference: Inference,
+    /// LuGre's parameters (`law = "lugre"`; the other laws ignore them).
+    pub lugre: LuGreParameters,
+    /// Rate-and-state's parameters (`law = "rate-and-state"`; the other laws ignore them).
+    pub rate_and_state: RateStateParameters,
 }
 
 impl Default for Friction {
@@ -156,6 +176,8 @@ impl Default for Friction {
             stick_threshold: 1e-3,
             weights: None,
             inference: Inference::Exact,
+            lugre: LuGreParameters::default(),
+            rate_and_state: RateStateParameters::default(),
         }
     }
 }
@@ -606,8 +628,35 @@ impl Scene {
             }
         }
 
+        for problem in [f.lugre.problem(), f.rate_and_state.problem()] {
+            if let Some((field, value, requirement)) = problem {
+                return Err(invalid(field, value, requirement));
+            }
+        }
+
         let c = &self.contact;
         within("contact.preload", c.preload, 0.0, 1.0, true)?;
+        if f.law.has_memory() {
+            // A law with state is stepped with the relative slip velocity (its state
+            // evolves with the slip), on the one model the whole run uses.
+            if c.sliding_velocity != SlidingVelocity::Relative {
+                return Err(SceneError::Invalid {
+                    field: "contact.sliding_velocity",
+                    value: crate::choice::Choice::name(c.sliding_velocity).into(),
+                    requirement: format!(
+                        "relative with friction.law = {} (a law with state evolves with the relative slip velocity)",
+                        crate::choice::Choice::name(f.law)
+                    ),
+                });
+            }
+            if c.slip_modes_below > 0.0 {
+                return Err(invalid(
+                    "contact.slip_modes_below",
+                    c.slip_modes_below,
+                    "0 with a law with state (it has no stick phase to keep on the full mesh)",
+                ));
+            }
+        }
         if c.tip_velocity == TipVelocity::FiniteDifference
             && self.integrator.scheme == Scheme::MoreauJean
         {

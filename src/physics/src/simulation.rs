@@ -38,6 +38,10 @@ pub struct SimulationState {
     /// Full steps since `anchor_time`.
     #[serde(default)]
     pub steps_since_anchor: u64,
+    /// The friction law's internal state (`memory::MemoryLaw::state`), empty for a
+    /// memoryless law (and in states saved before laws had state).
+    #[serde(default)]
+    pub law_state: Vec<f64>,
 }
 
 /// One output sample (SI units).
@@ -201,7 +205,10 @@ impl Simulator {
             )?),
         };
         let contact = Contact::new(&scene, integrator.coefficients());
-        let state = initial_state(&scene, &model)?;
+        let mut state = initial_state(&scene, &model)?;
+        if let Some(memory) = law.as_memory() {
+            state.law_state = memory.state().to_vec();
+        }
         let modal_slip = match scene.contact.slip_modes_below {
             cutoff if cutoff > 0.0 => Some(ModalSlip::new(&scene, &model, cutoff)?),
             _ => None,
@@ -284,6 +291,19 @@ impl Simulator {
             if count > 1 << 53 {
                 return Err(StateMismatch(format!("{name} = {count} is above 2^53")));
             }
+        }
+        match self.law.as_memory_mut() {
+            Some(memory) => memory
+                .set_state(&state.law_state)
+                .map_err(|e| StateMismatch(e.to_string()))?,
+            None if !state.law_state.is_empty() => {
+                return Err(StateMismatch(format!(
+                    "law_state has {} values, the law {} has no state",
+                    state.law_state.len(),
+                    self.law.name()
+                )))
+            }
+            None => {}
         }
         self.state = state;
         self.transitions.clear();
@@ -480,29 +500,6 @@ impl Simulator {
                 )?);
             }
         }
-        let kinetic = match self.external {
-            Some(ExternalFriction {
-                kinetic: ExternalKinetic::Magnitude(force),
-                ..
-            }) => Kinetic::External { force },
-            Some(ExternalFriction {
-                kinetic:
-                    ExternalKinetic::Signed {
-                        force,
-                        slope,
-                        velocity,
-                    },
-                ..
-            }) => Kinetic::ExternalSigned {
-                force,
-                slope,
-                velocity,
-            },
-            None => Kinetic::Law {
-                law: self.law.as_mut(),
-                normal_force: self.normal_force,
-            },
-        };
         let (integrator, model, mut modal_state) = match (
             landing,
             self.landing.as_mut(),
@@ -550,9 +547,43 @@ impl Simulator {
                 (trial.free_tip_displacement - trial.start_tip_displacement) / dt;
             trial.velocity_per_force = trial.displacement_per_force / dt;
         }
-        let resolution = self
-            .contact
-            .resolve(&trial, previous, vb, static_limit, kinetic);
+        let resolution = match (self.external, self.law.as_memory_mut()) {
+            (None, Some(law)) => {
+                let resolution =
+                    self.contact
+                        .resolve_with_memory(&trial, previous, vb, law, self.normal_force);
+                state.law_state.clear();
+                state.law_state.extend_from_slice(law.state());
+                resolution
+            }
+            (external, _) => {
+                let kinetic = match external {
+                    Some(ExternalFriction {
+                        kinetic: ExternalKinetic::Magnitude(force),
+                        ..
+                    }) => Kinetic::External { force },
+                    Some(ExternalFriction {
+                        kinetic:
+                            ExternalKinetic::Signed {
+                                force,
+                                slope,
+                                velocity,
+                            },
+                        ..
+                    }) => Kinetic::ExternalSigned {
+                        force,
+                        slope,
+                        velocity,
+                    },
+                    None => Kinetic::Law {
+                        law: self.law.as_mut(),
+                        normal_force: self.normal_force,
+                    },
+                };
+                self.contact
+                    .resolve(&trial, previous, vb, static_limit, kinetic)
+            }
+        };
         match modal_state {
             Some((basis, q)) => {
                 integrator.finish(q, resolution.force);
@@ -726,5 +757,6 @@ fn initial_state(
         transition_count: 0,
         anchor_time: 0.0,
         steps_since_anchor: 0,
+        law_state: Vec::new(),
     })
 }

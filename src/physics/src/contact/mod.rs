@@ -85,6 +85,7 @@ pub use state::{ContactState, Previous, Transition};
 pub use switch::{impulse_clamp, next_state};
 
 use crate::integrator::{Coefficients, TrialStep};
+use crate::memory::{LawStep, MemoryLaw, StepLaw};
 use crate::scene::CheckedScene;
 use slip::SlipOptions;
 use stick::{Holding, StickReaction};
@@ -175,6 +176,57 @@ impl Contact {
             Formulation::MoreauJean => {
                 self.resolve_moreau_jean(trial, previous, belt_speed, static_limit, kinetic)
             }
+        }
+    }
+
+    /// The step of a law with state (`crate::memory`): no set-valued stick, so every
+    /// step solves the slip force F = F_step(x(F)) with the law's trial step over dt
+    /// (its force and exact total slope, the state update included), then commits the
+    /// law's state at the accepted x, v_rel at the scheme's law level. The state stays
+    /// the contact's `Stick` while |v_rel,n+1| < eps (the stick threshold), `Slip`
+    /// otherwise; the holding force is the stick reaction's, reported only.
+    pub fn resolve_with_memory(
+        &self,
+        trial: &TrialStep,
+        previous: Previous,
+        belt_speed: f64,
+        law: &mut dyn MemoryLaw,
+        normal_force: f64,
+    ) -> Resolution {
+        let (alpha_f, stick) = match self.formulation {
+            Formulation::GeneralizedAlpha { alpha_f } => (
+                alpha_f,
+                StickReaction::displacement_level(trial, belt_speed),
+            ),
+            Formulation::MoreauJean => (0.0, StickReaction::velocity_level(trial, belt_speed)),
+        };
+        let dt = trial.dt;
+        let slip = {
+            let mut step_law = StepLaw { law, dt };
+            let mut kinetic = Kinetic::Law {
+                law: &mut step_law,
+                normal_force,
+            };
+            self.slip
+                .solve(trial, previous, belt_speed, &mut kinetic, alpha_f)
+        };
+        let sliding_velocity =
+            (1.0 - alpha_f) * slip.relative_velocity + alpha_f * previous.relative_velocity;
+        law.commit(LawStep {
+            dt,
+            sliding_velocity,
+            normal_force,
+        });
+        let state = if slip.relative_velocity.abs() < self.stick_threshold {
+            ContactState::Stick
+        } else {
+            ContactState::Slip
+        };
+        Resolution {
+            state,
+            force: slip.force,
+            holding_force: self.holding.force(&stick),
+            slip: Some(slip.solve),
         }
     }
 

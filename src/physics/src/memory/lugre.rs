@@ -1,0 +1,218 @@
+//! The LuGre law (Canudas de Wit, Olsson, Astrom, Lischinsky, IEEE Trans. Autom. Control
+//! 40 (1995) 419): the contact as bristles of mean deflection z (m),
+//!
+//!   dz/dt = v - sigma0 |v| z / g(v),    F = sigma0 z + sigma1 dz/dt + sigma2 v,
+//!
+//! with g(v) (N) the steady sliding force of a memoryless law, here the scene's
+//! exponential law g(v) = mu(|v|) F_n (paper, Eq. 6). At constant v, z relaxes to
+//! sign(v) g(v) / sigma0 and F to g(v) sign(v) + sigma2 v; for small displacements from
+//! rest (|v| z << g) dz/dt = v and F = sigma0 x: presliding is elastic.
+
+use super::relaxation::Relaxation;
+use super::{check_state, LawStep, MemoryLaw, MemoryStateError, StateVariable};
+use crate::friction::{signum_or_zero, ExponentialLaw, FrictionLaw};
+use serde::{Deserialize, Serialize};
+
+/// The scene's `[friction.lugre]` table.
+///
+/// Defaults for the paper scene (tip stiffness 3 EI / L^3 = 6.25e4 N/m, effective tip
+/// mass ~4.9 kg, mu_s F_n = 50 N): sigma0 = 1e7 N/m is 160 times the tip stiffness, so
+/// that the presliding deflection at breakaway, mu_s F_n / sigma0 = 5 um, is 0.6 % of
+/// the 0.8 mm the tip deflects in stick; sigma1 = 1e3 N s/m damps the bristle mode
+/// against the tip mass (sqrt(sigma0 / m) ~ 1.4e3 rad/s) at about 7 % of critical;
+/// sigma2 = 0 because the exponential law g already carries all of the paper's velocity
+/// dependence.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LuGreParameters {
+    /// sigma0 (N/m), > 0.
+    pub bristle_stiffness: f64,
+    /// sigma1 (N s/m), >= 0.
+    pub bristle_damping: f64,
+    /// sigma2 (N s/m), >= 0.
+    pub viscous_damping: f64,
+}
+
+impl Default for LuGreParameters {
+    fn default() -> Self {
+        Self {
+            bristle_stiffness: 1e7,
+            bristle_damping: 1e3,
+            viscous_damping: 0.0,
+        }
+    }
+}
+
+impl LuGreParameters {
+    /// The first field that is out of range, as (dotted name, value, requirement).
+    pub fn problem(&self) -> Option<(&'static str, f64, &'static str)> {
+        let checks = [
+            (
+                "friction.lugre.bristle_stiffness",
+                self.bristle_stiffness,
+                self.bristle_stiffness > 0.0,
+                "finite and > 0 (N/m)",
+            ),
+            (
+                "friction.lugre.bristle_damping",
+                self.bristle_damping,
+                self.bristle_damping >= 0.0,
+                "finite and >= 0 (N s/m)",
+            ),
+            (
+                "friction.lugre.viscous_damping",
+                self.viscous_damping,
+                self.viscous_damping >= 0.0,
+                "finite and >= 0 (N s/m)",
+            ),
+        ];
+        checks
+            .into_iter()
+            .find(|(_, value, ok, _)| !(value.is_finite() && *ok))
+            .map(|(field, value, _, requirement)| (field, value, requirement))
+    }
+}
+
+const STATE: [StateVariable; 1] = [StateVariable {
+    name: "bristle_deflection",
+    unit: "m",
+    positive: false,
+}];
+
+/// The LuGre law with its bristle deflection z (m), starting at z = 0.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LuGreLaw {
+    parameters: LuGreParameters,
+    /// g(v) = mu(|v|) F_n.
+    steady: ExponentialLaw,
+    state: [f64; 1],
+}
+
+/// The end of one step: z_n+1, dz/dt at t_n+1 and their derivatives with respect to v.
+struct Step {
+    deflection: f64,
+    deflection_slope: f64,
+    rate: f64,
+    rate_slope: f64,
+}
+
+impl LuGreLaw {
+    /// Panics if `parameters` are out of range (a checked scene never holds such).
+    pub fn new(parameters: LuGreParameters, steady: ExponentialLaw) -> Self {
+        assert!(parameters.problem().is_none(), "{:?}", parameters.problem());
+        Self {
+            parameters,
+            steady,
+            state: [0.0],
+        }
+    }
+
+    pub fn parameters(&self) -> &LuGreParameters {
+        &self.parameters
+    }
+
+    /// The exact step for v held: with c = sigma0 |v| / g(v) and s = c dt,
+    /// z_n+1 = z_n exp(-s) + v dt P(s), P(s) = (1 - exp(-s)) / s, and the rate at the
+    /// step's end dz/dt = v - c z_n+1. Where g <= 0 (no normal force) the bristles carry
+    /// nothing: z = 0.
+    fn advance(&self, step: LawStep) -> Step {
+        let LawStep {
+            dt,
+            sliding_velocity: v,
+            normal_force,
+        } = step;
+        let sigma0 = self.parameters.bristle_stiffness;
+        let (mu, mu_slope) = self.steady.coefficient_and_slope(v);
+        let (g, g_slope) = (mu * normal_force, mu_slope * normal_force);
+        if g.is_nan() || g <= 0.0 {
+            return Step {
+                deflection: 0.0,
+                deflection_slope: 0.0,
+                rate: 0.0,
+                rate_slope: 0.0,
+            };
+        }
+        let speed = v.abs();
+        let c = sigma0 * speed / g;
+        // dc/dv = sigma0 sign(v) (g - |v| g') / g^2 (0 at v = 0, between its one-sided
+        // values: only the slip solve's Newton step uses it).
+        let c_slope = sigma0 * signum_or_zero(v) * (g - speed * g_slope) / (g * g);
+        let r = Relaxation::at(c * dt);
+        let z0 = self.state[0];
+        let deflection = z0 * r.decay + v * dt * r.average;
+        let deflection_slope =
+            -z0 * r.decay * dt * c_slope + dt * r.average + v * dt * r.average_slope * dt * c_slope;
+        Step {
+            deflection,
+            deflection_slope,
+            rate: v - c * deflection,
+            rate_slope: 1.0 - c_slope * deflection - c * deflection_slope,
+        }
+    }
+}
+
+impl FrictionLaw for LuGreLaw {
+    fn name(&self) -> &str {
+        "lugre"
+    }
+
+    /// The steady sliding force g(v) sign(v) + sigma2 v.
+    fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {
+        self.sliding_force_and_slope(sliding_velocity, normal_force)
+            .0
+    }
+
+    fn sliding_force_and_slope(&mut self, sliding_velocity: f64, normal_force: f64) -> (f64, f64) {
+        let (force, slope) = self
+            .steady
+            .sliding_force_and_slope(sliding_velocity, normal_force);
+        let sigma2 = self.parameters.viscous_damping;
+        (force + sigma2 * sliding_velocity, slope + sigma2)
+    }
+
+    fn as_memory(&self) -> Option<&dyn MemoryLaw> {
+        Some(self)
+    }
+
+    fn as_memory_mut(&mut self) -> Option<&mut dyn MemoryLaw> {
+        Some(self)
+    }
+}
+
+impl MemoryLaw for LuGreLaw {
+    fn state_variables(&self) -> &[StateVariable] {
+        &STATE
+    }
+
+    fn state(&self) -> &[f64] {
+        &self.state
+    }
+
+    fn set_state(&mut self, state: &[f64]) -> Result<(), MemoryStateError> {
+        check_state(&STATE, state)?;
+        self.state[0] = state[0];
+        Ok(())
+    }
+
+    fn reset(&mut self) {
+        self.state = [0.0];
+    }
+
+    /// F = sigma0 z_n+1 + sigma1 dz/dt(t_n+1) + sigma2 v.
+    fn step_force_and_slope(&mut self, step: LawStep) -> (f64, f64) {
+        let end = self.advance(step);
+        let p = &self.parameters;
+        (
+            p.bristle_stiffness * end.deflection
+                + p.bristle_damping * end.rate
+                + p.viscous_damping * step.sliding_velocity,
+            p.bristle_stiffness * end.deflection_slope
+                + p.bristle_damping * end.rate_slope
+                + p.viscous_damping,
+        )
+    }
+
+    fn commit(&mut self, step: LawStep) {
+        self.state[0] = self.advance(step).deflection;
+    }
+}

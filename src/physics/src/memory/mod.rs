@@ -1,0 +1,162 @@
+//! Friction laws with internal state ("memory"): the force depends on the sliding
+//! history through state variables that evolve with the slip, not on the current
+//! velocity alone. [`MemoryLaw`] is the interface; [`lugre`] (Canudas de Wit et al.
+//! 1995) and [`rate_state`] (Dieterich 1979, Ruina 1983) are the analytical laws, and a
+//! learned law with state implements the same trait.
+//!
+//! # How the time loop uses a law with state
+//!
+//! Over one step [t_n, t_n + dt] the sliding velocity v is held constant (the contact's
+//! slip argument: v_rel at the scheme's law level, see `contact`), and the law advances
+//! its state implicitly over the step from the state it last committed. The contact
+//! solves F = F_step(v(F)) with the step force and its exact total slope dF/dv, state
+//! update included ([`MemoryLaw::step_force_and_slope`], which must not change the
+//! committed state: the slip solve evaluates it many times), and then commits the
+//! step at the accepted velocity ([`MemoryLaw::commit`]). A law that integrates its
+//! state exactly for constant v over the step (both analytical laws do) is stable for
+//! any stiffness and any dt.
+//!
+//! # Example
+//!
+//! ```
+//! use stickslip::memory::{LawStep, MemoryLaw};
+//! use stickslip::memory::lugre::{LuGreLaw, LuGreParameters};
+//! use stickslip::friction::ExponentialLaw;
+//!
+//! let g = ExponentialLaw { static_coefficient: 0.5, kinetic_coefficient: 0.2, decay: 5.0 };
+//! let mut law = LuGreLaw::new(LuGreParameters::default(), g);
+//! let step = LawStep { dt: 1e-4, sliding_velocity: 0.01, normal_force: 100.0 };
+//! let (force, slope) = law.step_force_and_slope(step); // trial: state unchanged
+//! assert_eq!(law.state(), &[0.0]);
+//! law.commit(step); // accept the step at this velocity
+//! assert!(law.state()[0] > 0.0 && force > 0.0 && slope > 0.0);
+//! ```
+
+pub mod lugre;
+pub mod rate_state;
+mod relaxation;
+
+use crate::friction::FrictionLaw;
+
+/// One time step of a law with state: the sliding velocity `sliding_velocity` (m/s),
+/// held over the step of length `dt` (s), under the normal force `normal_force` (N).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LawStep {
+    /// Step length (s), > 0.
+    pub dt: f64,
+    /// Signed sliding velocity v (m/s) over the step, the same convention as
+    /// [`FrictionLaw::sliding_force`]: the force acts in its direction.
+    pub sliding_velocity: f64,
+    /// Normal force F_n (N).
+    pub normal_force: f64,
+}
+
+/// One component of a law's state, for names in the FMU and in messages.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StateVariable {
+    /// Short name ("bristle_deflection", "state_theta").
+    pub name: &'static str,
+    /// SI unit ("m", "s", "1").
+    pub unit: &'static str,
+    /// Whether the value must be strictly positive (rate-and-state's theta).
+    pub positive: bool,
+}
+
+/// A state that does not fit a law: wrong length, non-finite, or outside its domain.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("friction law state does not fit: {0}")]
+pub struct MemoryStateError(pub String);
+
+/// A friction law with internal state.
+///
+/// Its [`FrictionLaw`] methods give the **steady-state** force F_ss(v) (and slope): the
+/// force after sliding long at constant v, which is what a memoryless caller (a plot, a
+/// comparison) can be given. The time loop never uses them: it asks
+/// [`FrictionLaw::memory`] for this trait and steps the state.
+///
+/// The state is a short vector of f64 (one entry for both analytical laws); it is part
+/// of a simulation's saved state, so it must round-trip through [`MemoryLaw::state`] and
+/// [`MemoryLaw::set_state`] bit for bit.
+pub trait MemoryLaw: FrictionLaw {
+    /// The state's components, in the order of [`MemoryLaw::state`].
+    fn state_variables(&self) -> &[StateVariable];
+
+    /// The committed state (after the last [`MemoryLaw::commit`]).
+    fn state(&self) -> &[f64];
+
+    /// Replaces the committed state. Refused with the reason (the law unchanged) if the
+    /// length differs from [`MemoryLaw::state_variables`], a value is not finite, or a
+    /// positive component is not; see [`check_state`].
+    fn set_state(&mut self, state: &[f64]) -> Result<(), MemoryStateError>;
+
+    /// Returns the state to the law's initial state (a run's t = 0).
+    fn reset(&mut self);
+
+    /// The force (N) at the end of `step` from the committed state, and its exact total
+    /// derivative dF/dv (N s/m) with respect to the step's sliding velocity, the state
+    /// update's dependence on v included. Does not change the committed state.
+    fn step_force_and_slope(&mut self, step: LawStep) -> (f64, f64);
+
+    /// Advances the committed state over `step`: the state
+    /// [`MemoryLaw::step_force_and_slope`] used for the same step.
+    fn commit(&mut self, step: LawStep);
+}
+
+/// Checks `state` against `variables`: the same length, finite values, and positive
+/// where a variable must be.
+pub fn check_state(variables: &[StateVariable], state: &[f64]) -> Result<(), MemoryStateError> {
+    if state.len() != variables.len() {
+        return Err(MemoryStateError(format!(
+            "{} values for a state of {}",
+            state.len(),
+            variables.len()
+        )));
+    }
+    for (variable, &value) in variables.iter().zip(state) {
+        if !value.is_finite() || (variable.positive && value <= 0.0) {
+            let requirement = if variable.positive {
+                "finite and > 0"
+            } else {
+                "finite"
+            };
+            return Err(MemoryStateError(format!(
+                "{} = {value:e} {}; it must be {requirement}",
+                variable.name, variable.unit
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// A law with state seen by the slip solve as a memoryless law over one step of length
+/// `dt`: its force and slope are [`MemoryLaw::step_force_and_slope`] from the committed
+/// state, so that the contact's Newton iteration (which knows only `FrictionLaw`) solves
+/// the implicit step unchanged.
+pub struct StepLaw<'a> {
+    pub law: &'a mut dyn MemoryLaw,
+    /// Step length (s).
+    pub dt: f64,
+}
+
+impl FrictionLaw for StepLaw<'_> {
+    fn name(&self) -> &str {
+        self.law.name()
+    }
+
+    fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {
+        self.sliding_force_and_slope(sliding_velocity, normal_force)
+            .0
+    }
+
+    fn sliding_force_and_slope(&mut self, sliding_velocity: f64, normal_force: f64) -> (f64, f64) {
+        self.law.step_force_and_slope(LawStep {
+            dt: self.dt,
+            sliding_velocity,
+            normal_force,
+        })
+    }
+
+    fn resolution(&self) -> f64 {
+        self.law.resolution()
+    }
+}
