@@ -3,14 +3,16 @@
 //! velocity-step response; its weights file round-trips and refuses corrupted files with
 //! the reason.
 
+use std::sync::Arc;
+use stickslip::memory::rate_state::RateStateLaw;
 use stickslip::neural::memory::response::velocity_step;
-use stickslip::neural::memory::{LearnedStateLaw, StateLawFile};
+use stickslip::neural::memory::{LearnedStateFriction, StateLawFile};
 use stickslip::neural::NeuralError;
 use stickslip_train::memory::{train_state_law, StateTrainConfig, TribometerSpec};
 
 /// Trains on the default records (3 normal forces x 4 histories, 0.2 N noise) with a
 /// shorter schedule than the command's, and returns the generating and the learned law.
-fn trained() -> (TribometerSpec, LearnedStateLaw, StateLawFile) {
+fn trained() -> (TribometerSpec, RateStateLaw, StateLawFile) {
     let spec = TribometerSpec::default();
     let records = spec.generate(7).unwrap();
     let config = StateTrainConfig {
@@ -41,12 +43,15 @@ fn trained() -> (TribometerSpec, LearnedStateLaw, StateLawFile) {
 #[test]
 fn the_learned_law_reproduces_the_velocity_step_response() {
     let (spec, truth, file) = trained();
-    let learned = file.law();
+    let mut truth = truth;
+    let mut learned = LearnedStateFriction::new(Arc::new(file.law()));
+    let d_c = spec.law.characteristic_slip;
     for normal_force in [60.0, 100.0, 140.0] {
-        for (v1, v2) in [(1e-3, 1e-2), (1e-1, 1e-2)] {
-            let slip_step = 1e-7;
-            let want = velocity_step(&truth, v1, v2, normal_force, slip_step);
-            let got = velocity_step(&learned, v1, v2, normal_force, slip_step);
+        for steps in [(1e-3, 1e-2), (1e-1, 1e-2)] {
+            let (v1, v2) = steps;
+            // Settled over 1000 D_c; sampled every D_c / 1000 (0.1 % of the decay).
+            let want = velocity_step(&mut truth, steps, normal_force, 1e3 * d_c, 1e-3 * d_c);
+            let got = velocity_step(&mut learned, steps, normal_force, 1e3 * d_c, 1e-3 * d_c);
             let direct = (got.direct_effect - want.direct_effect).abs() / want.direct_effect.abs();
             let decay = (got.decay_length - want.decay_length).abs() / want.decay_length;
             eprintln!("F_n {normal_force} N, {v1} -> {v2} m/s: direct {} vs {} ({direct:.4}), decay {} vs {} m ({decay:.4})",
@@ -67,8 +72,8 @@ fn the_learned_law_reproduces_the_velocity_step_response() {
 #[test]
 fn the_weights_file_round_trips_and_refuses_corruption() {
     let spec = TribometerSpec {
-        hold_slip: 5e-4,
-        hold_time: 0.1,
+        hold_slip: 5e-5,
+        hold_time: 0.02,
         normal_forces: vec![100.0],
         ..TribometerSpec::default()
     };

@@ -3,25 +3,32 @@
 //! v = 0, slide-hold-slide) at several normal forces, sampled at a fixed rate, with
 //! Gaussian force noise.
 //!
-//! The force is the generating law's, simulated as [`super::series::simulate`] does:
-//! the velocity is held over each sample interval, for which the aging law's step is its
-//! closed form theta(t) = D_c/V + (theta_0 - D_c/V) exp(-V t / D_c), so the records are
-//! exact (no time-step error) before the noise is added.
+//! The force is the generating law's, `stickslip::memory::rate_state::RateStateLaw`
+//! (aging or slip evolution), stepped through its `MemoryLaw` interface as the time loop
+//! steps it: each record starts at the steady state of its first velocity, and the
+//! velocity is held over each sample interval, for which the law's step is exact (for
+//! the aging law the closed form theta(t) = D_c/V + (theta_0 - D_c/V) exp(-V t / D_c)),
+//! so the records have no time-step error before the noise is added. That law is
+//! implemented apart from the learned one (`stickslip::neural::memory`), so a fit that
+//! reproduces it checks both.
 
 use rand_distr::{Distribution, Normal};
 use serde::{Deserialize, Serialize};
 
-use super::series::{simulate, ForceSeries};
+use super::series::ForceSeries;
 use crate::data::{seeded_rng, DATA_STREAM};
 use crate::error::TrainError;
+use stickslip::friction::FrictionLaw;
+use stickslip::memory::rate_state::{RateStateLaw, RateStateParameters, StateEvolution};
+use stickslip::memory::{LawStep, MemoryLaw};
 use stickslip::neural::memory::{LearnedStateLaw, StateLawParameters};
 
 /// The records' settings (defaults in [`TribometerSpec::default`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TribometerSpec {
-    /// The generating rate-and-state law (aging).
-    pub law: StateLawParameters,
+    /// The generating rate-and-state law.
+    pub law: RateStateParameters,
     /// One set of records per normal force (N).
     pub normal_forces: Vec<f64>,
     /// The slowest and fastest sliding speed (m/s); the middle one is their geometric
@@ -40,24 +47,21 @@ pub struct TribometerSpec {
 }
 
 impl Default for TribometerSpec {
-    /// The generating law is velocity weakening (b > a), D_c = 0.1 mm, sampled at 2 kHz
-    /// from 1 mm/s to 0.1 m/s: the speeds of the paper scene's tip (belt 0.02 m/s); the
-    /// noise (0.2 N, 0.5 % of the force) is a load cell's.
+    /// The generating law is the scene's default rate-and-state law (aging, a = 0.01,
+    /// b = 0.015, D_c = 10 um, mu_0 = 0.5 at V_0 = 1 mm/s), so that the learned law can
+    /// stand beside it in the paper scene; driven from 1 mm/s to 0.1 m/s, the speeds of
+    /// the paper scene's tip (belt 0.02 m/s), holding each velocity for 20 D_c, sampled
+    /// at 10 kHz (the slowest step's decay spans 20 samples); the noise (0.2 N, 0.4 % of
+    /// the force) is a load cell's.
     fn default() -> Self {
         TribometerSpec {
-            law: StateLawParameters {
-                reference_coefficient: 0.35,
-                reference_velocity: 1e-3,
-                direct_effect: 0.01,
-                evolution_effect: 0.02,
-                characteristic_slip: 1e-4,
-            },
+            law: RateStateParameters::default(),
             normal_forces: vec![60.0, 100.0, 140.0],
             speed_min: 1e-3,
             speed_max: 0.1,
-            hold_slip: 2e-3,
-            hold_time: 1.0,
-            sample_interval: 5e-4,
+            hold_slip: 2e-4,
+            hold_time: 0.2,
+            sample_interval: 1e-4,
             noise_std: 0.2,
         }
     }
@@ -109,11 +113,10 @@ impl TribometerSpec {
     /// Checks the settings, with the field at fault named.
     pub fn check(&self) -> Result<(), TrainError> {
         let bad = |m: String| Err(TrainError::InvalidInput(format!("tribometer data: {m}")));
-        let l = &self.law;
+        if let Some((field, value, requirement)) = self.law.problem() {
+            return bad(format!("{field} = {value}: must be {requirement}"));
+        }
         for (name, v) in [
-            ("reference_velocity", l.reference_velocity),
-            ("direct_effect", l.direct_effect),
-            ("characteristic_slip", l.characteristic_slip),
             ("speed_min", self.speed_min),
             ("hold_slip", self.hold_slip),
             ("hold_time", self.hold_time),
@@ -143,12 +146,25 @@ impl TribometerSpec {
         Ok(())
     }
 
-    /// The generating law (no correction).
-    pub fn generating_law(&self) -> LearnedStateLaw {
-        LearnedStateLaw {
-            parameters: self.law.clone(),
+    /// The generating law, at its initial state.
+    pub fn generating_law(&self) -> RateStateLaw {
+        RateStateLaw::new(self.law.clone())
+    }
+
+    /// The generating law in the learned law's form (no correction), when its state
+    /// evolves by the aging law (the learned law's): the same equations.
+    pub fn as_learned(&self) -> Option<LearnedStateLaw> {
+        let l = &self.law;
+        (l.state_evolution == StateEvolution::Aging).then(|| LearnedStateLaw {
+            parameters: StateLawParameters {
+                reference_coefficient: l.reference_coefficient,
+                reference_velocity: l.reference_velocity,
+                direct_effect: l.direct_effect,
+                evolution_effect: l.evolution_effect,
+                characteristic_slip: l.characteristic_slip,
+            },
             correction: None,
-        }
+        })
     }
 
     /// The four velocity histories, named.
@@ -190,7 +206,7 @@ impl TribometerSpec {
     /// The records: per normal force, the four histories, with noise drawn from `seed`.
     pub fn generate(&self, seed: u64) -> Result<Vec<ForceSeries>, TrainError> {
         self.check()?;
-        let law = self.generating_law();
+        let mut law = self.generating_law();
         let noise =
             Normal::new(0.0, self.noise_std).map_err(|source| TrainError::Distribution {
                 quantity: "force noise",
@@ -208,8 +224,22 @@ impl TribometerSpec {
                     normal_force: vec![normal_force; n],
                     force: vec![0.0; n],
                 };
-                let (forces, _) = simulate(&law, &series);
-                series.force = forces.iter().map(|f| f + noise.sample(&mut rng)).collect();
+                let v0 = series.velocity[0];
+                law.set_state(&[self.law.characteristic_slip / v0.abs()])
+                    .map_err(|e| TrainError::InvalidInput(format!("tribometer data: {e}")))?;
+                series.force[0] = law.sliding_force(v0, normal_force);
+                for k in 1..n {
+                    let step = LawStep {
+                        dt: self.sample_interval,
+                        sliding_velocity: series.velocity[k],
+                        normal_force,
+                    };
+                    series.force[k] = law.step_force_and_slope(step).0;
+                    law.commit(step);
+                }
+                for f in &mut series.force {
+                    *f += noise.sample(&mut rng);
+                }
                 records.push(series);
             }
         }
@@ -220,8 +250,9 @@ impl TribometerSpec {
     pub fn describe(&self) -> String {
         let l = &self.law;
         format!(
-            "synthetic tribometer records (velocity steps, ramps, reversal, slide-hold-slide; {} to {} m/s; F_n {:?} N; every {} s; noise {} N) of rate-and-state friction (aging law, asinh-regularised): mu_0 {}, V_0 {} m/s, a {}, b {}, D_c {} m",
+            "synthetic tribometer records (velocity steps, ramps, reversal, slide-hold-slide; {} to {} m/s; F_n {:?} N; every {} s; noise {} N) of rate-and-state friction ({} law, asinh-regularised): mu_0 {}, V_0 {} m/s, a {}, b {}, D_c {} m",
             self.speed_min, self.speed_max, self.normal_forces, self.sample_interval, self.noise_std,
+            stickslip::choice::Choice::name(l.state_evolution),
             l.reference_coefficient, l.reference_velocity, l.direct_effect, l.evolution_effect, l.characteristic_slip
         )
     }

@@ -7,7 +7,10 @@
 //! - `correction`: the network part;
 //! - `law`: [`LearnedStateLaw`], the three together, with the gradients training needs;
 //! - `file`: the weights file (`stickslip-state-friction`, version 1);
-//! - `response`: the velocity-step response (direct effect, decay length).
+//! - `stepped`: [`LearnedStateFriction`], the law with its state as a
+//!   `crate::memory::MemoryLaw` of the time loop and NeuralFriction;
+//! - `response`: the velocity-step response (direct effect, decay length) of any law
+//!   with state.
 //!
 //! Training (the time series, their CSV form, the fit) is `stickslip_train::memory`.
 
@@ -17,7 +20,9 @@ pub mod file;
 pub mod law;
 pub mod regularised;
 pub mod response;
+pub mod stepped;
 
 pub use correction::{Correction, InputScale};
 pub use file::{StateLawFile, StateMetrics, StateTrainingInfo, TrainingRanges};
 pub use law::{LearnedStateLaw, StateLawParameters, StepForce};
+pub use stepped::LearnedStateFriction;

@@ -1,6 +1,6 @@
-//! The velocity-step response of a law with rate-and-state memory, measured the way a
-//! tribometer's record is read (Dieterich 1979; Marone 1998, "Laboratory-derived
-//! friction laws", Fig. 4): slide at V_1 until steady, step to V_2, and read
+//! The velocity-step response of a law with state, measured the way a tribometer's
+//! record is read (Dieterich 1979; Marone 1998, "Laboratory-derived friction laws",
+//! Fig. 4): slide at V_1 until steady, step to V_2, and read
 //! - the direct effect: the jump of mu = F / F_n at the step, at unchanged state
 //!   (a ln(V_2 / V_1) for the Dieterich-Ruina law);
 //! - the decay length: the slip after the step over which the excess of mu over its
@@ -8,8 +8,11 @@
 //!   excess is b ln(1 + (V_2/V_1 - 1) e^{-delta / D_c}), so this length is D_c times a
 //!   function of V_2/V_1 alone: two laws' decay lengths at the same step are in the
 //!   ratio of their D_c.
+//!
+//! Any [`MemoryLaw`] is measured through its trait alone, so a learned law and the
+//! analytical law that generated its data are read by the same code.
 
-use super::law::LearnedStateLaw;
+use crate::memory::{LawStep, MemoryLaw};
 
 /// What a velocity step shows.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -22,38 +25,49 @@ pub struct StepResponse {
     pub decay_length: f64,
 }
 
-/// The response of `law` to a step V_1 -> V_2 (m/s, both > 0) at normal force
-/// `normal_force` (N), stepped at `slip_step` (m) of slip per step (exact steps: the
-/// stepping only samples the curve; the 1/e point is interpolated linearly between
-/// samples, so its error is below `slip_step`).
+/// A step so short that the state does not move (x = V dt / D_c ~ 1e-10 for D_c >=
+/// 1e-6 m at V <= 1 m/s): the force at the committed state.
+const INSTANT: f64 = 1e-16;
+
+/// The response of `law` (reset first) to a step V_1 -> V_2 (m/s, both > 0) at normal
+/// force `normal_force` (N). `settle_slip` (m) is slid at constant speed to reach a
+/// steady state (one exact step; thousands of D_c); the curve after the step is sampled
+/// every `slip_step` (m), and the 1/e point interpolated linearly between samples, so
+/// its error is below `slip_step`.
 pub fn velocity_step(
-    law: &LearnedStateLaw,
-    v1: f64,
-    v2: f64,
+    law: &mut dyn MemoryLaw,
+    (v1, v2): (f64, f64),
     normal_force: f64,
+    settle_slip: f64,
     slip_step: f64,
 ) -> StepResponse {
-    let mu = |state: f64, v: f64| law.force(state, v, normal_force).force / normal_force;
-    let before = law.steady_state(v1);
-    // Steady state after: step far (exact stepping: a step of 1e3 D_c / V_2 is steady).
-    let far = law
-        .step_state(before, v2, 1e3 * law.parameters.characteristic_slip / v2)
-        .state;
-    let (mu_before, mu_jump, mu_after) = (mu(before, v1), mu(before, v2), mu(far, v2));
+    let at = |dt: f64, v: f64| LawStep {
+        dt,
+        sliding_velocity: v,
+        normal_force,
+    };
+    let mu =
+        |law: &mut dyn MemoryLaw, v: f64| law.step_force_and_slope(at(INSTANT, v)).0 / normal_force;
+    law.reset();
+    law.commit(at(settle_slip / v1, v1));
+    let before = law.state().to_vec();
+    let (mu_before, mu_jump) = (mu(law, v1), mu(law, v2));
+    law.commit(at(settle_slip / v2, v2));
+    let mu_after = mu(law, v2);
+    // The state was taken from this law: it fits.
+    let _ = law.set_state(&before);
     let excess0 = mu_jump - mu_after;
     let target = excess0 / std::f64::consts::E;
-    let dt = slip_step / v2;
-    let (mut state, mut slip, mut excess) = (before, 0.0, excess0);
+    let (mut slip, mut excess) = (0.0, excess0);
     let mut decay_length = f64::NAN;
-    for _ in 0..1_000_000 {
-        let next_state = law.step_state(state, v2, dt).state;
-        let next_excess = mu(next_state, v2) - mu_after;
-        if (next_excess - target) * (excess - target) <= 0.0 {
-            let share = (excess - target) / (excess - next_excess);
-            decay_length = slip + share * slip_step;
+    for _ in 0..10_000_000 {
+        law.commit(at(slip_step / v2, v2));
+        let next = mu(law, v2) - mu_after;
+        if (next - target) * (excess - target) <= 0.0 {
+            decay_length = slip + (excess - target) / (excess - next) * slip_step;
             break;
         }
-        (state, excess, slip) = (next_state, next_excess, slip + slip_step);
+        (excess, slip) = (next, slip + slip_step);
     }
     StepResponse {
         direct_effect: mu_jump - mu_before,
