@@ -107,3 +107,39 @@ fn the_weights_file_round_trips_and_refuses_corruption() {
     let nan = text.replacen(&slip, "\"characteristic_slip\": NaN", 1);
     assert!(matches!(refused(&nan), NeuralError::Json { .. }));
 }
+
+/// Issue 24's must-show, item 5: the shipped learned law (weights/rate-and-state-learned.json,
+/// made by `stickslip train-memory`) runs the paper scene beside its generating law, the
+/// scene's default rate-and-state law, through the same contact for laws with state.
+/// Measured at modal fidelity: period 0.2920 s against 0.2921 s, corridor 6.270-9.065 mm
+/// against 6.265-9.068 mm, breakaway 0.4422 s against 0.4424 s. Bounds: 1 % of the
+/// period and 0.1 mm of the corridor, about 5x and 15x the measured differences, which
+/// come from the fit's 0.4 % in the direct effect; a law that missed the memory (a
+/// memoryless fit of the steady curve) would not stick-slip with this period at all.
+#[test]
+fn the_shipped_learned_law_runs_the_paper_scene_beside_its_generating_law() {
+    use stickslip::law_source::LawSource;
+    use stickslip::scene::{FidelityLevel, FrictionLawKind, Scene};
+    let run = |law: FrictionLawKind, weights: Option<String>| {
+        let mut scene = Scene::default();
+        scene.fidelity.level = FidelityLevel::Modal;
+        scene.friction.law = law;
+        scene.friction.weights = weights;
+        let checked = scene.check().unwrap();
+        let source = LawSource::resolve(&checked).unwrap();
+        stickslip::run::run_scene(checked, &source, 100)
+            .unwrap()
+            .summary
+    };
+    let weights = stickslip_tests::weights_dir().join("rate-and-state-learned.json");
+    let learned = run(FrictionLawKind::Neural, Some(weights.display().to_string()));
+    let truth = run(FrictionLawKind::RateAndState, None);
+    let (p, q) = (learned.period.unwrap(), truth.period.unwrap());
+    assert!((p - q).abs() < 0.01 * q, "period {p} vs {q} s");
+    let ((a, b), (c, d)) = (learned.corridor.unwrap(), truth.corridor.unwrap());
+    assert!(
+        (a - c).abs() < 1e-4 && (b - d).abs() < 1e-4,
+        "corridor {a}-{b} vs {c}-{d} m"
+    );
+    assert!(learned.major_slips.len() >= 2, "{learned:?}");
+}

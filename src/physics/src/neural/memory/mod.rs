@@ -20,6 +20,7 @@ pub mod file;
 pub mod law;
 pub mod regularised;
 pub mod response;
+pub mod source;
 pub mod stepped;
 
 pub use correction::{Correction, InputScale};
