@@ -35,7 +35,10 @@ pub const STATE_FORMAT: &str = "stickslip-fmu-state";
 /// - 3: StickSlipBeam no longer lists every stick/slip transition made so far (a list
 ///   that grew with simulated time); the simulation state's count replaces it, so the
 ///   state's size no longer depends on how long the run has gone.
-pub const STATE_VERSION: u32 = 3;
+/// - 4: the simulation state carries the friction law's internal state
+///   (`SimulationState::law_state`, for `friction.law = lugre | rate-and-state`); a
+///   version-3 state reads as one with an empty law state (its laws had none).
+pub const STATE_VERSION: u32 = 4;
 /// The oldest version this FMU still reads (version-1 and version-2 beam states are
 /// converted; their transition lists are checked against the count, then dropped).
 pub const OLDEST_STATE_VERSION: u32 = 1;

@@ -158,6 +158,51 @@ impl LearnedStateLaw {
         }
     }
 
+    /// The force and its slope S = dF/dv at fixed state, with their gradients over
+    /// (v, F_n) (`crate::jacobian::LawJacobian`): what an FMU's directional derivatives
+    /// at a communication point are, where the state is the committed one. With
+    /// S = F_n a / sqrt(1/E^2 + v^2) and ln E = Omega / a - ln(2 V_0):
+    /// dS/dv = -S v / q, dS/dOmega = S E^-2 / (a q), q = 1/E^2 + v^2.
+    pub fn jacobian(
+        &self,
+        state: f64,
+        velocity: f64,
+        normal_force: f64,
+    ) -> crate::jacobian::LawJacobian {
+        let p = &self.parameters;
+        let (level, _, d_level_normal) = self.level(state, normal_force, None);
+        let f = regularised::force(
+            velocity,
+            normal_force,
+            level,
+            p.direct_effect,
+            p.reference_velocity,
+        );
+        let inverse = regularised::inverse_scale(level, p.direct_effect, p.reference_velocity);
+        let q = inverse * inverse + velocity * velocity;
+        let slope = f.d_velocity;
+        let slope_level = slope * inverse * inverse / (p.direct_effect * q);
+        let force_normal = if normal_force != 0.0 {
+            f.force / normal_force
+        } else {
+            0.0
+        };
+        let slope_normal = if normal_force != 0.0 {
+            slope / normal_force
+        } else {
+            0.0
+        };
+        crate::jacobian::LawJacobian {
+            force: f.force,
+            slope,
+            force_gradient: vec![slope, force_normal + f.d_level * d_level_normal],
+            slope_gradient: vec![
+                -slope * velocity / q,
+                slope_normal + slope_level * d_level_normal,
+            ],
+        }
+    }
+
     /// One step from state `state` over `step` s to velocity `velocity`: the new state,
     /// the force there and dF/dv_{n+1} = dF/dv + dF/dpsi dpsi_{n+1}/dv_{n+1}.
     pub fn after_step(&self, state: f64, velocity: f64, normal_force: f64, step: f64) -> StepForce {
@@ -267,6 +312,29 @@ mod tests {
             assert!((f.d_state - fd).abs() < 1e-6 * fd.abs());
             // The total slope of a step: the state moves with v_{n+1} too.
             let h = 1e-3;
+            // The Jacobian at fixed state against differences of the force and slope.
+            let j = law.jacobian(psi, v, f_n);
+            let (dv, df) = (1e-9, 1e-4);
+            let fd = |g: &dyn Fn(f64, f64) -> f64| {
+                [
+                    (g(v + dv, f_n) - g(v - dv, f_n)) / (2.0 * dv),
+                    (g(v, f_n + df) - g(v, f_n - df)) / (2.0 * df),
+                ]
+            };
+            let force = fd(&|v, n| law.force(psi, v, n).force);
+            let slope = fd(&|v, n| law.force(psi, v, n).d_velocity);
+            for k in 0..2 {
+                assert!(
+                    (j.force_gradient[k] - force[k]).abs() < 1e-5 * force[k].abs().max(1e-3),
+                    "{hidden} F{k}"
+                );
+                assert!(
+                    (j.slope_gradient[k] - slope[k]).abs() < 1e-4 * slope[k].abs().max(1e-3),
+                    "{hidden} S{k}: {} {}",
+                    j.slope_gradient[k],
+                    slope[k]
+                );
+            }
             let s = law.after_step(psi, v, f_n, h);
             let dv = 1e-9;
             let fd = (law.after_step(psi, v + dv, f_n, h).force

@@ -29,6 +29,11 @@ const LOG_ASYMPTOTE: f64 = 30.0;
 /// 1e304): a law that steep is a jump for any solver.
 const LOG_SCALE_CAP: f64 = 700.0;
 
+/// 1/E = 2 V_0 exp(-Omega / a), with ln E capped as in [`force`].
+pub fn inverse_scale(level: f64, direct: f64, reference_velocity: f64) -> f64 {
+    (-(level / direct - (2.0 * reference_velocity).ln()).min(LOG_SCALE_CAP)).exp()
+}
+
 /// F and its derivatives (module formula) at sliding velocity `velocity` (m/s), normal
 /// force `normal_force` (N), level `level` (Omega, 1), direct effect `direct` (a > 0)
 /// and reference velocity `reference_velocity` (V_0 > 0, m/s).
@@ -40,7 +45,7 @@ pub fn force(
     reference_velocity: f64,
 ) -> RegularisedForce {
     let log_scale = (level / direct - (2.0 * reference_velocity).ln()).min(LOG_SCALE_CAP);
-    let inverse_scale = (-log_scale).exp();
+    let inverse_scale = inverse_scale(level, direct, reference_velocity);
     let sign = crate::friction::signum_or_zero(velocity);
     let d_velocity =
         normal_force * direct / (inverse_scale * inverse_scale + velocity * velocity).sqrt();
