@@ -12,6 +12,7 @@ mod friction_memory;
 mod fuzz_regressions;
 mod instance;
 mod long_run;
+mod memory_laws;
 mod model_description;
 mod threads_resources;
 mod values3;

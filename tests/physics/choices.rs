@@ -52,13 +52,21 @@ fn every_choice_word_is_its_scene_word_and_its_position_its_fmi_code() {
 }
 
 /// The FMI interface numbers these values: auto and external are item 4 of their types,
-/// after the levels and laws that a stand-alone run has.
+/// after the levels and laws that a stand-alone run has; the laws with state came later
+/// and follow as items 5 and 6, so that the codes of the earlier laws stay.
 #[test]
 fn auto_and_external_keep_their_fmi_items_and_type_names() {
     let words = |all: &[FrictionLawKind]| all.iter().map(|c| c.name()).collect::<Vec<_>>();
     assert_eq!(
         words(FrictionLawKind::ALL),
-        ["exponential", "coulomb", "neural", "external"]
+        [
+            "exponential",
+            "coulomb",
+            "neural",
+            "external",
+            "lugre",
+            "rate-and-state"
+        ]
     );
     assert_eq!(FrictionLawKind::TYPE_NAME, "FrictionModel");
     let levels: Vec<&str> = FidelityLevel::ALL.iter().map(|c| c.name()).collect();

@@ -10,6 +10,7 @@ use crate::error::CliError;
 use clap::Args;
 use std::path::PathBuf;
 use stickslip::law_source::LawSource;
+use stickslip::memory::parameters::StateEvolution;
 use stickslip::run::RunError;
 use stickslip::scene::{
     CheckedScene, DampingPhase, FidelityLevel, FrictionLawKind, Inference, Scene, Scheme,
@@ -95,6 +96,17 @@ pub struct SceneArgs {
     /// How the neural law's network is evaluated: speed for accuracy.
     #[arg(long, value_parser = parser::<Inference>())]
     pub inference: Option<Inference>,
+    /// LuGre's bristle stiffness sigma0 (N/m) for `--friction lugre`; the other LuGre
+    /// parameters come from the scene file's `[friction.lugre]`.
+    #[arg(long, allow_negative_numbers = true)]
+    pub bristle_stiffness: Option<f64>,
+    /// Rate-and-state's characteristic slip D_c (m) for `--friction rate-and-state`; the
+    /// other parameters come from the scene file's `[friction.rate_and_state]`.
+    #[arg(long, allow_negative_numbers = true)]
+    pub characteristic_slip: Option<f64>,
+    /// Rate-and-state's evolution law of the state theta.
+    #[arg(long, value_parser = parser::<StateEvolution>())]
+    pub state_evolution: Option<StateEvolution>,
 }
 
 impl SceneArgs {
@@ -164,6 +176,15 @@ impl SceneArgs {
         }
         if let Some(i) = self.inference {
             scene.friction.inference = i;
+        }
+        if let Some(k) = self.bristle_stiffness {
+            scene.friction.lugre.bristle_stiffness = k;
+        }
+        if let Some(d) = self.characteristic_slip {
+            scene.friction.rate_and_state.characteristic_slip = d;
+        }
+        if let Some(e) = self.state_evolution {
+            scene.friction.rate_and_state.state_evolution = e;
         }
         // Before the damping, which checks the scene: the tolerance must be in it.
         let auto_tolerance = self.auto_tolerance(&mut scene)?;

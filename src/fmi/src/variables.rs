@@ -379,6 +379,12 @@ pub const UNITS: &[Unit] = &[
         s: -2,
     },
     Unit {
+        name: "N/m",
+        kg: 1,
+        m: 0,
+        s: -2,
+    },
+    Unit {
         name: "N.s/m",
         kg: 1,
         m: 0,

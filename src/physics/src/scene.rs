@@ -21,8 +21,7 @@
 //! v_b = 0.02 m/s, F_n = 100 N, mu_s = 0.5, mu_k = 0.2, alpha = 5 s/m, eps = 1e-3 m/s,
 //! dt = 1e-4 s, t_end = 1.2 s. The paper does not give Poisson's ratio; 0.3 (steel) is used.
 
-use crate::memory::lugre::LuGreParameters;
-use crate::memory::rate_state::RateStateParameters;
+use crate::memory::parameters::{LuGreParameters, RateStateParameters};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -655,6 +654,19 @@ impl Scene {
                     c.slip_modes_below,
                     "0 with a law with state (it has no stick phase to keep on the full mesh)",
                 ));
+            }
+            if self.fidelity.level == FidelityLevel::Auto {
+                // auto's front, its partner ratios and its verification were measured
+                // with the memoryless switch (data/pareto_front.json); no front has been
+                // measured for a law with state, whose stick is a velocity threshold.
+                return Err(SceneError::Invalid {
+                    field: "fidelity.level",
+                    value: "auto".into(),
+                    requirement: format!(
+                        "modal, beam or plane-stress with friction.law = {}: auto's measured front and partner chain are for the memoryless laws only, none was measured for a law with state",
+                        crate::choice::Choice::name(f.law)
+                    ),
+                });
             }
         }
         if c.tip_velocity == TipVelocity::FiniteDifference

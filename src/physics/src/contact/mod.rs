@@ -61,16 +61,24 @@
 //!   switches every step (the paper's literal rule "stick when |v_s| < eps"; in a 1-DOF
 //!   run, 3 908 switches that dragged the tip to 23.5 mm).
 //!
+//! **Laws with state** (`crate::memory`: LuGre, rate-and-state) have no set-valued stick
+//! and take neither switch: every step is a slip solve with the law's trial step over dt
+//! (its state advanced inside, the exact total slope), and the state is committed at the
+//! accepted velocity; `stick` then means |v_rel,n+1| < eps (`memory`,
+//! docs/friction-with-memory.md).
+//!
 //! Here: the `Contact` of a scene and its two formulations. Its parts: `state` (stick or
 //! slip between steps), `stick` (the reaction and F_hold), `switch` (the two schemes'
 //! rules), `kinetic` (where the kinetic force comes from), `slip` (the solve and its
 //! choice of solver) with `argument` (x(F)), `limits`, `newton`, `fixed_point` and
-//! `tangent` (the solvers). Imports run one way, from here down to those parts.
+//! `tangent` (the solvers), and `memory` (the step of a law with state). Imports run
+//! one way, from here down to those parts.
 
 mod argument;
 mod fixed_point;
 mod kinetic;
 mod limits;
+mod memory;
 mod newton;
 mod slip;
 mod state;
@@ -85,7 +93,6 @@ pub use state::{ContactState, Previous, Transition};
 pub use switch::{impulse_clamp, next_state};
 
 use crate::integrator::{Coefficients, TrialStep};
-use crate::memory::{LawStep, MemoryLaw, StepLaw};
 use crate::scene::CheckedScene;
 use slip::SlipOptions;
 use stick::{Holding, StickReaction};
@@ -176,57 +183,6 @@ impl Contact {
             Formulation::MoreauJean => {
                 self.resolve_moreau_jean(trial, previous, belt_speed, static_limit, kinetic)
             }
-        }
-    }
-
-    /// The step of a law with state (`crate::memory`): no set-valued stick, so every
-    /// step solves the slip force F = F_step(x(F)) with the law's trial step over dt
-    /// (its force and exact total slope, the state update included), then commits the
-    /// law's state at the accepted x, v_rel at the scheme's law level. The state stays
-    /// the contact's `Stick` while |v_rel,n+1| < eps (the stick threshold), `Slip`
-    /// otherwise; the holding force is the stick reaction's, reported only.
-    pub fn resolve_with_memory(
-        &self,
-        trial: &TrialStep,
-        previous: Previous,
-        belt_speed: f64,
-        law: &mut dyn MemoryLaw,
-        normal_force: f64,
-    ) -> Resolution {
-        let (alpha_f, stick) = match self.formulation {
-            Formulation::GeneralizedAlpha { alpha_f } => (
-                alpha_f,
-                StickReaction::displacement_level(trial, belt_speed),
-            ),
-            Formulation::MoreauJean => (0.0, StickReaction::velocity_level(trial, belt_speed)),
-        };
-        let dt = trial.dt;
-        let slip = {
-            let mut step_law = StepLaw { law, dt };
-            let mut kinetic = Kinetic::Law {
-                law: &mut step_law,
-                normal_force,
-            };
-            self.slip
-                .solve(trial, previous, belt_speed, &mut kinetic, alpha_f)
-        };
-        let sliding_velocity =
-            (1.0 - alpha_f) * slip.relative_velocity + alpha_f * previous.relative_velocity;
-        law.commit(LawStep {
-            dt,
-            sliding_velocity,
-            normal_force,
-        });
-        let state = if slip.relative_velocity.abs() < self.stick_threshold {
-            ContactState::Stick
-        } else {
-            ContactState::Slip
-        };
-        Resolution {
-            state,
-            force: slip.force,
-            holding_force: self.holding.force(&stick),
-            slip: Some(slip.solve),
         }
     }
 

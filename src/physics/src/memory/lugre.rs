@@ -8,70 +8,10 @@
 //! sign(v) g(v) / sigma0 and F to g(v) sign(v) + sigma2 v; for small displacements from
 //! rest (|v| z << g) dz/dt = v and F = sigma0 x: presliding is elastic.
 
+use super::parameters::LuGreParameters;
 use super::relaxation::Relaxation;
 use super::{check_state, LawStep, MemoryLaw, MemoryStateError, StateVariable};
 use crate::friction::{signum_or_zero, ExponentialLaw, FrictionLaw};
-use serde::{Deserialize, Serialize};
-
-/// The scene's `[friction.lugre]` table.
-///
-/// Defaults for the paper scene (tip stiffness 3 EI / L^3 = 6.25e4 N/m, effective tip
-/// mass ~4.9 kg, mu_s F_n = 50 N): sigma0 = 1e7 N/m is 160 times the tip stiffness, so
-/// that the presliding deflection at breakaway, mu_s F_n / sigma0 = 5 um, is 0.6 % of
-/// the 0.8 mm the tip deflects in stick; sigma1 = 1e3 N s/m damps the bristle mode
-/// against the tip mass (sqrt(sigma0 / m) ~ 1.4e3 rad/s) at about 7 % of critical;
-/// sigma2 = 0 because the exponential law g already carries all of the paper's velocity
-/// dependence.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct LuGreParameters {
-    /// sigma0 (N/m), > 0.
-    pub bristle_stiffness: f64,
-    /// sigma1 (N s/m), >= 0.
-    pub bristle_damping: f64,
-    /// sigma2 (N s/m), >= 0.
-    pub viscous_damping: f64,
-}
-
-impl Default for LuGreParameters {
-    fn default() -> Self {
-        Self {
-            bristle_stiffness: 1e7,
-            bristle_damping: 1e3,
-            viscous_damping: 0.0,
-        }
-    }
-}
-
-impl LuGreParameters {
-    /// The first field that is out of range, as (dotted name, value, requirement).
-    pub fn problem(&self) -> Option<(&'static str, f64, &'static str)> {
-        let checks = [
-            (
-                "friction.lugre.bristle_stiffness",
-                self.bristle_stiffness,
-                self.bristle_stiffness > 0.0,
-                "finite and > 0 (N/m)",
-            ),
-            (
-                "friction.lugre.bristle_damping",
-                self.bristle_damping,
-                self.bristle_damping >= 0.0,
-                "finite and >= 0 (N s/m)",
-            ),
-            (
-                "friction.lugre.viscous_damping",
-                self.viscous_damping,
-                self.viscous_damping >= 0.0,
-                "finite and >= 0 (N s/m)",
-            ),
-        ];
-        checks
-            .into_iter()
-            .find(|(_, value, ok, _)| !(value.is_finite() && *ok))
-            .map(|(field, value, _, requirement)| (field, value, requirement))
-    }
-}
 
 const STATE: [StateVariable; 1] = [StateVariable {
     name: "bristle_deflection",

@@ -20,7 +20,8 @@
 //!
 //! ```
 //! use stickslip::memory::{LawStep, MemoryLaw};
-//! use stickslip::memory::lugre::{LuGreLaw, LuGreParameters};
+//! use stickslip::memory::lugre::LuGreLaw;
+//! use stickslip::memory::parameters::LuGreParameters;
 //! use stickslip::friction::ExponentialLaw;
 //!
 //! let g = ExponentialLaw { static_coefficient: 0.5, kinetic_coefficient: 0.2, decay: 5.0 };
@@ -33,10 +34,9 @@
 //! ```
 
 pub mod lugre;
+pub mod parameters;
 pub mod rate_state;
 mod relaxation;
-
-use crate::friction::FrictionLaw;
 
 /// One time step of a law with state: the sliding velocity `sliding_velocity` (m/s),
 /// held over the step of length `dt` (s), under the normal force `normal_force` (N).
@@ -45,7 +45,7 @@ pub struct LawStep {
     /// Step length (s), > 0.
     pub dt: f64,
     /// Signed sliding velocity v (m/s) over the step, the same convention as
-    /// [`FrictionLaw::sliding_force`]: the force acts in its direction.
+    /// `FrictionLaw::sliding_force`: the force acts in its direction.
     pub sliding_velocity: f64,
     /// Normal force F_n (N).
     pub normal_force: f64,
@@ -69,15 +69,15 @@ pub struct MemoryStateError(pub String);
 
 /// A friction law with internal state.
 ///
-/// Its [`FrictionLaw`] methods give the **steady-state** force F_ss(v) (and slope): the
+/// It also implements `FrictionLaw`, whose methods give the **steady-state** force F_ss(v) (and slope): the
 /// force after sliding long at constant v, which is what a memoryless caller (a plot, a
 /// comparison) can be given. The time loop never uses them: it asks
-/// [`FrictionLaw::memory`] for this trait and steps the state.
+/// `FrictionLaw::as_memory_mut` for this trait and steps the state.
 ///
 /// The state is a short vector of f64 (one entry for both analytical laws); it is part
 /// of a simulation's saved state, so it must round-trip through [`MemoryLaw::state`] and
 /// [`MemoryLaw::set_state`] bit for bit.
-pub trait MemoryLaw: FrictionLaw {
+pub trait MemoryLaw: Send {
     /// The state's components, in the order of [`MemoryLaw::state`].
     fn state_variables(&self) -> &[StateVariable];
 
@@ -100,6 +100,12 @@ pub trait MemoryLaw: FrictionLaw {
     /// Advances the committed state over `step`: the state
     /// [`MemoryLaw::step_force_and_slope`] used for the same step.
     fn commit(&mut self, step: LawStep);
+
+    /// The force difference (N) below which the step's force is rounding noise (see
+    /// `FrictionLaw::resolution`; 0, the default, for laws evaluated in f64).
+    fn force_resolution(&self) -> f64 {
+        0.0
+    }
 }
 
 /// Checks `state` against `variables`: the same length, finite values, and positive
@@ -126,37 +132,4 @@ pub fn check_state(variables: &[StateVariable], state: &[f64]) -> Result<(), Mem
         }
     }
     Ok(())
-}
-
-/// A law with state seen by the slip solve as a memoryless law over one step of length
-/// `dt`: its force and slope are [`MemoryLaw::step_force_and_slope`] from the committed
-/// state, so that the contact's Newton iteration (which knows only `FrictionLaw`) solves
-/// the implicit step unchanged.
-pub struct StepLaw<'a> {
-    pub law: &'a mut dyn MemoryLaw,
-    /// Step length (s).
-    pub dt: f64,
-}
-
-impl FrictionLaw for StepLaw<'_> {
-    fn name(&self) -> &str {
-        self.law.name()
-    }
-
-    fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {
-        self.sliding_force_and_slope(sliding_velocity, normal_force)
-            .0
-    }
-
-    fn sliding_force_and_slope(&mut self, sliding_velocity: f64, normal_force: f64) -> (f64, f64) {
-        self.law.step_force_and_slope(LawStep {
-            dt: self.dt,
-            sliding_velocity,
-            normal_force,
-        })
-    }
-
-    fn resolution(&self) -> f64 {
-        self.law.resolution()
-    }
 }
