@@ -133,11 +133,11 @@ fn a_version_3_beam_state_still_restores() {
         .unwrap()
         .remove("law_state")
         .unwrap();
-    for settings in [
-        &mut v3.model["settings"],
-        &mut v3.model["running"]["built_from"],
+    for path in [
+        "/settings/scene/friction",
+        "/running/built_from/scene/friction",
     ] {
-        let friction = settings["scene"]["friction"].as_object_mut().unwrap();
+        let friction = v3.model.pointer_mut(path).unwrap().as_object_mut().unwrap();
         friction.remove("lugre").unwrap();
         friction.remove("rate_and_state").unwrap();
     }

@@ -4,6 +4,7 @@
 use std::collections::HashSet;
 use stickslip::choice::Choice;
 use stickslip::friction::LawChoice;
+use stickslip::memory::parameters::StateEvolution;
 use stickslip::scene::{
     Clamp, DampingPhase, FidelityLevel, FrictionLawKind, HoldingForce, Inference, InitialState,
     ModalBasis, Scheme, SlidingVelocity, TipVelocity,
@@ -270,6 +271,7 @@ fn the_annotated_choices_are_the_scenes_choices() {
             declared::<ModalBasis>("fidelity.modal_basis"),
             declared::<Clamp>("fidelity.clamp"),
             declared::<Scheme>("integrator.scheme"),
+            declared::<StateEvolution>("friction.rate_and_state.state_evolution"),
         ]
     );
     assert_eq!(

@@ -10,7 +10,7 @@
 
 use super::parameters::LuGreParameters;
 use super::relaxation::Relaxation;
-use super::{check_state, LawStep, MemoryLaw, MemoryStateError, StateVariable};
+use super::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable};
 use crate::friction::{signum_or_zero, ExponentialLaw, FrictionLaw};
 
 const STATE: [StateVariable; 1] = [StateVariable {
@@ -129,9 +129,7 @@ impl MemoryLaw for LuGreLaw {
     }
 
     fn set_state(&mut self, state: &[f64]) -> Result<(), MemoryStateError> {
-        check_state(&STATE, state)?;
-        self.state[0] = state[0];
-        Ok(())
+        set_checked(&STATE, &mut self.state, state)
     }
 
     fn reset(&mut self) {

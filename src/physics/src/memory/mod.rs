@@ -133,3 +133,15 @@ pub fn check_state(variables: &[StateVariable], state: &[f64]) -> Result<(), Mem
     }
     Ok(())
 }
+
+/// [`check_state`], then `state` copied into `target` (of the same length once checked):
+/// a law's [`MemoryLaw::set_state`] in one call, the law unchanged on refusal.
+pub fn set_checked(
+    variables: &[StateVariable],
+    target: &mut [f64],
+    state: &[f64],
+) -> Result<(), MemoryStateError> {
+    check_state(variables, state)?;
+    target.copy_from_slice(state);
+    Ok(())
+}

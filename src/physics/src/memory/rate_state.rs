@@ -17,7 +17,7 @@
 
 use super::parameters::{RateStateParameters, StateEvolution};
 use super::relaxation::Relaxation;
-use super::{check_state, LawStep, MemoryLaw, MemoryStateError, StateVariable};
+use super::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable};
 use crate::friction::FrictionLaw;
 
 const STATE: [StateVariable; 1] = [StateVariable {
@@ -166,9 +166,7 @@ impl MemoryLaw for RateStateLaw {
     }
 
     fn set_state(&mut self, state: &[f64]) -> Result<(), MemoryStateError> {
-        check_state(&STATE, state)?;
-        self.state[0] = state[0];
-        Ok(())
+        set_checked(&STATE, &mut self.state, state)
     }
 
     fn reset(&mut self) {
