@@ -9,7 +9,7 @@ use std::sync::Arc;
 use crate::error::CliError;
 use crate::train::check_output_directory;
 use stickslip::choice::Choice;
-use stickslip::memory::rate_state::StateEvolution;
+use stickslip::memory::parameters::StateEvolution;
 use stickslip::neural::memory::response::velocity_step;
 use stickslip::neural::memory::{LearnedStateFriction, StateLawFile};
 use stickslip_train::memory::{
@@ -71,7 +71,7 @@ pub fn run_train_memory(args: &TrainMemoryArgs) -> Result<StateLawFile, CliError
     }
     let synthetic = args.data.is_none().then(|| TribometerSpec {
         noise_std: args.noise,
-        law: stickslip::memory::rate_state::RateStateParameters {
+        law: stickslip::memory::parameters::RateStateParameters {
             state_evolution: args.state_evolution,
             ..TribometerSpec::default().law
         },

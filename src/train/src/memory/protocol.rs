@@ -19,7 +19,8 @@ use super::series::ForceSeries;
 use crate::data::{seeded_rng, DATA_STREAM};
 use crate::error::TrainError;
 use stickslip::friction::FrictionLaw;
-use stickslip::memory::rate_state::{RateStateLaw, RateStateParameters, StateEvolution};
+use stickslip::memory::parameters::{RateStateParameters, StateEvolution};
+use stickslip::memory::rate_state::RateStateLaw;
 use stickslip::memory::{LawStep, MemoryLaw};
 use stickslip::neural::memory::{LearnedStateLaw, StateLawParameters};
 

@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use super::law::LearnedStateLaw;
 use crate::friction::FrictionLaw;
-use crate::memory::{check_state, LawStep, MemoryLaw, MemoryStateError, StateVariable};
+use crate::memory::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable};
 
 const STATE: [StateVariable; 1] = [StateVariable {
     name: "state_psi",
@@ -75,9 +75,7 @@ impl MemoryLaw for LearnedStateFriction {
     }
 
     fn set_state(&mut self, state: &[f64]) -> Result<(), MemoryStateError> {
-        check_state(&STATE, state)?;
-        self.state[0] = state[0];
-        Ok(())
+        set_checked(&STATE, &mut self.state, state)
     }
 
     fn reset(&mut self) {
