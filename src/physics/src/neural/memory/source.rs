@@ -10,7 +10,9 @@ use super::file::StateLawFile;
 use super::law::LearnedStateLaw;
 use crate::choice::Choice;
 use crate::neural::{NeuralError, SceneLawError};
-use crate::scene::{CheckedScene, FrictionLawKind, Inference, SlidingVelocity};
+use crate::scene::{
+    CheckedScene, FidelityLevel, FrictionLawKind, Inference, Scene, SlidingVelocity,
+};
 
 /// The learned state law a scene names, if it names one; refused with the reason when
 /// the file is corrupt or the scene asks for what a law with state cannot do (the same
@@ -39,7 +41,18 @@ pub fn scene_state_law(
         source,
     };
     let file = StateLawFile::from_json(&text, path).map_err(refuse)?;
-    let requirement = if friction.inference != Inference::Exact {
+    match refusal(scene) {
+        Some(reason) => Err(refuse(NeuralError::NotAFrictionLaw(reason))),
+        None => Ok(Some(Arc::new(file.law()))),
+    }
+}
+
+/// Why `scene` cannot run a law with state, if it cannot: the rules of the analytical
+/// laws with state (relative sliding velocity, no modal slip phase, no `fidelity = auto`,
+/// whose front was measured for memoryless laws only), and exact evaluation.
+pub fn refusal(scene: &Scene) -> Option<String> {
+    let friction = &scene.friction;
+    if friction.inference != Inference::Exact {
         Some(format!(
             "friction.inference = {}: a law with state is evaluated exactly (inference = exact)",
             friction.inference.name()
@@ -48,12 +61,10 @@ pub fn scene_state_law(
         Some("a law with state needs contact.sliding_velocity = relative (its state evolves with the relative slip velocity)".into())
     } else if scene.contact.slip_modes_below > 0.0 {
         Some("a law with state needs contact.slip_modes_below = 0 (it has no stick phase to keep on the full mesh)".into())
+    } else if scene.fidelity.level == FidelityLevel::Auto {
+        Some("fidelity.level = auto: its measured front and partner chain are for the memoryless laws only, none was measured for a law with state; choose modal, beam or plane-stress".into())
     } else {
         None
-    };
-    match requirement {
-        Some(reason) => Err(refuse(NeuralError::NotAFrictionLaw(reason))),
-        None => Ok(Some(Arc::new(file.law()))),
     }
 }
 
