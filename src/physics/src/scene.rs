@@ -627,10 +627,9 @@ impl Scene {
             }
         }
 
-        for problem in [f.lugre.problem(), f.rate_and_state.problem()] {
-            if let Some((field, value, requirement)) = problem {
-                return Err(invalid(field, value, requirement));
-            }
+        let problems = [f.lugre.problem(), f.rate_and_state.problem()];
+        if let Some((field, value, requirement)) = problems.into_iter().flatten().next() {
+            return Err(invalid(field, value, requirement));
         }
 
         let c = &self.contact;

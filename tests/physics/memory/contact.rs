@@ -290,7 +290,8 @@ fn the_scene_refuses_bad_parameters_and_options_with_the_reason() {
         edit(&mut s);
         s.check().unwrap_err().to_string()
     };
-    let cases: [(&dyn Fn(&mut Scene), &str); 6] = [
+    type Edit<'a> = &'a dyn Fn(&mut Scene);
+    let cases: [(Edit, &str); 6] = [
         (
             &|s| s.friction.lugre.bristle_stiffness = -1.0,
             "friction.lugre.bristle_stiffness",

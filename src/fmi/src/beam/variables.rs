@@ -462,7 +462,7 @@ pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &[
         value_reference: 205,
         causality: Causality::Output,
         variability: Variability::Discrete,
-        description: "True while the tip sticks to the belt",
+        description: "True while the tip sticks to the belt (with a law with state, lugre or rate-and-state: while |v_rel| < friction.stick_threshold)",
         access: Access::Boolean {
             get: |m: &StickSlipBeam| m.sample().map(|s| s.stick).unwrap_or(true),
             set: None,
