@@ -188,7 +188,7 @@ pub fn train_state_law(
     for record in records {
         record.check()?;
     }
-    let held_out = |i: usize| config.test_every > 0 && (i + 1) % config.test_every == 0;
+    let held_out = |i: usize| config.test_every > 0 && (i + 1).is_multiple_of(config.test_every);
     let train: Vec<&ForceSeries> = records
         .iter()
         .enumerate()

@@ -156,7 +156,7 @@ impl TribometerSpec {
     /// evolves by the aging law (the learned law's): the same equations.
     pub fn as_learned(&self) -> Option<LearnedStateLaw> {
         let l = &self.law;
-        (l.state_evolution == StateEvolution::Aging).then(|| LearnedStateLaw {
+        (l.state_evolution == StateEvolution::Aging).then_some(LearnedStateLaw {
             parameters: StateLawParameters {
                 reference_coefficient: l.reference_coefficient,
                 reference_velocity: l.reference_velocity,
