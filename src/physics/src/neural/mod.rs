@@ -54,6 +54,7 @@
 //!   `network::gemm`.
 
 mod error;
+mod file_checks;
 pub mod file_kind;
 pub mod forward;
 pub mod jacobian;

@@ -23,6 +23,9 @@ use serde::{Deserialize, Serialize};
 
 use super::correction::Correction;
 use super::law::{LearnedStateLaw, StateLawParameters};
+use crate::neural::file_checks::{
+    check_header, finite, json_error, read_text, to_pretty_json, write_text,
+};
 use crate::neural::weights::StopReason;
 use crate::neural::NeuralError;
 
@@ -120,23 +123,16 @@ impl StateLawFile {
 
     /// Pretty JSON with a final newline (shortest round-trip numbers).
     pub fn to_json(&self) -> Result<String, NeuralError> {
-        let mut text = serde_json::to_string_pretty(self).map_err(|e| NeuralError::Json {
-            source_name: "(in memory)".into(),
-            message: e.to_string(),
-        })?;
-        text.push('\n');
-        Ok(text)
+        to_pretty_json(self)
     }
 
     pub fn save(&self, path: &Path) -> Result<(), NeuralError> {
         self.validate(&path.display().to_string())?;
-        std::fs::write(path, self.to_json()?).map_err(|e| NeuralError::io("cannot write", path, e))
+        write_text(path, &self.to_json()?)
     }
 
     pub fn load(path: &Path) -> Result<StateLawFile, NeuralError> {
-        let text =
-            std::fs::read_to_string(path).map_err(|e| NeuralError::io("cannot read", path, e))?;
-        Self::from_json(&text, &path.display().to_string())
+        Self::from_json(&read_text(path)?, &path.display().to_string())
     }
 
     /// Whether `text` claims to be a state-law file (its `format` field), so that a
@@ -154,28 +150,10 @@ impl StateLawFile {
 
     /// Parses and checks a file's text; `source_name` appears in errors.
     pub fn from_json(text: &str, source_name: &str) -> Result<StateLawFile, NeuralError> {
-        let json_error = |e: serde_json::Error| NeuralError::Json {
-            source_name: source_name.to_string(),
-            message: e.to_string(),
-        };
-        let value: serde_json::Value = serde_json::from_str(text).map_err(json_error)?;
-        let format = value.get("format").and_then(|f| f.as_str());
-        if format != Some(STATE_FORMAT_NAME) {
-            return Err(NeuralError::Format {
-                source_name: source_name.to_string(),
-                found: format.map_or_else(|| "(missing)".to_string(), str::to_string),
-                expected: STATE_FORMAT_NAME,
-            });
-        }
-        let version = value.get("version").and_then(|v| v.as_u64());
-        if version != Some(u64::from(STATE_FORMAT_VERSION)) {
-            return Err(NeuralError::Version {
-                source_name: source_name.to_string(),
-                found: version.map_or(0, |v| u32::try_from(v).unwrap_or(u32::MAX)),
-                supported: STATE_FORMAT_VERSION,
-            });
-        }
-        let file: StateLawFile = serde_json::from_value(value).map_err(json_error)?;
+        check_header(text, source_name, STATE_FORMAT_NAME, STATE_FORMAT_VERSION)?;
+        // Parsed from the text (not a Value) so that errors carry line and column.
+        let file: StateLawFile =
+            serde_json::from_str(text).map_err(|e| json_error(source_name, e))?;
         file.validate(source_name)?;
         Ok(file)
     }
@@ -186,16 +164,7 @@ impl StateLawFile {
             source_name: source_name.to_string(),
             message,
         };
-        let finite = |field: String, v: f64| {
-            if v.is_finite() {
-                Ok(())
-            } else {
-                Err(NeuralError::NonFinite {
-                    source_name: source_name.to_string(),
-                    field,
-                })
-            }
-        };
+        let finite = |field: String, v: f64| finite(source_name, field, v);
         let p = &self.law;
         for (name, v, positive) in [
             ("reference_coefficient", p.reference_coefficient, false),

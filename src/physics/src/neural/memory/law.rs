@@ -123,6 +123,26 @@ impl LearnedStateLaw {
         (level, d_state, d_normal)
     }
 
+    /// The regularised force at (psi, v, F_n) with the level Omega and its derivatives
+    /// d Omega / d psi and d Omega / d F_n.
+    fn regularised(
+        &self,
+        state: f64,
+        velocity: f64,
+        normal_force: f64,
+    ) -> (regularised::RegularisedForce, f64, f64, f64) {
+        let p = &self.parameters;
+        let (level, d_state, d_normal) = self.level(state, normal_force, None);
+        let f = regularised::force(
+            velocity,
+            normal_force,
+            level,
+            p.direct_effect,
+            p.reference_velocity,
+        );
+        (f, level, d_state, d_normal)
+    }
+
     /// F at state `state`, velocity `velocity` (m/s), normal force `normal_force` (N).
     pub fn force(&self, state: f64, velocity: f64, normal_force: f64) -> StateForce {
         self.force_with_gradient(state, velocity, normal_force, None)
@@ -138,14 +158,7 @@ impl LearnedStateLaw {
         gradient: Option<(&mut [f64], f64)>,
     ) -> StateForce {
         let p = &self.parameters;
-        let (level, d_level_state, _) = self.level(state, normal_force, None);
-        let f = regularised::force(
-            velocity,
-            normal_force,
-            level,
-            p.direct_effect,
-            p.reference_velocity,
-        );
+        let (f, _, d_level_state, _) = self.regularised(state, velocity, normal_force);
         if let Some((g, weight)) = gradient {
             // dF/dp = dF/dOmega dOmega/dp, and d ln a through a.
             self.level(state, normal_force, Some((g, weight * f.d_level)));
@@ -170,14 +183,7 @@ impl LearnedStateLaw {
         normal_force: f64,
     ) -> crate::jacobian::LawJacobian {
         let p = &self.parameters;
-        let (level, _, d_level_normal) = self.level(state, normal_force, None);
-        let f = regularised::force(
-            velocity,
-            normal_force,
-            level,
-            p.direct_effect,
-            p.reference_velocity,
-        );
+        let (f, level, _, d_level_normal) = self.regularised(state, velocity, normal_force);
         let inverse = regularised::inverse_scale(level, p.direct_effect, p.reference_velocity);
         let q = inverse * inverse + velocity * velocity;
         let slope = f.d_velocity;
