@@ -8,9 +8,10 @@ use std::sync::Arc;
 
 use crate::error::CliError;
 use crate::train::check_output_directory;
+use std::fmt::Write as _;
 use stickslip::choice::Choice;
 use stickslip::memory::parameters::StateEvolution;
-use stickslip::neural::memory::response::velocity_step;
+use stickslip::neural::memory::response::{velocity_step, velocity_step_curve};
 use stickslip::neural::memory::{LearnedStateFriction, StateLawFile};
 use stickslip_train::memory::{
     read_series_csv, train_state_law, write_series_csv, StateTrainConfig, TribometerSpec,
@@ -56,6 +57,11 @@ pub struct TrainMemoryArgs {
     /// Also write the records trained on as CSV (the form --data reads).
     #[arg(long, value_name = "FILE.csv")]
     pub export_data: Option<PathBuf>,
+    /// Synthetic records: also write the velocity-step responses (1 -> 10 mm/s and
+    /// 100 -> 10 mm/s at 100 N) of the learned and the generating law as CSV
+    /// (step, slip[m], mu_learned, mu_generating).
+    #[arg(long, value_name = "FILE.csv", conflicts_with = "data")]
+    pub step_response: Option<PathBuf>,
     /// No progress output.
     #[arg(long)]
     pub quiet: bool,
@@ -122,13 +128,28 @@ pub fn run_train_memory(args: &TrainMemoryArgs) -> Result<StateLawFile, CliError
         let d_c = spec.law.characteristic_slip;
         let mut truth = spec.generating_law();
         let mut learned = LearnedStateFriction::new(Arc::new(file.law()));
+        let mut csv = String::from("step,slip[m],mu_learned,mu_generating\n");
         for steps in [(1e-3, 1e-2), (1e-1, 1e-2)] {
+            // From 2 D_c before the step to 8 D_c after it, every D_c / 20.
+            let window = (2.0 * d_c, 8.0 * d_c, 0.05 * d_c);
+            let got = velocity_step_curve(&mut learned, steps, 100.0, 1e3 * d_c, window);
+            let want = velocity_step_curve(&mut truth, steps, 100.0, 1e3 * d_c, window);
+            for ((slip, mu), (_, mu_truth)) in got.iter().zip(&want) {
+                let _ = writeln!(csv, "{} -> {} m/s,{slip},{mu},{mu_truth}", steps.0, steps.1);
+            }
             let want = velocity_step(&mut truth, steps, 100.0, 1e3 * d_c, 1e-3 * d_c);
             let got = velocity_step(&mut learned, steps, 100.0, 1e3 * d_c, 1e-3 * d_c);
             println!(
                 "step {} -> {} m/s at 100 N: direct effect {:.5} (generating {:.5}), decay length {:.4e} m (generating {:.4e} m)",
                 steps.0, steps.1, got.direct_effect, want.direct_effect, got.decay_length, want.decay_length
             );
+        }
+        if let Some(path) = &args.step_response {
+            std::fs::write(path, csv).map_err(|source| CliError::TrainOutput {
+                action: "cannot write",
+                path: path.clone(),
+                source,
+            })?;
         }
     }
     Ok(file)

@@ -75,3 +75,37 @@ pub fn velocity_step(
         decay_length,
     }
 }
+
+/// The curve of a velocity step V_1 -> V_2 (m/s) at `normal_force` (N): (slip (m), mu)
+/// from `before` (m) of slip at V_1 up to the step (slip < 0) to `after` (m) beyond it,
+/// every `slip_step` (m); `law` is reset and settled over `settle_slip` (m) first.
+pub fn velocity_step_curve(
+    law: &mut dyn MemoryLaw,
+    (v1, v2): (f64, f64),
+    normal_force: f64,
+    settle_slip: f64,
+    (before, after, slip_step): (f64, f64, f64),
+) -> Vec<(f64, f64)> {
+    let at = |dt: f64, v: f64| LawStep {
+        dt,
+        sliding_velocity: v,
+        normal_force,
+    };
+    law.reset();
+    law.commit(at(settle_slip / v1, v1));
+    let mut curve = Vec::new();
+    let mut slip = -before;
+    let mut v = v1;
+    while slip <= after {
+        if slip >= 0.0 {
+            v = v2;
+        }
+        curve.push((
+            slip,
+            law.step_force_and_slope(at(INSTANT, v)).0 / normal_force,
+        ));
+        law.commit(at(slip_step / v, v));
+        slip += slip_step;
+    }
+    curve
+}
