@@ -142,14 +142,16 @@ fn archives_hold_description_binary_and_weights() {
             .map(|k| archive.by_index(k).unwrap().name().unwrap().into_owned())
             .collect();
         let id = kind.model_identifier();
+        let weights = stickslip_fmi::networks::WEIGHTS_RESOURCES;
         let expected: BTreeSet<String> = [
             "modelDescription.xml".to_string(),
             format!("binaries/linux64/{id}.so"),
-            "resources/paper-plain.json".into(),
-            "resources/paper-signed.json".into(),
         ]
         .into_iter()
+        .chain(weights.iter().map(|name| format!("resources/{name}")))
         .collect();
+        // The two networks and the learned law with memory.
+        assert!(weights.contains(&"rate-and-state-learned.json"));
         assert_eq!(names, expected);
         let mut xml = String::new();
         archive
@@ -158,7 +160,7 @@ fn archives_hold_description_binary_and_weights() {
             .read_to_string(&mut xml)
             .unwrap();
         assert_eq!(xml, kind.model_description(), "{id}: stale FMU; rebuild it");
-        for name in ["paper-plain.json", "paper-signed.json"] {
+        for name in weights {
             let mut packed = Vec::new();
             archive
                 .by_name(&format!("resources/{name}"))
