@@ -212,13 +212,20 @@ mod tests {
             ChoiceValueError::Unknown {
                 word: "Coulomb".into(),
                 type_name: FrictionLawKind::TYPE_NAME,
-                accepted: vec!["exponential", "analytical", "coulomb", "neural"],
+                accepted: vec![
+                    "exponential",
+                    "analytical",
+                    "coulomb",
+                    "neural",
+                    "lugre",
+                    "rate-and-state"
+                ],
             }
         );
         assert_eq!(
             unknown.to_string(),
             format!(
-                "Coulomb is not a {} value; possible values: exponential, analytical, coulomb, neural",
+                "Coulomb is not a {} value; possible values: exponential, analytical, coulomb, neural, lugre, rate-and-state",
                 FrictionLawKind::TYPE_NAME
             )
         );
