@@ -13,14 +13,10 @@ fn temp(tag: &str, name: &str) -> std::path::PathBuf {
     dir.join(name)
 }
 
-#[test]
-fn bad_rows_and_units_are_refused_with_the_line() {
+/// `train-memory --data` on a file of `text`: it must fail; its stderr.
+fn refused(text: &str) -> String {
     let bad = temp("bad", "bad.csv");
-    std::fs::write(
-        &bad,
-        "t[s],v[m/s],F_n[N],F[N]\n0,0.01,100,50\n0.001,0.01,100,5x\n",
-    )
-    .unwrap();
+    std::fs::write(&bad, text).unwrap();
     let out = temp("bad", "never.json");
     let (ok, _, err) = stickslip(&[
         "train-memory",
@@ -29,26 +25,23 @@ fn bad_rows_and_units_are_refused_with_the_line() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert!(!ok);
+    assert!(!ok && !out.exists(), "{err}");
+    err
+}
+
+#[test]
+fn bad_rows_and_units_are_refused_with_the_line() {
+    let err = refused("t[s],v[m/s],F_n[N],F[N]\n0,0.01,100,50\n0.001,0.01,100,5x\n");
     assert!(
         err.contains("bad.csv, line 3: column 'F': '5x' is not a number"),
         "{err}"
     );
-    std::fs::write(&bad, "t,v[mm/s],F_n,F\n0,10,100,50\n0.001,10,100,50\n").unwrap();
-    let (ok, _, err) = stickslip(&[
-        "train-memory",
-        "--data",
-        bad.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(!ok);
+    let err = refused("t,v[mm/s],F_n,F\n0,10,100,50\n0.001,10,100,50\n");
     assert!(
         err.contains("column 'v' is in 'mm/s', expected 'm/s'"),
         "{err}"
     );
-    assert!(!out.exists());
-    let _ = std::fs::remove_dir_all(bad.parent().unwrap());
+    let _ = std::fs::remove_dir_all(temp("bad", "x").parent().unwrap());
 }
 
 /// Synthetic records exported, read back as measured data and trained on (a short fit:
