@@ -184,7 +184,7 @@ impl Simulator {
     pub fn with_model(
         scene: CheckedScene,
         model: StructuralModel,
-        law: Box<dyn FrictionLaw>,
+        mut law: Box<dyn FrictionLaw>,
     ) -> Result<Self, SimulationError> {
         let (a, b) = phase_damping(&scene, ContactState::Slip);
         let integrator = Integrator::new(
@@ -206,7 +206,10 @@ impl Simulator {
         };
         let contact = Contact::new(&scene, integrator.coefficients());
         let mut state = initial_state(&scene, &model)?;
-        if let Some(memory) = law.as_memory() {
+        if let Some(memory) = law.as_memory_mut() {
+            if scene.contact.preload > 0.0 {
+                memory.hold(state.holding_force, scene.loading.normal_force);
+            }
             state.law_state = memory.state().to_vec();
         }
         let modal_slip = match scene.contact.slip_modes_below {

@@ -136,6 +136,14 @@ impl MemoryLaw for LuGreLaw {
         self.state = [0.0];
     }
 
+    /// z = F / sigma0, the bristle deflection that carries F at rest (dz/dt = 0 at
+    /// v = 0), for |F| below the breakaway force g(0) = mu_s F_n; beyond it the bristles
+    /// cannot hold F, and they start at g(0) / sigma0 in its direction.
+    fn hold(&mut self, force: f64, normal_force: f64) {
+        let limit = self.steady.coefficient(0.0) * normal_force;
+        self.state[0] = force.clamp(-limit, limit) / self.parameters.bristle_stiffness;
+    }
+
     /// F = sigma0 z_n+1 + sigma1 dz/dt(t_n+1) + sigma2 v.
     fn step_force_and_slope(&mut self, step: LawStep) -> (f64, f64) {
         let end = self.advance(step);

@@ -101,6 +101,12 @@ pub trait MemoryLaw: Send {
     /// [`MemoryLaw::step_force_and_slope`] used for the same step.
     fn commit(&mut self, step: LawStep);
 
+    /// Puts the law in the state in which it carries `force` (N) at rest (v = 0) under
+    /// `normal_force` (N), where it can: the start of a preloaded run, whose beam is
+    /// held by that force at t = 0. The default keeps the initial state (a law whose
+    /// force at rest is 0, like rate-and-state's creep law, cannot hold a force at v = 0).
+    fn hold(&mut self, _force: f64, _normal_force: f64) {}
+
     /// The force difference (N) below which the step's force is rounding noise (see
     /// `FrictionLaw::resolution`; 0, the default, for laws evaluated in f64).
     fn force_resolution(&self) -> f64 {

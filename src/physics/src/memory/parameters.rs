@@ -4,6 +4,18 @@
 
 use serde::{Deserialize, Serialize};
 
+/// A parameter's check: (dotted name, value, whether its range holds, requirement).
+type Check = (&'static str, f64, bool, &'static str);
+
+/// The first check whose value is not finite or out of range, as (dotted name, value,
+/// requirement).
+fn first_problem<const N: usize>(checks: [Check; N]) -> Option<(&'static str, f64, &'static str)> {
+    checks
+        .into_iter()
+        .find(|(_, value, ok, _)| !(value.is_finite() && *ok))
+        .map(|(field, value, _, requirement)| (field, value, requirement))
+}
+
 /// The scene's `[friction.lugre]` table.
 ///
 /// Defaults for the paper scene (tip stiffness 3 EI / L^3 = 6.25e3 N/m, first-mode tip
@@ -58,10 +70,7 @@ impl LuGreParameters {
                 "finite and >= 0 (N s/m)",
             ),
         ];
-        checks
-            .into_iter()
-            .find(|(_, value, ok, _)| !(value.is_finite() && *ok))
-            .map(|(field, value, _, requirement)| (field, value, requirement))
+        first_problem(checks)
     }
 }
 
@@ -150,10 +159,7 @@ impl RateStateParameters {
                 "finite and >= 0 (1)",
             ),
         ];
-        checks
-            .into_iter()
-            .find(|(_, value, ok, _)| !(value.is_finite() && *ok))
-            .map(|(field, value, _, requirement)| (field, value, requirement))
+        first_problem(checks)
     }
 
     /// The steady-state coefficient mu_ss(V) = mu_0 + (a - b) ln(V / V_0) of the
