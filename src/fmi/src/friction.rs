@@ -504,11 +504,7 @@ impl Model for NeuralFriction {
 
     /// State version 4: the settings and the law state (`memory`).
     fn save(&self) -> serde_json::Value {
-        serde_json::to_value(memory::Saved {
-            settings: self.settings.clone(),
-            law_state: self.law_state.clone(),
-        })
-        .unwrap_or(serde_json::Value::Null)
+        self.saved()
     }
 
     /// Versions 1 to 3 hold the settings alone, version 4 the law state besides.

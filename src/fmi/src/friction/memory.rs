@@ -28,10 +28,10 @@ pub(super) const LAW_STATE_VERSION: u32 = 4;
 /// NeuralFriction's saved form from state version 4 on.
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct Saved {
-    pub settings: Settings,
+struct Saved {
+    settings: Settings,
     /// The committed law state (empty for a law without state).
-    pub law_state: Vec<f64>,
+    law_state: Vec<f64>,
 }
 
 impl NeuralFriction {
@@ -84,6 +84,15 @@ impl NeuralFriction {
         }
         self.law_state = vec![next];
         Ok(())
+    }
+
+    /// The saved form of the current version (`Model::save`).
+    pub(super) fn saved(&self) -> serde_json::Value {
+        serde_json::to_value(Saved {
+            settings: self.settings.clone(),
+            law_state: self.law_state.clone(),
+        })
+        .unwrap_or(serde_json::Value::Null)
     }
 
     /// Restores a saved NeuralFriction state of format `version`.

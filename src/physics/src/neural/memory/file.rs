@@ -23,11 +23,11 @@ use serde::{Deserialize, Serialize};
 
 use super::correction::Correction;
 use super::law::{LearnedStateLaw, StateLawParameters};
+use crate::neural::error::NeuralError;
 use crate::neural::file_checks::{
     check_header, finite, json_error, read_text, to_pretty_json, write_text,
 };
 use crate::neural::weights::StopReason;
-use crate::neural::NeuralError;
 
 /// Value of the file's `format` field.
 pub const STATE_FORMAT_NAME: &str = "stickslip-state-friction";

@@ -9,7 +9,8 @@ use std::sync::Arc;
 use super::file::StateLawFile;
 use super::law::LearnedStateLaw;
 use crate::choice::Choice;
-use crate::neural::{NeuralError, SceneLawError};
+use crate::neural::error::NeuralError;
+use crate::neural::SceneLawError;
 use crate::scene::{
     CheckedScene, FidelityLevel, FrictionLawKind, Inference, Scene, SlidingVelocity,
 };
