@@ -53,6 +53,9 @@ echo
 echo "== The paper scene under our transient algorithm and the paper authors' (--preset paper / paper-authors), analytical law and their network, every fidelity (command line)"
 "$python" -m stickslip_checks.paper_algorithms "$out"
 echo
+echo "== The learned friction law with memory: its velocity-step response beside the generating rate-and-state law (train-memory), the paper scene with both (command line)"
+"$python" -m stickslip_checks.learned_memory "$out"
+echo
 echo "== The paper scene through the FMI 2.0 and the FMI 3.0 FMUs side by side (fmpy)"
 "$python" -m stickslip_checks.fmi_versions
 echo

@@ -2,6 +2,7 @@
 
 mod contract;
 mod import;
+mod train_memory;
 mod train_split;
 
 use std::process::Command;

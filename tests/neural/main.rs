@@ -2,5 +2,6 @@
 
 mod authors_data;
 mod inference;
+mod memory;
 mod onnx;
 mod training;

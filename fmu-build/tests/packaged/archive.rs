@@ -144,18 +144,18 @@ fn archives_hold_description_binary_and_weights() {
             .collect();
         let id = kind.model_identifier();
         // Every platform's binary (x86_64 Linux alone under STICKSLIP_HOST_ONLY=1).
-        let expected: BTreeSet<String> = [
-            "modelDescription.xml".to_string(),
-            "resources/paper-plain.json".into(),
-            "resources/paper-signed.json".into(),
-        ]
-        .into_iter()
-        .chain(
-            packaged_platforms()
-                .into_iter()
-                .map(|p| p.binary_entry(2, id)),
-        )
-        .collect();
+        let weights = stickslip_fmi::networks::WEIGHTS_RESOURCES;
+        let expected: BTreeSet<String> = ["modelDescription.xml".to_string()]
+            .into_iter()
+            .chain(weights.iter().map(|name| format!("resources/{name}")))
+            .chain(
+                packaged_platforms()
+                    .into_iter()
+                    .map(|p| p.binary_entry(2, id)),
+            )
+            .collect();
+        // The two networks and the learned law with memory.
+        assert!(weights.contains(&"rate-and-state-learned.json"));
         assert_eq!(names, expected);
         let mut xml = String::new();
         archive
@@ -164,7 +164,7 @@ fn archives_hold_description_binary_and_weights() {
             .read_to_string(&mut xml)
             .unwrap();
         assert_eq!(xml, kind.model_description(), "{id}: stale FMU; rebuild it");
-        for name in ["paper-plain.json", "paper-signed.json"] {
+        for name in weights {
             let mut packed = Vec::new();
             archive
                 .by_name(&format!("resources/{name}"))

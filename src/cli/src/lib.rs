@@ -4,7 +4,7 @@
 //! - `scene_args`: the scene flags of `simulate`, `static` and `estimates`;
 //! - `simulate`: `simulate` and `static`;
 //! - `study`: `study` (and its `--verify-auto`);
-//! - `train`: `train` and `search`;
+//! - `train`: `train` and `search`; `train_memory`: `train-memory`;
 //! - `import`: `import-network` (an ONNX network as a weights file, checked on data);
 //! - `estimates`: `estimates` (beam-theory numbers of a scene, as JSON);
 //! - `choice`: the command-line values of the scene's choices;
@@ -20,5 +20,6 @@ pub mod scene_args;
 pub mod simulate;
 pub mod study;
 pub mod train;
+pub mod train_memory;
 
 pub use error::CliError;

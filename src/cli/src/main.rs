@@ -22,6 +22,9 @@ enum Command {
     Static(stickslip_cli::simulate::StaticArgs),
     /// Train the neural friction law (paper data by default) and write its weights file.
     Train(stickslip_cli::train::TrainArgs),
+    /// Train the learned friction law with memory (rate-and-state with a network
+    /// correction) on force records under velocity histories; write its weights file.
+    TrainMemory(stickslip_cli::train_memory::TrainMemoryArgs),
     /// Speed against accuracy: the paper scene over a grid of fidelity levels, time
     /// steps and integrators, with errors against a converged reference and the Pareto
     /// front.
@@ -45,6 +48,9 @@ fn main() -> ExitCode {
         Command::Study(args) => stickslip_cli::study::study(args),
         Command::Estimates(args) => stickslip_cli::estimates::estimates(args),
         Command::Train(args) => stickslip_cli::train::run_train(args).map(|_| ()),
+        Command::TrainMemory(args) => {
+            stickslip_cli::train_memory::run_train_memory(args).map(|_| ())
+        }
         Command::Search(args) => stickslip_cli::train::run_search(args).map(|_| ()),
         Command::ImportNetwork(args) => stickslip_cli::import::run_import(args).map(|_| ()),
     };

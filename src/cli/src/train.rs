@@ -238,7 +238,7 @@ fn write_file(path: &Path, text: &str) -> Result<(), CliError> {
 }
 
 /// Fails early (before minutes of training) if an output file's directory is missing.
-fn check_output_directory(path: &Path) -> Result<(), CliError> {
+pub(crate) fn check_output_directory(path: &Path) -> Result<(), CliError> {
     match path.parent() {
         Some(dir) if !dir.as_os_str().is_empty() && !dir.is_dir() => {
             Err(CliError::MissingDirectory {

@@ -1,7 +1,10 @@
 //! NeuralFriction: the friction law alone, as an FMU to couple with StickSlipBeam (or
 //! anything else that needs a friction force).
 //!
-//! The outputs follow the inputs directly (no state): they are evaluated when read. A
+//! The outputs follow the inputs directly: they are evaluated when read. A law with
+//! state (the learned law with memory, weights of format `stickslip-state-friction`)
+//! also integrates its state over each communication step (`memory`), and the outputs
+//! are evaluated at the committed state. A
 //! network's features are filled by role: the one with role sliding_velocity from
 //! `sliding_velocity`, normal_force from `normal_force`, and any further features, in
 //! the order the weights file lists them, from `extra_feature[1]` ... `extra_feature[4]`
@@ -29,6 +32,7 @@ use stickslip::neural::{FeatureRole, NeuralError, NeuralModel};
 use stickslip::scene::{Scene, SceneError};
 
 mod derivatives;
+mod memory;
 
 /// How many features beyond velocity and normal force a network may have.
 pub const EXTRA_FEATURES: usize = 4;
@@ -126,6 +130,9 @@ enum EvaluateError {
     /// A partial derivative (output, input by value reference) that is not finite.
     #[error("the partial derivative of value reference {output} with respect to value reference {input} is {value}")]
     NonFiniteDerivative { output: u32, input: u32, value: f64 },
+    /// A law state that a step made non-finite.
+    #[error("the friction law's state is not finite ({state}) after a step at sliding_velocity = {sliding_velocity} m/s")]
+    NonFiniteState { sliding_velocity: f64, state: f64 },
     /// Inputs (m/s, N) at which the law gives a non-finite force.
     #[error("the outputs are not finite at sliding_velocity = {sliding_velocity} m/s, normal_force = {normal_force} N (force {force}, slope {slope}, coefficient {coefficient}, static limit {static_limit})")]
     NonFiniteOutputs {
@@ -143,9 +150,14 @@ pub struct NeuralFriction {
     networks: Networks,
     outputs: Outputs,
     scratch: Vec<f64>,
-    /// The partial derivatives last computed and the settings they hold for: an
+    /// The partial derivatives last computed and the settings and law state they hold
+    /// for: an
     /// importer asks column by column, one input at a time, at the same inputs.
-    derivatives_at: Option<(Settings, PartialDerivatives)>,
+    derivatives_at: Option<(Settings, Vec<f64>, PartialDerivatives)>,
+    /// The committed state of a law with state (`memory`); empty otherwise.
+    law_state: Vec<f64>,
+    /// Where the model is (s): the start time, then the end of the last step.
+    time: f64,
 }
 
 impl NeuralFriction {
@@ -174,7 +186,10 @@ impl NeuralFriction {
                     law.slope(s.sliding_velocity, s.normal_force),
                 )
             }
-            LawChoice::Neural => {
+            LawChoice::Neural => 'neural: {
+                if let Some(law) = self.state_law()? {
+                    break 'neural self.state_force(&law);
+                }
                 let mut features = std::mem::take(&mut self.scratch);
                 // Never shared (this model hands its networks to no one), so evaluated in
                 // place, with the network's own scratch buffers.
@@ -445,6 +460,8 @@ impl Model for NeuralFriction {
             outputs: Outputs::default(),
             scratch: Vec::new(),
             derivatives_at: None,
+            law_state: Vec::new(),
+            time: 0.0,
         }
     }
 
@@ -457,6 +474,8 @@ impl Model for NeuralFriction {
     fn reset(&mut self) {
         self.settings = Settings::default();
         self.outputs = Outputs::default();
+        self.law_state.clear();
+        self.time = 0.0;
     }
 
     fn refresh_outputs(&mut self, _start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
@@ -464,13 +483,17 @@ impl Model for NeuralFriction {
         Ok(())
     }
 
-    fn initialize(&mut self, _start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
+    fn initialize(&mut self, start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
         self.check().map_err(|e| e.to_string())?;
+        // A law with state starts at its initial state.
+        self.time = start_time;
+        self.law_state.clear();
         self.outputs = self.evaluate().map_err(|e| e.to_string())?;
         Ok(())
     }
 
-    fn do_step(&mut self, _to: f64, _events: &mut Vec<String>) -> Result<(), String> {
+    fn do_step(&mut self, to: f64, _events: &mut Vec<String>) -> Result<(), String> {
+        self.advance_state(to).map_err(|e| e.to_string())?;
         self.outputs = self.evaluate().map_err(|e| e.to_string())?;
         Ok(())
     }
@@ -479,22 +502,13 @@ impl Model for NeuralFriction {
         self.derivatives().map_err(|e| e.to_string())
     }
 
+    /// State version 4: the settings and the law state (`memory`).
     fn save(&self) -> serde_json::Value {
-        serde_json::to_value(&self.settings).unwrap_or(serde_json::Value::Null)
+        self.saved()
     }
 
-    /// Every state version (1 to 3) holds the same settings.
-    fn restore(
-        &mut self,
-        saved: serde_json::Value,
-        _version: u32,
-        _time: f64,
-    ) -> Result<(), String> {
-        let settings: Settings = serde_json::from_value(saved)
-            .map_err(|e| format!("saved NeuralFriction state is malformed: {e}"))?;
-        // Plain data: the outputs are evaluated when next read, so a state saved before
-        // its parameters were checked restores too.
-        self.settings = settings;
-        Ok(())
+    /// Versions 1 to 3 hold the settings alone, version 4 the law state besides.
+    fn restore(&mut self, saved: serde_json::Value, version: u32, time: f64) -> Result<(), String> {
+        self.restore_saved(saved, version, time)
     }
 }

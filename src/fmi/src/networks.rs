@@ -5,6 +5,7 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use stickslip::neural::memory::{LearnedStateLaw, StateLawFile};
 use stickslip::neural::{NeuralError, NeuralLaw};
 
 /// The weights read at instantiation (the paper's network, see `neural`).
@@ -12,7 +13,12 @@ pub const DEFAULT_WEIGHTS: &str = "paper-plain.json";
 
 /// Network weights shipped in `resources/`, shared by both FMUs: the files of the same
 /// name in the workspace's `weights/` folder.
-pub const WEIGHTS_RESOURCES: &[&str] = &["paper-plain.json", "paper-signed.json"];
+/// `rate-and-state-learned.json` is the learned law with memory (`neural::memory`).
+pub const WEIGHTS_RESOURCES: &[&str] = &[
+    "paper-plain.json",
+    "paper-signed.json",
+    "rate-and-state-learned.json",
+];
 
 /// A weights parameter's value: any non-blank name (whether the file exists is checked
 /// when it is read).
@@ -41,6 +47,9 @@ pub enum NetworkError {
 pub struct Networks {
     folder: Option<PathBuf>,
     loaded: Vec<(String, Arc<NeuralLaw>)>,
+    /// Weights names looked at for a learned law with state: the law, or `None` for a
+    /// file of another format (a memoryless network).
+    state_laws: Vec<(String, Option<Arc<LearnedStateLaw>>)>,
 }
 
 impl Networks {
@@ -82,6 +91,31 @@ impl Networks {
             }
         };
         Ok(&mut self.loaded[k].1)
+    }
+
+    /// The learned law with state that weights `name` hold, or `None` when the file is
+    /// of another format (told by its `format` field; `get` then reads it as a network).
+    /// A corrupt state-law file is refused with the reason.
+    pub fn state_law(&mut self, name: &str) -> Result<Option<Arc<LearnedStateLaw>>, NetworkError> {
+        if let Some((_, law)) = self.state_laws.iter().find(|(n, _)| n == name) {
+            return Ok(law.clone());
+        }
+        let full = self.path_of(name)?;
+        let law = match std::fs::read_to_string(&full) {
+            Ok(text) if StateLawFile::is_state_law(&text) => {
+                let file = StateLawFile::from_json(&text, &full.display().to_string()).map_err(
+                    |source| NetworkError::Unreadable {
+                        path: full.clone(),
+                        source,
+                    },
+                )?;
+                Some(Arc::new(file.law()))
+            }
+            // Unreadable or another format: the network reader reports it.
+            _ => None,
+        };
+        self.state_laws.push((name.to_owned(), law.clone()));
+        Ok(law)
     }
 
     /// The file that weights `name` are read from (it exists): in `resources/`, or the

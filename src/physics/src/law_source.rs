@@ -11,6 +11,7 @@
 use crate::friction::{CoulombLaw, ExponentialLaw, FrictionLaw};
 use crate::memory::lugre::LuGreLaw;
 use crate::memory::rate_state::RateStateLaw;
+use crate::neural::memory::{LearnedStateFriction, LearnedStateLaw};
 use crate::neural::table::TableLaw;
 use crate::neural::{NeuralError, NeuralLaw, SceneLawError};
 use crate::scene::{CheckedScene, Friction, FrictionLawKind, Inference};
@@ -51,6 +52,9 @@ pub enum LawSource {
     LuGre(LuGreLaw),
     /// The rate-and-state law with state (`memory::rate_state`), at its initial state.
     RateAndState(RateStateLaw),
+    /// The learned law with state (`neural::memory`): `friction.law = neural` with a
+    /// weights file of format `stickslip-state-friction`.
+    LearnedState(Arc<LearnedStateLaw>),
 }
 
 /// A loaded network with what its law needs besides: the evaluation, the normal force
@@ -169,6 +173,9 @@ impl LawSource {
     /// (`friction.weights`) here, once, or takes the shipped plain network when none is
     /// given.
     pub fn resolve(scene: &CheckedScene) -> Result<Self, SceneLawError> {
+        if let Some(law) = crate::neural::memory::source::scene_state_law(scene)? {
+            return Ok(LawSource::LearnedState(law));
+        }
         Self::with_network(&scene.friction, scene.loading.normal_force, || {
             let (read, origin) = match &scene.friction.weights {
                 Some(path) => (
@@ -227,6 +234,7 @@ impl LawSource {
             LawSource::External { stand_in } => Ok(Box::new(stand_in.clone())),
             LawSource::LuGre(law) => Ok(Box::new(law.clone())),
             LawSource::RateAndState(law) => Ok(Box::new(law.clone())),
+            LawSource::LearnedState(law) => Ok(Box::new(LearnedStateFriction::new(law.clone()))),
             LawSource::Network(n) => network_law((*n.network).clone(), n.inference, n.normal_force)
                 .map_err(|source| n.origin.error(source)),
         }
@@ -245,6 +253,7 @@ impl LawSource {
             LawSource::External { .. } => Some("external".into()),
             LawSource::LuGre(_) => Some("lugre".into()),
             LawSource::RateAndState(_) => Some("rate-and-state".into()),
+            LawSource::LearnedState(law) => crate::neural::memory::source::fingerprint(law),
         }
     }
 }

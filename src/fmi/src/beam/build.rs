@@ -74,6 +74,18 @@ impl StickSlipBeam {
     fn law_source(&mut self, scene: &Scene) -> Result<LawSource, BuildError> {
         let name = &self.settings.weights;
         let networks = &mut self.networks;
+        // A learned law with state (`stickslip::neural::memory`), told by its file.
+        if scene.friction.law == FrictionLawKind::Neural {
+            if let Some(law) = networks.state_law(name)? {
+                if let Some(reason) = stickslip::neural::memory::source::refusal(scene) {
+                    return Err(BuildError::NotAFrictionLaw(SceneLawError::Weights {
+                        path: name.clone(),
+                        source: stickslip::neural::NeuralError::NotAFrictionLaw(reason),
+                    }));
+                }
+                return Ok(LawSource::LearnedState(law));
+            }
+        }
         let law = LawSource::with_network(&scene.friction, scene.loading.normal_force, || {
             let network = networks.get(name)?.clone();
             Ok::<_, NetworkError>((network, NetworkOrigin::Weights(name.clone())))

@@ -27,9 +27,15 @@ impl NeuralFriction {
     /// The law's Jacobian at the current inputs, and the input that feeds each of the
     /// law's inputs.
     fn law_jacobian(&mut self) -> Result<(LawJacobian, Vec<u32>), EvaluateError> {
-        let s = &self.settings;
-        match s.law {
+        if let Some(law) = self.state_law()? {
+            return Ok((
+                self.state_jacobian(&law),
+                vec![SLIDING_VELOCITY, NORMAL_FORCE],
+            ));
+        }
+        match self.settings.law {
             LawChoice::Exponential => {
+                let s = &self.settings;
                 let law = ExponentialLaw {
                     static_coefficient: s.static_coefficient,
                     kinetic_coefficient: s.kinetic_coefficient,
@@ -39,6 +45,7 @@ impl NeuralFriction {
                 Ok((jacobian, vec![SLIDING_VELOCITY, NORMAL_FORCE]))
             }
             LawChoice::Neural => {
+                let s = &self.settings;
                 let network = self.networks.get(&s.weights)?;
                 let inputs = feature_inputs(network.model(), &s.weights)?;
                 let features: Vec<f64> = inputs.iter().map(|&vr| s.input(vr)).collect();
@@ -54,15 +61,19 @@ impl NeuralFriction {
     }
 
     /// d(output)/d(input) for every output and input (module notes), reused while the
-    /// settings (parameters and inputs) stay the same.
+    /// settings (parameters and inputs) and the law state stay the same.
     pub(super) fn derivatives(&mut self) -> Result<PartialDerivatives, EvaluateError> {
-        if let Some((settings, partials)) = &self.derivatives_at {
-            if *settings == self.settings {
+        if let Some((settings, law_state, partials)) = &self.derivatives_at {
+            if *settings == self.settings && *law_state == self.law_state {
                 return Ok(partials.clone());
             }
         }
         let partials = self.compute_derivatives()?;
-        self.derivatives_at = Some((self.settings.clone(), partials.clone()));
+        self.derivatives_at = Some((
+            self.settings.clone(),
+            self.law_state.clone(),
+            partials.clone(),
+        ));
         Ok(partials)
     }
 

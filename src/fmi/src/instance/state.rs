@@ -38,6 +38,8 @@ pub const STATE_FORMAT: &str = "stickslip-fmu-state";
 /// - 4: the simulation state carries the friction law's internal state
 ///   (`SimulationState::law_state`, for `friction.law = lugre | rate-and-state`); a
 ///   version-3 state reads as one with an empty law state (its laws had none).
+///   NeuralFriction's state becomes `{settings, law_state}` (the learned law with
+///   memory's state); its version-1 to -3 states, the settings alone, still read.
 pub const STATE_VERSION: u32 = 4;
 /// The oldest version this FMU still reads (version-1 and version-2 beam states are
 /// converted; their transition lists are checked against the count, then dropped).

@@ -16,6 +16,7 @@ use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
 use super::error::NeuralError;
+use super::file_checks::{check_header, finite, json_error, read_text, to_pretty_json, write_text};
 use super::network::{Activation, Network, Workspace};
 pub use super::synthetic::{SyntheticPreset, SyntheticSpec};
 use crate::friction::signum_or_zero;
@@ -196,50 +197,22 @@ impl NeuralModel {
     /// Pretty JSON with a final newline; numbers in shortest round-trip form, so the
     /// same model always gives the same bytes.
     pub fn to_json(&self) -> Result<String, NeuralError> {
-        let mut text = serde_json::to_string_pretty(self).map_err(|e| NeuralError::Json {
-            source_name: "(in memory)".into(),
-            message: e.to_string(),
-        })?;
-        text.push('\n');
-        Ok(text)
+        to_pretty_json(self)
     }
 
     pub fn save(&self, path: &Path) -> Result<(), NeuralError> {
         self.validate(&path.display().to_string())?;
-        std::fs::write(path, self.to_json()?).map_err(|e| NeuralError::io("cannot write", path, e))
+        write_text(path, &self.to_json()?)
     }
 
     pub fn load(path: &Path) -> Result<NeuralModel, NeuralError> {
-        let text =
-            std::fs::read_to_string(path).map_err(|e| NeuralError::io("cannot read", path, e))?;
-        Self::from_json(&text, &path.display().to_string())
+        Self::from_json(&read_text(path)?, &path.display().to_string())
     }
 
     /// Parses and checks a weights file's text; `source_name` appears in errors.
     pub fn from_json(text: &str, source_name: &str) -> Result<NeuralModel, NeuralError> {
-        let json_error = |e: serde_json::Error| NeuralError::Json {
-            source_name: source_name.to_string(),
-            message: e.to_string(),
-        };
-        // Format and version first, so that a foreign or newer file gets a precise
-        // message rather than a complaint about some field.
-        let value: serde_json::Value = serde_json::from_str(text).map_err(json_error)?;
-        let format = value.get("format").and_then(|f| f.as_str());
-        if format != Some(FORMAT_NAME) {
-            return Err(NeuralError::Format {
-                source_name: source_name.to_string(),
-                found: format.map_or_else(|| "(missing)".to_string(), str::to_string),
-                expected: FORMAT_NAME,
-            });
-        }
-        let version = value.get("version").and_then(|v| v.as_u64());
-        if version != Some(u64::from(FORMAT_VERSION)) {
-            return Err(NeuralError::Version {
-                source_name: source_name.to_string(),
-                found: version.map_or(0, |v| u32::try_from(v).unwrap_or(u32::MAX)),
-                supported: FORMAT_VERSION,
-            });
-        }
+        check_header(text, source_name, FORMAT_NAME, FORMAT_VERSION)?;
+        let json_error = |e| json_error(source_name, e);
         // Parse the text again (not the Value) so errors carry line and column.
         let model: NeuralModel = serde_json::from_str(text).map_err(json_error)?;
         model.validate(source_name)?;
@@ -252,16 +225,7 @@ impl NeuralModel {
             source_name: source_name.to_string(),
             message,
         };
-        let finite = |field: String, value: f64| {
-            if value.is_finite() {
-                Ok(())
-            } else {
-                Err(NeuralError::NonFinite {
-                    source_name: source_name.to_string(),
-                    field,
-                })
-            }
-        };
+        let finite = |field: String, value: f64| finite(source_name, field, value);
         if self.format != FORMAT_NAME || self.version != FORMAT_VERSION {
             return Err(shape(format!(
                 "format '{}' version {} (expected '{FORMAT_NAME}' version {FORMAT_VERSION})",

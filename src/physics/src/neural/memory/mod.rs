@@ -1,0 +1,29 @@
+//! A learned friction law with memory (issue 24, item 3): rate-and-state friction with
+//! its parameters fitted to force records under velocity histories, plus a small
+//! network correction (`law` says why this form and what is trained).
+//!
+//! - `aging`: the state's evolution, stepped exactly for the step's end velocity;
+//! - `regularised`: the force, regularised at v = 0 (asinh form);
+//! - `correction`: the network part;
+//! - `law`: [`LearnedStateLaw`], the three together, with the gradients training needs;
+//! - `file`: the weights file (`stickslip-state-friction`, version 1);
+//! - `stepped`: [`LearnedStateFriction`], the law with its state as a
+//!   `crate::memory::MemoryLaw` of the time loop and NeuralFriction;
+//! - `response`: the velocity-step response (direct effect, decay length) of any law
+//!   with state.
+//!
+//! Training (the time series, their CSV form, the fit) is `stickslip_train::memory`.
+
+pub mod aging;
+pub mod correction;
+pub mod file;
+pub mod law;
+pub mod regularised;
+pub mod response;
+pub mod source;
+pub mod stepped;
+
+pub use correction::{Correction, InputScale};
+pub use file::{StateLawFile, StateMetrics, StateTrainingInfo, TrainingRanges};
+pub use law::{LearnedStateLaw, StateLawParameters, StepForce};
+pub use stepped::LearnedStateFriction;

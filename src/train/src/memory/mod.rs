@@ -1,0 +1,14 @@
+//! Training the learned friction law with memory (`stickslip::neural::memory`) on force
+//! records under velocity histories:
+//! - `series`: the records (t, v, F_n, F), their CSV form, simulating a law along them;
+//! - `protocol`: synthetic tribometer records from a rate-and-state law, with noise;
+//! - `fit`: the fit by simulating the records with forward-sensitivity gradients and
+//!   L-BFGS.
+
+pub mod fit;
+pub mod protocol;
+pub mod series;
+
+pub use fit::{train_state_law, StateTrainConfig, StateTrainReport};
+pub use protocol::TribometerSpec;
+pub use series::{read_series_csv, simulate, write_series_csv, ForceSeries};
