@@ -111,8 +111,8 @@ fn the_weights_file_round_trips_and_refuses_corruption() {
 /// Issue 24's must-show, item 5: the shipped learned law (weights/rate-and-state-learned.json,
 /// made by `stickslip train-memory`) runs the paper scene beside its generating law, the
 /// scene's default rate-and-state law, through the same contact for laws with state.
-/// Measured at modal fidelity: period 0.2920 s against 0.2921 s, corridor 6.270-9.065 mm
-/// against 6.265-9.068 mm, breakaway 0.4422 s against 0.4424 s. Bounds: 1 % of the
+/// Measured at modal fidelity: period 0.2920 s against 0.2921 s, corridor 6.270-9.066 mm
+/// against 6.265-9.068 mm, breakaway 0.4423 s against 0.4424 s. Bounds: 1 % of the
 /// period and 0.1 mm of the corridor, about 5x and 15x the measured differences, which
 /// come from the fit's 0.4 % in the direct effect; a law that missed the memory (a
 /// memoryless fit of the steady curve) would not stick-slip with this period at all.
