@@ -110,11 +110,23 @@ def build_drivers(out: Path) -> dict[str, list[str]]:
 
 
 def environment(out: Path) -> dict[str, str]:
-    """A fresh Wine prefix under <target>, no Wine debug output."""
+    """A Wine prefix under <target>, made before the first run, no Wine debug output."""
     env = dict(os.environ)
     env["WINEPREFIX"] = str(out / "wineprefix")
     env["WINEDEBUG"] = "-all"
+    prepare_wine_prefix(env)
     return env
+
+
+def prepare_wine_prefix(env: dict[str, str]) -> None:
+    """Creates the Wine prefix and waits until its server has finished. The first run in
+    a new prefix otherwise creates it on the way and, on a fresh machine, failed once in
+    two tries ("chdir to /tmp/wine-.../server-...: No such file or directory")."""
+    if Path(env["WINEPREFIX"], "system.reg").exists():
+        return
+    subprocess.run(["/usr/lib/wine/wine64", "wineboot", "--init"], env=env, check=True,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=600)
+    subprocess.run(["/usr/lib/wine/wineserver", "--wait"], env=env, check=True, timeout=600)
 
 
 def bits(value: float) -> str:
@@ -134,8 +146,13 @@ def _setter(model: Model, name: str, value) -> str:
     vr, kind = model.vr[name], model.kind(name)
     if name in model.choices:
         return f"int {vr} {model.code(name, value)}"
-    return {"Real": f"real {vr} {bits(float(value))}", "Integer": f"int {vr} {int(value)}",
-            "Boolean": f"bool {vr} {int(bool(value))}"}.get(kind, f"string {vr} {value}")
+    if kind == "Real":
+        return f"real {vr} {bits(float(value))}"
+    if kind == "Integer":
+        return f"int {vr} {int(value)}"
+    if kind == "Boolean":
+        return f"bool {vr} {int(bool(value))}"
+    return f"string {vr} {value}"
 
 
 def _outputs(model: Model) -> list[str]:
@@ -147,17 +164,30 @@ def _outputs(model: Model) -> list[str]:
     ]
 
 
+# StickSlipBeam's laws: (label, friction.law, friction.weights or None for the default).
+BEAM_LAWS = (
+    ("analytical", "exponential", None),
+    ("neural", "neural", None),
+    ("lugre", "lugre", None),
+    ("rate-and-state", "rate-and-state", None),
+    ("learned with memory", "neural", "rate-and-state-learned.json"),
+)
+
+
 def cases(beam: Model, friction: Model) -> list[Case]:
-    """StickSlipBeam at each fidelity with either law (the analytical law is the
-    exponential one; the neural law reads the packaged default weights), and
-    NeuralFriction with either law over the input grid."""
+    """StickSlipBeam at each fidelity with each law (the analytical law is the
+    exponential one; the neural law reads the packaged default weights; the laws with
+    state, LuGre, rate-and-state and the learned one, carry their state through the
+    step), and NeuralFriction with either memoryless law over the input grid."""
     out = []
     for fidelity in fidelities(beam):
-        for law, code in (("analytical", "exponential"), ("neural", "neural")):
+        for law, code, weights in BEAM_LAWS:
             lines = [
                 _setter(beam, "fidelity.level", fidelity),
                 _setter(beam, "friction.law", code),
             ]
+            if weights is not None:
+                lines.append(_setter(beam, "friction.weights", weights))
             lines += _outputs(beam)
             lines += [f"init {bits(0.0)} {bits(STOP)}", f"step {bits(STEP)} {round(STOP / STEP)}"]
             out.append(Case(BEAM, f"{fidelity}, {law}", "\n".join(lines) + "\n"))
