@@ -56,6 +56,9 @@ echo
 echo "== The learned friction law with memory: its velocity-step response beside the generating rate-and-state law (train-memory), the paper scene with both (command line)"
 "$python" -m stickslip_checks.learned_memory "$out"
 echo
+echo "== Friction with memory in the paper scene: the exponential law, LuGre and rate-and-state side by side (command line, beam fidelity, 3 s)"
+"$python" -m stickslip_checks.memory_laws "$out"
+echo
 echo "== The paper scene through the FMI 2.0 and the FMI 3.0 FMUs side by side (fmpy)"
 "$python" -m stickslip_checks.fmi_versions
 echo
