@@ -288,6 +288,23 @@ pub fn coupled() -> System {
     }
 }
 
+/// [`coupled`] with NeuralFriction running the shipped learned law with memory
+/// (`weights = rate-and-state-learned.json`, a rate-and-state law with a state that
+/// NeuralFriction integrates over each communication step): the coupled system with a
+/// law that has state, for the masters (issue 24).
+pub fn coupled_with_memory() -> System {
+    let mut system = coupled();
+    system.name = "StickSlipCoupledMemory";
+    system.description = "StickSlipBeam (friction.law = external, external.coupling = signed) coupled to NeuralFriction running the shipped learned law with memory (rate-and-state-learned.json)";
+    let friction = system
+        .components
+        .iter_mut()
+        .find(|c| c.fmu == FmuKind::NeuralFriction)
+        .expect("the coupled system has a NeuralFriction");
+    friction.set = vec![("weights", Setting::String("rate-and-state-learned.json"))];
+    system
+}
+
 /// StickSlipBeam alone with the shipped plain network as its embedded friction law:
 /// the monolithic counterpart of [`coupled`].
 pub fn monolithic() -> System {
@@ -305,7 +322,7 @@ pub fn monolithic() -> System {
 
 /// Every system fmu-build writes.
 pub fn systems() -> Vec<System> {
-    vec![coupled(), monolithic()]
+    vec![coupled(), coupled_with_memory(), monolithic()]
 }
 
 /// The variables of an FMU's table as ports.

@@ -149,6 +149,23 @@ def grid(h: float, t_end: float) -> tuple[int, np.ndarray]:
     return n, np.arange(n + 1) * h
 
 
+# How a master counts time: our masters step from k h by h ("float"); libcosim counts in
+# integer nanoseconds and gives t_k = (k h_ns) / 1e9 and the step t_k+1 - t_k in double
+# (its to_double_time_point and to_double_duration), which is h only to rounding.
+CLOCKS = ("float", "nanoseconds")
+
+
+def step_sizes(h: float, times: np.ndarray, clock: str) -> tuple[np.ndarray, np.ndarray]:
+    """The communication points and step sizes of `clock` on the grid `times`."""
+    if clock == "float":
+        return times, np.full(len(times) - 1, h)
+    if clock == "nanoseconds":
+        ns = round(h * 1e9)
+        points = np.array([(k * ns) / 1e9 for k in range(len(times))])
+        return points, np.diff(points)
+    raise ValueError(f"unknown clock {clock!r}; one of {', '.join(CLOCKS)}")
+
+
 def run(
     system: System,
     h: float,
@@ -160,6 +177,7 @@ def run(
     order=None,
     signals: dict[str, dict[str, np.ndarray]] | None = None,
     stop_time: bool = True,
+    clock: str = "float",
 ) -> Trace:
     """Initialises the (instantiated or reset) slaves of `system`, steps them from 0 to
     t_end at h with `scheme` and terminates them.
@@ -175,6 +193,7 @@ def run(
     slaves, models = system.slaves, system.models
     order = tuple(order or system.order)
     n, times = grid(h, t_end)
+    points, sizes = step_sizes(h, times, clock)
     recorders = []
     values = {}
     dtypes = {"Real": float, "Boolean": bool, "Integer": np.int64, "String": object}
@@ -208,16 +227,16 @@ def run(
     system.exchange()
     sample(0)
     for k in range(n):
-        t = times[k]
+        t, size = points[k], sizes[k]
         for model, slave, name, series in inputs:
             model.set(slave, {name: series[k]})
         if scheme == JACOBI:
             system.jacobi_exchange()
             for name in order:
-                slaves[name].doStep(currentCommunicationPoint=t, communicationStepSize=h)
+                slaves[name].doStep(currentCommunicationPoint=t, communicationStepSize=size)
         else:
             for name in order:
-                slaves[name].doStep(currentCommunicationPoint=t, communicationStepSize=h)
+                slaves[name].doStep(currentCommunicationPoint=t, communicationStepSize=size)
                 system.feed(name)
         sample(k + 1)
     for name in system.order:
@@ -243,6 +262,7 @@ def run_coupled(
     scheme: str = GAUSS_SEIDEL,
     order=BEAM_FRICTION_ORDER,
     coupling: str = "magnitude",
+    clock: str = "float",
 ) -> Trace:
     """StickSlipBeam (friction.law = external, external.coupling = `coupling`,
     parameters `beam`) coupled to NeuralFriction (parameters `friction`) through
@@ -263,4 +283,5 @@ def run_coupled(
                 FRICTION: friction,
             },
             record=record,
+            clock=clock,
         )

@@ -43,6 +43,10 @@ T_END = 0.7
 # The SSP systems and link lists fmu-build writes (fmu_build::ssp::systems), and the
 # parameter set name every component carries (fmu_build::ssp::PARAMETER_SET).
 COUPLED = "StickSlipCoupled"
+# COUPLED with NeuralFriction running the shipped learned law with memory (issue 24).
+COUPLED_MEMORY = "StickSlipCoupledMemory"
+# What each coupled system sets on NeuralFriction (fmu_build::ssp::coupled_with_memory).
+FRICTION_SETTINGS = {COUPLED: {}, COUPLED_MEMORY: {"weights": "rate-and-state-learned.json"}}
 MONOLITHIC = "StickSlipMonolithic"
 PARAMETER_SET = "initialValues"
 # Instance names of the components in those systems.
@@ -382,19 +386,29 @@ def run_fmpy_ssp(
 # ----------------------------------------------------------------------------- our master
 
 
-def reference_coupled(fmus, scheme: str, *, h: float = H, t_end: float = T_END) -> np.ndarray:
-    """Our master (master.run_coupled) on the coupled system as the SSP file sets it up
-    (the shipped plain network, signed coupling): the beam's tip deflection at 0, h, ...,
-    t_end."""
+def reference_coupled(
+    fmus,
+    scheme: str,
+    *,
+    h: float = H,
+    t_end: float = T_END,
+    system: str = COUPLED,
+    clock: str = "float",
+) -> np.ndarray:
+    """Our master (master.run_coupled) on the coupled system `system` as its SSP file
+    sets it up (signed coupling; the shipped plain network, or the learned law with
+    memory), counting time as `clock` says (master.CLOCKS): the beam's tip deflection at
+    0, h, ..., t_end."""
     trace = master.run_coupled(
         fmus,
         h,
         t_end,
         beam={},
-        friction={},
+        friction=FRICTION_SETTINGS[system],
         record={BEAM: ["tip_deflection"]},
         scheme=scheme,
         coupling="signed",
+        clock=clock,
     )
     return trace[BEAM, "tip_deflection"]
 
@@ -430,6 +444,11 @@ SCHEME_OF = {
     "fmpy.ssp": None,
 }
 
+# How each master counts time (master.CLOCKS): libcosim in integer nanoseconds, so that
+# its step sizes are h only to rounding; with a law with state (COUPLED_MEMORY) that moves
+# the bits, and our master counting the same way gives libcosim's bits again.
+CLOCK_OF = {"libcosim (SSP)": "nanoseconds"}
+
 
 @dataclass
 class Comparison:
@@ -444,23 +463,28 @@ class Comparison:
     nan: bool
 
 
-def compare_coupled(fmus: artifacts.Fmus) -> list[Comparison]:
-    """The coupled system (COUPLED) in libcosim, Ecos, fmucontainer (parallel and
-    sequential) and fmpy.ssp, each against our masters."""
+def compare_coupled(fmus: artifacts.Fmus, system: str = COUPLED) -> list[Comparison]:
+    """The coupled system `system` (COUPLED or COUPLED_MEMORY) in libcosim, Ecos,
+    fmucontainer (parallel and sequential) and fmpy.ssp, each against our masters."""
     name = ("beam", "tip_deflection")
     n = round(T_END / H)
-    reference = {s: reference_coupled(fmus, s) for s in master.SCHEMES}
-    ssp = ssp_path(COUPLED)
+    clocks = {"float", *CLOCK_OF.values()}
+    reference = {
+        (s, c): reference_coupled(fmus, s, system=system, clock=c)
+        for s in master.SCHEMES
+        for c in clocks
+    }
+    ssp = ssp_path(system)
     runs = {
         "libcosim (SSP)": run_libcosim(ssp=ssp).at_grid(name, n),
         "Ecos (SSP)": run_ecos(ssp=ssp).at_grid(name, n),
     }
     with tempfile.TemporaryDirectory(prefix="stickslip-container-") as tmp:
-        links = csv_path(COUPLED).read_text()
+        links = csv_path(system).read_text()
         for sequential in (False, True):
             label = "fmucontainer -sequential" if sequential else "fmucontainer"
             folder = Path(tmp) / ("sequential" if sequential else "parallel")
-            container, _ = build_container(links, folder, COUPLED, sequential=sequential)
+            container, _ = build_container(links, folder, system, sequential=sequential)
             series = run_fmpy_fmu(container, ("beam.tip_deflection",))
             runs[label] = series.at_grid(("", "beam.tip_deflection"), n)
     runs["fmpy.ssp"] = run_fmpy_ssp(ssp, parameters=ssd_parameter_set(ssp)).at_grid(name, n)
@@ -468,8 +492,8 @@ def compare_coupled(fmus: artifacts.Fmus) -> list[Comparison]:
         Comparison(
             label,
             SCHEME_OF[label],
-            deviation(x, reference[master.JACOBI]),
-            deviation(x, reference[master.GAUSS_SEIDEL]),
+            deviation(x, reference[master.JACOBI, CLOCK_OF.get(label, "float")]),
+            deviation(x, reference[master.GAUSS_SEIDEL, CLOCK_OF.get(label, "float")]),
             bool(np.isnan(x[1:]).any()),
         )
         for label, x in runs.items()
@@ -497,8 +521,8 @@ def to_frame(rows: list[Comparison]) -> pd.DataFrame:
     return frame(HEADERS, csv_rows(rows)).astype({h: float for h in HEADERS[2:]})
 
 
-def write_outputs(rows: list[Comparison], out: Path) -> Path:
-    """masters_coupled.csv in `out`."""
-    path = out / "masters_coupled.csv"
+def write_outputs(rows: list[Comparison], out: Path, name: str = "masters_coupled.csv") -> Path:
+    """`name` (masters_coupled.csv) in `out`."""
+    path = out / name
     write_csv(path, HEADERS, csv_rows(rows))
     return path

@@ -1156,15 +1156,30 @@ fn h_an_out_of_range_choice_code_is_refused_with_the_allowed_codes() {
         .expect("fmi2SetupExperiment");
     Common::enter_initialization_mode(&mut inst).expect("fmi2EnterInitializationMode");
     let law = vr(&import, "friction.law");
+    // One past the last code; the message lists every allowed one, from the same enum.
+    let beyond = FrictionLawKind::ALL.len() as i32 + 1;
     assert!(matches!(
-        inst.set_integer(&[law], &[5]),
+        inst.set_integer(&[law], &[beyond]),
         Err(Fmi2Error::Error)
     ));
+    let allowed: Vec<String> = FrictionLawKind::ALL
+        .iter()
+        .map(|k| format!("{} = {}", k.code(), k.name()))
+        .collect();
+    assert!(
+        allowed.len() >= 6,
+        "the laws with state are among them: {allowed:?}"
+    );
+    let expected = format!(
+        "fmi2SetInteger: friction.law: {beyond} is not a FrictionModel code; allowed: {}",
+        allowed.join(", ")
+    );
     let messages = messages_of(name);
     assert!(
-        messages.iter().any(|(level, text)| *level == log::Level::Error
-            && text == "fmi2SetInteger: friction.law: 5 is not a FrictionModel code; allowed: 1 = exponential, 2 = coulomb, 3 = neural, 4 = external"),
-        "logged: {messages:?}"
+        messages
+            .iter()
+            .any(|(level, text)| *level == log::Level::Error && *text == expected),
+        "expected {expected:?}, logged: {messages:?}"
     );
 }
 

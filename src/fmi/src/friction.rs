@@ -492,8 +492,8 @@ impl Model for NeuralFriction {
         Ok(())
     }
 
-    fn do_step(&mut self, to: f64, _events: &mut Vec<String>) -> Result<(), String> {
-        self.advance_state(to).map_err(|e| e.to_string())?;
+    fn do_step(&mut self, to: f64, size: f64, _events: &mut Vec<String>) -> Result<(), String> {
+        self.advance_state(to, size).map_err(|e| e.to_string())?;
         self.outputs = self.evaluate().map_err(|e| e.to_string())?;
         Ok(())
     }

@@ -92,9 +92,14 @@ pub trait Model: Send + Sized + 'static {
     /// fmi2ExitInitializationMode). `stop_time` is the experiment's, if defined.
     fn initialize(&mut self, start_time: f64, stop_time: Option<f64>) -> Result<(), String>;
 
-    /// Advances from where the model is (the instance's time) to `to` (s). `events`
-    /// collects messages for the logEvents category.
-    fn do_step(&mut self, to: f64, events: &mut Vec<String>) -> Result<(), String>;
+    /// Advances from where the model is (the instance's time) to `to` (s), a step of
+    /// `size` (s), the communication step size the importer gave (`to` = its
+    /// communication point + `size`). A model that integrates over the step uses `size`,
+    /// not `to` minus the previous `to`: masters count time differently (libcosim in
+    /// integer nanoseconds), and the difference of two such times is `size` only to
+    /// rounding, which would make the results depend on the master. `events` collects
+    /// messages for the logEvents category.
+    fn do_step(&mut self, to: f64, size: f64, events: &mut Vec<String>) -> Result<(), String>;
 
     /// Advances towards `to` (s) as `do_step` does, but ends at an internal
     /// event (for the beam: the end of the internal step in which the contact switched
@@ -104,9 +109,10 @@ pub trait Model: Send + Sized + 'static {
     fn do_step_until_event(
         &mut self,
         to: f64,
+        size: f64,
         events: &mut Vec<String>,
     ) -> Result<Option<f64>, String> {
-        self.do_step(to, events).map(|()| None)
+        self.do_step(to, size, events).map(|()| None)
     }
 
     /// Messages for the `logEvents` category produced outside a step (for example the

@@ -64,13 +64,15 @@ impl Model for StickSlipBeam {
         Ok(())
     }
 
-    fn do_step(&mut self, to: f64, events: &mut Vec<String>) -> Result<(), String> {
+    // The beam steps on its own time grid to `to`; the step size is not needed.
+    fn do_step(&mut self, to: f64, _size: f64, events: &mut Vec<String>) -> Result<(), String> {
         self.advance(to, false, events).map(|_| ())
     }
 
     fn do_step_until_event(
         &mut self,
         to: f64,
+        _size: f64,
         events: &mut Vec<String>,
     ) -> Result<Option<f64>, String> {
         self.advance(to, true, events)

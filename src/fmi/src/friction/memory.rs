@@ -63,10 +63,12 @@ impl NeuralFriction {
         law.jacobian(self.psi(), s.sliding_velocity, s.normal_force)
     }
 
-    /// Advances the state over the step to `to` (s) with the inputs held; the initial
-    /// state at the first step of a law with state.
-    pub(super) fn advance_state(&mut self, to: f64) -> Result<(), EvaluateError> {
-        let step = to - self.time;
+    /// Advances the state over the step of `size` (s) to `to` (s) with the inputs held;
+    /// the initial state at the first step of a law with state. The step is `size`, the
+    /// importer's communication step size, so that every master that gives the same
+    /// sizes gets the same bits (`Model::do_step`).
+    pub(super) fn advance_state(&mut self, to: f64, size: f64) -> Result<(), EvaluateError> {
+        let step = size;
         self.time = to;
         let Some(law) = self.state_law()? else {
             self.law_state.clear();

@@ -91,9 +91,9 @@ impl<M: Model> Instance<M> {
         }
         let mut events = Vec::new();
         let result = if until_event {
-            self.model.do_step_until_event(target, &mut events)
+            self.model.do_step_until_event(target, h, &mut events)
         } else {
-            self.model.do_step(target, &mut events).map(|()| None)
+            self.model.do_step(target, h, &mut events).map(|()| None)
         };
         for event in &events {
             self.log(EVENTS, Status::Ok, event);
