@@ -155,10 +155,14 @@ def _scene_of(params: dict) -> dict:
         if name in ("belt_speed", "normal_force"):
             scene["loading"][name] = value
             continue
-        section, _, field = name.partition(".")
+        section, *path = name.split(".")
         if section not in _ESTIMATE_SECTIONS or name == "friction.weights":
             continue
-        scene.setdefault(section, {})[field] = value
+        # Nested tables (friction.lugre.bristle_stiffness) are nested in the file too.
+        table = scene.setdefault(section, {})
+        for key in path[:-1]:
+            table = table.setdefault(key, {})
+        table[path[-1]] = value
     return scene
 
 
