@@ -13,11 +13,15 @@ use super::relaxation::Relaxation;
 use super::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable};
 use crate::friction::{signum_or_zero, ExponentialLaw, FrictionLaw};
 
-const STATE: [StateVariable; 1] = [StateVariable {
+/// LuGre's state: the bristle deflection z (m).
+pub const BRISTLE_DEFLECTION: StateVariable = StateVariable {
     name: "bristle_deflection",
     unit: "m",
     positive: false,
-}];
+    description: "LuGre bristle deflection z",
+};
+
+const STATE: [StateVariable; 1] = [BRISTLE_DEFLECTION];
 
 /// The LuGre law with its bristle deflection z (m), starting at z = 0.
 #[derive(Clone, Debug, PartialEq)]

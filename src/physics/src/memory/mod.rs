@@ -60,7 +60,17 @@ pub struct StateVariable {
     pub unit: &'static str,
     /// Whether the value must be strictly positive (rate-and-state's theta).
     pub positive: bool,
+    /// What it is, for a variable's description ("LuGre bristle deflection z").
+    pub description: &'static str,
 }
+
+/// Every state variable of the laws with state this crate has, one per law, in a fixed
+/// order: the FMUs output each of them (0 where the run's law has not that variable).
+pub const STATE_VARIABLES: [StateVariable; 3] = [
+    lugre::BRISTLE_DEFLECTION,
+    rate_state::STATE_THETA,
+    crate::neural::memory::stepped::STATE_PSI,
+];
 
 /// A state that does not fit a law: wrong length, non-finite, or outside its domain.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -150,4 +160,44 @@ pub fn set_checked(
     check_state(variables, state)?;
     target.copy_from_slice(state);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::friction::ExponentialLaw;
+    use crate::memory::parameters::{LuGreParameters, RateStateParameters};
+    use crate::neural::memory::{LearnedStateFriction, LearnedStateLaw, StateLawParameters};
+    use std::sync::Arc;
+
+    #[test]
+    fn the_list_of_state_variables_is_each_laws_own_and_names_are_unique() {
+        let lugre = lugre::LuGreLaw::new(
+            LuGreParameters::default(),
+            ExponentialLaw {
+                static_coefficient: 0.5,
+                kinetic_coefficient: 0.2,
+                decay: 5.0,
+            },
+        );
+        let rate_state = rate_state::RateStateLaw::new(RateStateParameters::default());
+        let learned = LearnedStateFriction::new(Arc::new(LearnedStateLaw {
+            parameters: StateLawParameters {
+                reference_coefficient: 0.5,
+                reference_velocity: 1e-3,
+                direct_effect: 0.01,
+                evolution_effect: 0.015,
+                characteristic_slip: 1e-5,
+            },
+            correction: None,
+        }));
+        let laws: [&dyn MemoryLaw; 3] = [&lugre, &rate_state, &learned];
+        for (law, listed) in laws.iter().zip(STATE_VARIABLES) {
+            assert_eq!(law.state_variables(), &[listed]);
+        }
+        let mut names: Vec<&str> = STATE_VARIABLES.iter().map(|v| v.name).collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), STATE_VARIABLES.len());
+    }
 }

@@ -21,11 +21,15 @@ use super::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable};
 use crate::elementary;
 use crate::friction::FrictionLaw;
 
-const STATE: [StateVariable; 1] = [StateVariable {
+/// Rate-and-state's state theta (s): D_c / V in steady sliding at V.
+pub const STATE_THETA: StateVariable = StateVariable {
     name: "state_theta",
     unit: "s",
     positive: true,
-}];
+    description: "rate-and-state state theta (D_c / V in steady sliding at V)",
+};
+
+const STATE: [StateVariable; 1] = [STATE_THETA];
 
 /// The rate-and-state law with its state theta (s), starting at theta = D_c / V_0
 /// (steady sliding at the reference velocity).

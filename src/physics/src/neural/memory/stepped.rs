@@ -9,11 +9,15 @@ use super::law::LearnedStateLaw;
 use crate::friction::FrictionLaw;
 use crate::memory::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable};
 
-const STATE: [StateVariable; 1] = [StateVariable {
+/// The learned law's state psi = ln(theta V_0 / D_c) (1): 0 in steady sliding at V_0.
+pub const STATE_PSI: StateVariable = StateVariable {
     name: "state_psi",
     unit: "1",
     positive: false,
-}];
+    description: "learned law's state psi = ln(theta V_0 / D_c)",
+};
+
+const STATE: [StateVariable; 1] = [STATE_PSI];
 
 /// A learned state law and its committed state psi = ln(theta V_0 / D_c), which starts
 /// (and resets) at 0: steady sliding at V_0, as the analytical rate-and-state law
