@@ -618,3 +618,26 @@ fn a_matlab_file_as_weights_names_the_converter() {
     }
     std::fs::remove_file(renamed).unwrap();
 }
+
+/// A recurrent cell anywhere in the graph is named as what it is, a network with state,
+/// with the way to a law with memory, rather than as an unsupported operator or a
+/// broken chain.
+#[test]
+fn a_recurrent_network_is_refused_as_a_law_with_state() {
+    for op in ["GRU", "LSTM", "RNN", "Loop", "Scan"] {
+        let mut onnx = export(&small(), Exporter::Torch, false);
+        onnx.node("act1").op_type = op.into();
+        let message = refused(&onnx);
+        assert!(
+            message.contains(&format!(
+                "node 'act1': operator '{op}' makes a network with state"
+            )) && message.contains("stickslip train-memory"),
+            "{message}"
+        );
+    }
+    // Elsewhere than ai.onnx the name means nothing to the import: an unknown operator.
+    let mut onnx = export(&small(), Exporter::Torch, false);
+    onnx.node("act1").op_type = "GRU".into();
+    onnx.node("act1").domain = "com.example".into();
+    assert!(!refused(&onnx).contains("with state"));
+}

@@ -59,6 +59,16 @@ pub enum OnnxError {
         value: String,
     },
 
+    /// An operator that gives the network state (a recurrent cell or a loop): the ONNX
+    /// import reads memoryless networks F(v, F_n, features) only, and a friction law
+    /// with memory has its own format.
+    #[error("{source_name}: node {node}: operator '{op_type}' makes a network with state (recurrent); the ONNX import reads memoryless networks F(v, F_n, features) only. A friction law with memory comes as a stickslip-state-friction weights file: train one on force records with `stickslip train-memory` (docs/learned-friction-with-memory.md), or use friction.law = lugre or rate-and-state")]
+    Recurrent {
+        source_name: String,
+        node: String,
+        op_type: String,
+    },
+
     /// An operator outside the supported set.
     #[error("{source_name}: node {node}: operator '{op_type}' of domain '{domain}' is not supported (supported: {supported})")]
     UnknownOperator {

@@ -46,9 +46,29 @@ use super::error::OnnxError;
 use super::model::ModelProto;
 use chain::Converter;
 
+/// The ai.onnx operators that carry state from one evaluation (or sequence element) to
+/// the next: a graph with one is a law with memory, whatever else it holds.
+const RECURRENT_OPERATORS: [&str; 5] = ["RNN", "GRU", "LSTM", "Loop", "Scan"];
+
 /// Converts a decoded model; `source_name` appears in errors.
 pub fn convert(model: &ModelProto, source_name: &str) -> Result<OnnxNetwork, OnnxError> {
     let graph = opset::checked_graph(model, source_name)?;
+    // Before the chain is followed: a recurrent graph has several outputs and state
+    // inputs, which the chain would refuse for a reason that hides the real one.
+    if let Some((index, node)) = graph.node.iter().enumerate().find(|(_, node)| {
+        opset::domain_of(&node.domain) == Some(false)
+            && RECURRENT_OPERATORS.contains(&node.op_type.as_str())
+    }) {
+        return Err(OnnxError::Recurrent {
+            source_name: source_name.to_string(),
+            node: if node.name.is_empty() {
+                format!("#{index}")
+            } else {
+                format!("'{}'", node.name)
+            },
+            op_type: node.op_type.clone(),
+        });
+    }
     let producer = format!("{} {}", model.producer_name, model.producer_version)
         .trim()
         .to_string();
