@@ -10,16 +10,8 @@
 
 use super::parameters::LuGreParameters;
 use super::relaxation::Relaxation;
-use super::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable};
+use super::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable, BRISTLE_DEFLECTION};
 use crate::friction::{signum_or_zero, ExponentialLaw, FrictionLaw};
-
-/// LuGre's state: the bristle deflection z (m).
-pub const BRISTLE_DEFLECTION: StateVariable = StateVariable {
-    name: "bristle_deflection",
-    unit: "m",
-    positive: false,
-    description: "LuGre bristle deflection z",
-};
 
 const STATE: [StateVariable; 1] = [BRISTLE_DEFLECTION];
 

@@ -64,13 +64,35 @@ pub struct StateVariable {
     pub description: &'static str,
 }
 
+/// LuGre's state: the bristle deflection z (m).
+pub const BRISTLE_DEFLECTION: StateVariable = StateVariable {
+    name: "bristle_deflection",
+    unit: "m",
+    positive: false,
+    description: "LuGre bristle deflection z",
+};
+
+/// Rate-and-state's state theta (s): D_c / V in steady sliding at V.
+pub const STATE_THETA: StateVariable = StateVariable {
+    name: "state_theta",
+    unit: "s",
+    positive: true,
+    description: "rate-and-state state theta (D_c / V in steady sliding at V)",
+};
+
+/// The learned law's state psi = ln(theta V_0 / D_c) (1): 0 in steady sliding at V_0.
+pub const STATE_PSI: StateVariable = StateVariable {
+    name: "state_psi",
+    unit: "1",
+    positive: false,
+    description: "learned law's state psi = ln(theta V_0 / D_c)",
+};
+
 /// Every state variable of the laws with state this crate has, one per law, in a fixed
 /// order: the FMUs output each of them (0 where the run's law has not that variable).
-pub const STATE_VARIABLES: [StateVariable; 3] = [
-    lugre::BRISTLE_DEFLECTION,
-    rate_state::STATE_THETA,
-    crate::neural::memory::stepped::STATE_PSI,
-];
+/// They are defined here, not beside their laws, because each law's module imports this
+/// one (the crate's layering test forbids the way back).
+pub const STATE_VARIABLES: [StateVariable; 3] = [BRISTLE_DEFLECTION, STATE_THETA, STATE_PSI];
 
 /// A state that does not fit a law: wrong length, non-finite, or outside its domain.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

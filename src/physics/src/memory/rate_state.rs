@@ -17,17 +17,9 @@
 
 use super::parameters::{RateStateParameters, StateEvolution};
 use super::relaxation::Relaxation;
-use super::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable};
+use super::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable, STATE_THETA};
 use crate::elementary;
 use crate::friction::FrictionLaw;
-
-/// Rate-and-state's state theta (s): D_c / V in steady sliding at V.
-pub const STATE_THETA: StateVariable = StateVariable {
-    name: "state_theta",
-    unit: "s",
-    positive: true,
-    description: "rate-and-state state theta (D_c / V in steady sliding at V)",
-};
 
 const STATE: [StateVariable; 1] = [STATE_THETA];
 

@@ -7,15 +7,7 @@ use std::sync::Arc;
 
 use super::law::LearnedStateLaw;
 use crate::friction::FrictionLaw;
-use crate::memory::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable};
-
-/// The learned law's state psi = ln(theta V_0 / D_c) (1): 0 in steady sliding at V_0.
-pub const STATE_PSI: StateVariable = StateVariable {
-    name: "state_psi",
-    unit: "1",
-    positive: false,
-    description: "learned law's state psi = ln(theta V_0 / D_c)",
-};
+use crate::memory::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable, STATE_PSI};
 
 const STATE: [StateVariable; 1] = [STATE_PSI];
 
