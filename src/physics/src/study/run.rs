@@ -52,8 +52,18 @@ pub enum StudyError {
     Scene { law: Law, source: SceneError },
     #[error("friction law {law}: {source}")]
     Source { law: Law, source: SceneLawError },
-    #[error("friction law {law}: the reference {} failed: {}", .failed.configuration, .failed.reason)]
-    Reference { law: Law, failed: Box<Failed> },
+    /// A law's reference run failed; `law` is None for a study without a law axis (its
+    /// message then stays the one the command line has always printed).
+    #[error("{}the reference {} failed: {}", of_law(.law), .failed.configuration, .failed.reason)]
+    Reference {
+        law: Option<Law>,
+        failed: Box<Failed>,
+    },
+}
+
+fn of_law(law: &Option<Law>) -> String {
+    law.as_ref()
+        .map_or_else(String::new, |law| format!("friction law {law}: "))
 }
 
 /// What the study reports while it runs (the command line prints it).
@@ -119,7 +129,7 @@ pub fn run(
             let measured =
                 measure(&law_scene, &source, reference_configuration).map_err(|failed| {
                     StudyError::Reference {
-                        law: law.clone(),
+                        law: (!grid.laws.is_empty()).then(|| law.clone()),
                         failed: Box::new(failed),
                     }
                 })?;
