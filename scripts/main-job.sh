@@ -93,7 +93,7 @@ echo
 # Issue 24: a small grid per friction law (the full measurement, 1224 runs, is in
 # docs/speed-accuracy.md, "Friction laws with memory"); each law against its own
 # reference, 40 modes of the 0.005 m mesh at 5e-6 s (the laws with state need a finer
-# step than 1e-5 s for a sub-micrometre reference). About TIME s on 2 shared cores.
+# step than 1e-5 s for a sub-micrometre reference). 168 runs, 14 s on 2 shared cores.
 echo "== Speed against accuracy per friction law: exponential, LuGre, rate-and-state and the learned law with memory, each against its own reference"
 "$bin" study --out "$out/study/laws" --modes 3,5,10 --elements 10,20,50 --element-sizes \
   --plane-stress-modal 0.005:40 --dts 1e-4,2e-5,5e-6 \
