@@ -1,11 +1,13 @@
 //! One run of the grid, timed, and the tip series it gives the comparison.
 
 use super::configuration::Configuration;
-use super::COMPARISON_INTERVAL;
 use crate::law_source::LawSource;
 use crate::metrics::Summary;
 use crate::run::{run_scene, RunError};
 use crate::scene::{CheckedScene, Scene, SceneError};
+
+/// The grid of the tip-deflection comparison (s): every time step of a study divides it.
+pub const COMPARISON_INTERVAL: f64 = 1e-3;
 
 /// What one run gives the comparison.
 #[derive(Clone, Debug)]

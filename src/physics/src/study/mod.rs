@@ -23,7 +23,7 @@
 //!
 //! One module per concept: [`configuration`] (what one run is), [`law`] (the law axis),
 //! [`grid`] (the axes), [`measure`] (one timed run), [`errors`] (against a reference),
-//! [`front`] (the Pareto front), [`csv`] (study.csv) and [`run`] (the whole study: per-law
+//! [`front`](mod@front) (the Pareto front), [`csv`] (study.csv) and [`run`](mod@run) (the whole study: per-law
 //! references, rows, fronts).
 //! The wall time does not include building the friction law (parsing the network,
 //! tabulating it: 1 to 25 ms for the shipped networks), as [`run_scene`] times it.
@@ -45,8 +45,5 @@ pub use errors::{rms_difference, Errors};
 pub use front::{front, front_of, front_points, mark_pareto_front, FrontPoint, Row};
 pub use grid::Grid;
 pub use law::{Law, LawError};
-pub use measure::{measure, Failed, MeasureError, Measured};
+pub use measure::{measure, Failed, MeasureError, Measured, COMPARISON_INTERVAL};
 pub use run::{run, Progress, Reference, Study, StudyError};
-
-/// The grid of the tip-deflection comparison (s): every time step of a study divides it.
-pub const COMPARISON_INTERVAL: f64 = 1e-3;
