@@ -89,3 +89,13 @@ echo "== fidelity = auto on ten scenes over each whole run, against 40 modes of 
   --plane-stress-modal 0.005:40 --dts 1e-5 --integrators generalized-alpha \
   --verify-auto 1e-4,1e-5,1e-6
 "$python" -m stickslip_checks.study_plot "$out/study"
+echo
+# Issue 24: a small grid per friction law (the full measurement, 1224 runs, is in
+# docs/speed-accuracy.md, "Friction laws with memory"); each law against its own
+# reference, 40 modes of the 0.005 m mesh at 5e-6 s (the laws with state need a finer
+# step than 1e-5 s for a sub-micrometre reference). 168 runs, 14 s on 2 shared cores.
+echo "== Speed against accuracy per friction law: exponential, LuGre, rate-and-state and the learned law with memory, each against its own reference"
+"$bin" study --out "$out/study/laws" --modes 3,5,10 --elements 10,20,50 --element-sizes \
+  --plane-stress-modal 0.005:40 --dts 1e-4,2e-5,5e-6 \
+  --laws exponential,lugre,rate-and-state,neural:weights/rate-and-state-learned.json
+"$python" -m stickslip_checks.study_plot "$out/study/laws"

@@ -7,7 +7,7 @@ to draw; the entry points compute and pass them.
 - training: training_history (Fig. 3d), predicted_vs_true (Fig. 5a), friction_curves (Fig. 5b)
 - sweep: stick_slip_map
 - plot_cli: cli_deflection (Fig. 6a from the command line's CSV), mesh_convergence (Fig. 1b)
-- study_plot: pareto
+- study_plot: pareto, law_fronts
 """
 
 from __future__ import annotations
@@ -538,6 +538,37 @@ def pareto(rows: list[dict], front: list[dict], front_labels: list[str], path: P
     ax.set_title("Speed against accuracy (stickslip study)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7, loc="lower left")
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+
+
+def law_fronts(fronts: dict[str, list[dict]], path: Path) -> None:
+    """The Pareto front of each friction law of a study (`stickslip study --laws`), RMS
+    error against wall time in one log-log axes: each against its own law's reference."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    for (law, front), colour in zip(fronts.items(), cycle(COLOURS + ("tab:purple", "tab:brown"))):
+        finite = [r for r in front if float(r["err_rms_m"]) > 0]
+        if not finite:
+            continue
+        ax.plot(
+            [float(r["wall_s"]) for r in finite],
+            [float(r["err_rms_m"]) * 1e6 for r in finite],
+            "-",
+            color=colour,
+            marker="o",
+            ms=4,
+            lw=1.2,
+            label=law or "the scene's law",
+        )
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("wall time of the run (s)")
+    ax.set_ylabel("RMS tip-deflection error against the law's own reference (um)")
+    ax.set_title("Pareto front per friction law (stickslip study --laws)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=130)
     plt.close(fig)

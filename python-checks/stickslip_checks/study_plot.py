@@ -2,7 +2,9 @@
 OUT_DIR/study.csv, draws pareto.png (RMS tip-deflection error against wall time, the
 Pareto front joined) and prints the size of the front and, if auto_verification.csv is
 there or in OUT_DIR/auto (where the main job's `study --verify-auto` writes it), how many
-fidelity = auto verification cases hold.
+fidelity = auto verification cases hold. A study of several friction laws (`--laws`)
+gets fronts.png instead (each law's front in one axes) and, per law, its front's size and
+its cheapest runs under 1e-5 m and 1e-6 m RMS.
 
 Usage: python -m stickslip_checks.study_plot [OUT_DIR]   (or stickslip-study-plot;
 default <repo>/out/study). Exits 1 if study.csv is missing or its pareto column marks
@@ -30,9 +32,22 @@ def main(argv: list[str] | None = None) -> int:
         print("study_plot: study.csv's pareto column disagrees with the front computed here",
               file=sys.stderr)
         return 1
-    figure = out / "pareto.png"
-    study.plot(rows, front, figure)
-    print(f"{len(rows)} runs, {len(front)} on the Pareto front; plot {figure}")
+    if len(study.laws(rows)) > 1:
+        figure = out / "fronts.png"
+        study.plot_fronts(rows, figure)
+        print(f"{len(rows)} runs, {len(front)} on the Pareto fronts of "
+              f"{len(study.laws(rows))} laws; plot {figure}")
+        for law, law_front in study.fronts(rows).items():
+            cheapest = {tol: study.cheapest_under(law_front, tol) for tol in (1e-5, 1e-6)}
+            text = "; ".join(
+                f"under {tol:g} m: " + (
+                    f"{study.label(r)} ({float(r['wall_s']):.4f} s)" if r else "none")
+                for tol, r in cheapest.items())
+            print(f"  {law}: {len(law_front)} on its front; {text}")
+    else:
+        figure = out / "pareto.png"
+        study.plot(rows, front, figure)
+        print(f"{len(rows)} runs, {len(front)} on the Pareto front; plot {figure}")
     for verification in (out / "auto_verification.csv", out / "auto" / "auto_verification.csv"):
         if not verification.exists():
             continue

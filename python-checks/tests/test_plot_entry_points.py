@@ -79,3 +79,31 @@ def test_a_modal_row_of_the_mesh_is_labelled_apart_from_the_beam_modal_row():
     mesh = study.label({**common, "level": "plane-stress-modal", "element_size_m": "0.02"})
     assert beam == "modal 10 modes, dt 0.0001 s, generalized-alpha"
     assert mesh == "modal 10 modes of plane stress 0.02 m, dt 0.0001 s, generalized-alpha"
+
+
+def test_study_plot_draws_one_front_per_law(tmp_path, capsys):
+    # Two laws with the same configurations: the slow accurate exponential run does not
+    # dominate the LuGre run, because each law's errors are against its own reference.
+    header = STUDY_COLUMNS + ["law"]
+    rows = [
+        ["modal", 4, "", "", "1e-3", "scheme-a", 0.001, 2e-5, 1, "exponential"],
+        ["modal", 4, "", "", "1e-4", "scheme-a", 0.01, 5e-7, 1, "exponential"],
+        ["modal", 4, "", "", "1e-3", "scheme-a", 0.02, 3e-6, 1, "lugre"],
+        ["modal", 4, "", "", "1e-4", "scheme-a", 0.03, 4e-6, 0, "lugre"],
+    ]
+    write_rows(tmp_path / "study.csv", header, rows)
+    assert study_plot.main([str(tmp_path)]) == 0
+    assert (tmp_path / "fronts.png").stat().st_size > 0
+    assert not (tmp_path / "pareto.png").exists()
+    out = capsys.readouterr().out
+    assert "3 on the Pareto fronts of 2 laws" in out
+    assert "exponential: 2 on its front; under 1e-05 m: modal 4 modes, dt 0.0001 s" in out
+    assert "lugre: 1 on its front; under 1e-05 m: modal 4 modes, dt 0.001 s" in out
+    assert "under 1e-06 m: none" in out
+
+    # A pareto column that compares across laws (LuGre's run marked off the front by
+    # the exponential run) disagrees with the per-law front.
+    rows[2][8] = 0
+    write_rows(tmp_path / "study.csv", header, rows)
+    assert study_plot.main([str(tmp_path)]) == 1
+    assert "pareto column disagrees" in capsys.readouterr().err

@@ -42,7 +42,10 @@ def test_the_study_grid_as_a_dataset(tmp_path):
     data = study.to_dataset(tmp_path / "study.csv")
     other = study.resolution({"level": "other-level", "element_size_m": ""})
     assert sorted(data["resolution"].values) == ["modal 4 modes", other]
-    assert dict(data.sizes) == {"resolution": 2, "dt_s": 2, "integrator": 2, "inference": 1}
+    # A study.csv without the law and inference columns (before issue 24) reads as one
+    # law and one inference, both "".
+    assert dict(data.sizes) == {
+        "law": 1, "resolution": 2, "dt_s": 2, "integrator": 2, "inference": 1}
     # Three runs on a grid of 8 points: the rest are missing.
     assert int(data["err_rms_m"].count()) == 3
     run = data["wall_s"].sel(resolution=other, dt_s=1e-4, integrator="scheme-b")

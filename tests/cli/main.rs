@@ -2,6 +2,7 @@
 
 mod contract;
 mod import;
+mod study_laws;
 mod train_memory;
 mod train_split;
 

@@ -8,7 +8,7 @@ use stickslip::neural::NeuralError;
 use stickslip::run::RunError;
 use stickslip::scene::SceneError;
 use stickslip::structure::ModelError;
-use stickslip::study::Failed;
+use stickslip::study::{Failed, StudyError};
 use stickslip_train::TrainError;
 
 /// Why a command failed.
@@ -80,10 +80,14 @@ pub enum CliError {
         out.display()
     )]
     MatFile { path: PathBuf, out: PathBuf },
-    /// The reference run of `study` failed, so nothing can be compared with it. (The
-    /// run errors are boxed to keep `Result<(), CliError>` small.)
-    #[error("the reference {} failed: {}", .0.configuration, .0.reason)]
-    Reference(#[source] Box<Failed>),
+    /// `study` could not run: a law refused, or a law's reference run failed, so that
+    /// nothing of that law can be compared with it. (Boxed to keep `Result<(),
+    /// CliError>` small.)
+    #[error(transparent)]
+    Study(Box<StudyError>),
+    /// `study --write-front` writes the scene law's front, which `--laws` leaves out.
+    #[error("--write-front writes the front of the scene's law ({law}), which --laws leaves out")]
+    WriteFrontWithoutSceneLaw { law: String },
     /// The reference run of a `study --verify-auto` scene failed.
     #[error("{scene}: the reference failed: {}", .source.reason)]
     VerificationReference {

@@ -8,6 +8,7 @@ use crate::simulate::write;
 use clap::Args;
 use std::path::PathBuf;
 use stickslip::scene::{Inference, Scene, Scheme};
+use stickslip::study::{front_of, front_points, Law, Progress, Study, StudyError};
 
 /// Arguments of `stickslip study`.
 #[derive(Args, Debug, Clone)]
@@ -38,12 +39,19 @@ pub struct StudyArgs {
     /// Integrators.
     #[arg(long, value_parser = parser::<Scheme>(), value_delimiter = ',')]
     pub integrators: Option<Vec<Scheme>>,
-    /// The friction-law axis: evaluations of the scene's neural law (speed for
-    /// accuracy), each against the reference with the exact network. Default: the
-    /// scene's own only.
+    /// Evaluations of a neural law (speed for accuracy), each against the reference
+    /// with the exact network; laws other than neural ignore it. Default: the scene's
+    /// own only.
     #[arg(long, value_parser = parser::<Inference>(), value_delimiter = ',')]
     pub inferences: Option<Vec<Inference>>,
-    /// Output folder: study.csv (every run) and front.json (the Pareto front).
+    /// The friction-law axis: laws (comma-separated), each a scene law other than
+    /// external, or neural:PATH for a network's weights file (the learned law with
+    /// memory: neural:weights/rate-and-state-learned.json). Each law is compared with
+    /// its own reference and has its own front. Default: the scene's law only.
+    #[arg(long, value_parser = law, value_delimiter = ',')]
+    pub laws: Option<Vec<Law>>,
+    /// Output folder: study.csv (every run), front.json (the scene law's Pareto front)
+    /// and, with --laws, front-LAW.json per law.
     #[arg(long, default_value = "out/study")]
     pub out: PathBuf,
     /// Also write the front to this file (the `auto` fidelity reads
@@ -74,11 +82,15 @@ fn size_and_modes(text: &str) -> Result<(f64, usize), String> {
     Ok((size, modes))
 }
 
-/// `stickslip study`: the grid, the reference, the CSV and the front.
+/// One friction law of `--laws`.
+fn law(text: &str) -> Result<Law, String> {
+    text.parse()
+        .map_err(|e: stickslip::study::LawError| e.to_string())
+}
+
+/// `stickslip study`: the grid, each law's reference, the CSV and the fronts.
 pub fn study(args: &StudyArgs) -> Result<(), CliError> {
-    use stickslip::study::{
-        csv_line, front, front_points, mark_pareto_front, measure, Errors, Grid, Row, CSV_HEADER,
-    };
+    use stickslip::study::{csv_line, run, Grid, CSV_HEADER};
     let mut scene = match &args.scene {
         Some(path) => Scene::load(path)?.into_scene(),
         None => Scene::default(),
@@ -101,114 +113,94 @@ pub fn study(args: &StudyArgs) -> Result<(), CliError> {
             None => full.schemes,
         },
         inferences: args.inferences.clone().unwrap_or(full.inferences),
+        laws: args.laws.clone().unwrap_or(full.laws),
     };
     let reference_configuration = grid.finest().ok_or(CliError::EmptyGrid)?;
-    let configurations = grid.configurations();
+    // front.json (and --write-front, what `auto` reads) is the scene law's front; a law
+    // axis without the scene's law has none.
+    let scene_law = Law::of_scene(&scene).map_err(study_error)?;
+    let laws = grid.laws_or(scene_law.clone());
+    let has_scene_law = laws.contains(&scene_law);
+    if !has_scene_law && args.write_front.is_some() {
+        return Err(CliError::WriteFrontWithoutSceneLaw {
+            law: scene_law.to_string(),
+        });
+    }
     std::fs::create_dir_all(&args.out).map_err(|source| CliError::Output {
         path: args.out.clone(),
         source,
     })?;
+    let runs: usize = laws.iter().map(|l| grid.configurations_for(l).len()).sum();
     eprintln!(
-        "study: {} configurations, end time {} s; reference {reference_configuration}",
-        configurations.len(),
+        "study: {runs} runs ({} laws), end time {} s; reference {reference_configuration} per law",
+        laws.len(),
         scene.time.end
     );
-    let law = crate::scene_args::law_of(&scene.clone().check()?)?;
-    let reference = measure(&scene, &law, reference_configuration)
-        .map_err(|failed| CliError::Reference(Box::new(failed)))?;
-    let mut rows = Vec::new();
-    let mut failures = Vec::new();
-    for (k, configuration) in configurations.iter().enumerate() {
-        let measured = if *configuration == reference_configuration {
-            Ok(reference.clone())
-        } else {
-            measure(&scene, &law, *configuration)
-        };
-        match measured {
-            Ok(measured) => {
-                let errors = Errors::between(&measured, &reference);
-                eprintln!(
-                    "[{}/{}] {configuration}: {:.3} s, RMS error {:.3e} m",
-                    k + 1,
-                    configurations.len(),
-                    measured.seconds,
-                    errors.rms
-                );
-                rows.push(Row {
-                    measured,
-                    errors,
-                    on_front: false,
-                });
-            }
-            Err(failed) => {
-                eprintln!(
-                    "[{}/{}] {configuration}: failed: {}",
-                    k + 1,
-                    configurations.len(),
-                    failed.reason
-                );
-                failures.push(failed);
-            }
-        }
-    }
-    // The reference is exact by definition; it stays off the front, whose last point is
-    // then the best run that can be compared with something better.
-    rows.retain(|r| r.measured.configuration != reference_configuration);
-    mark_pareto_front(&mut rows);
+    let study = run(&scene, &grid, |progress| match progress {
+        Progress::Reference(r) => eprintln!(
+            "reference of {}: {}: {:.3} s",
+            r.law, r.measured.configuration, r.measured.seconds
+        ),
+        Progress::Row { index, total, row } => eprintln!(
+            "[{index}/{total}] {} {}: {:.3} s, RMS error {:.3e} m",
+            row.law, row.measured.configuration, row.measured.seconds, row.errors.rms
+        ),
+        Progress::Failed {
+            index,
+            total,
+            law,
+            failed,
+        } => eprintln!(
+            "[{index}/{total}] {law} {}: failed: {}",
+            failed.configuration, failed.reason
+        ),
+    })
+    .map_err(study_error)?;
     let csv_path = args.out.join("study.csv");
     let mut csv = String::from(CSV_HEADER);
     csv.push('\n');
-    for row in &rows {
+    for row in &study.rows {
         csv += &csv_line(row, scene.time.end);
         csv.push('\n');
     }
     write(&csv_path, csv)?;
-    let points = front_points(&rows);
-    let front_path = args.out.join("front.json");
-    let json = serde_json::to_string_pretty(&points).map_err(|source| CliError::Json {
-        path: front_path.clone(),
-        source,
-    })?;
-    for path in std::iter::once(&front_path).chain(args.write_front.as_ref()) {
-        write(path, &json)?;
+    let mut written = Vec::new();
+    for law in &laws {
+        let mut paths = Vec::new();
+        if *law == scene_law {
+            paths.push(args.out.join("front.json"));
+            paths.extend(args.write_front.clone());
+        }
+        if !grid.laws.is_empty() {
+            paths.push(args.out.join(format!("front-{}.json", law.slug())));
+        }
+        let points = front_points(&front_of(&study.rows, law));
+        for path in paths {
+            let json = serde_json::to_string_pretty(&points).map_err(|source| CliError::Json {
+                path: path.clone(),
+                source,
+            })?;
+            write(&path, &json)?;
+            written.push(path);
+        }
     }
-
-    println!(
-        "reference: {reference_configuration}: {} dofs, {:.2} s",
-        reference.dofs, reference.seconds
-    );
-    println!();
-    println!("Pareto front (RMS tip-deflection error against wall time), cheapest first:");
-    println!();
-    println!("| configuration | dofs | wall (s) | x real time | breakaway (ms) | 1st slip (ms) | period (ms) | corridor (um) | RMS (um) |");
-    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
-    let ms = |v: Option<f64>| v.map_or("-".into(), |v| format!("{:.3}", v * 1e3));
-    for row in front(&rows) {
-        let e = &row.errors;
-        println!(
-            "| {} | {} | {:.4} | {:.0} | {} | {} | {} | {} | {:.3} |",
-            row.measured.configuration,
-            row.measured.dofs,
-            row.measured.seconds,
-            scene.time.end / row.measured.seconds,
-            ms(e.breakaway),
-            ms(e.first_slip_duration),
-            ms(e.period),
-            e.corridor.map_or("-".into(), |v| format!("{:.3}", v * 1e6)),
-            e.rms * 1e6
-        );
+    for law in &laws {
+        print_front(&study, law, scene.time.end);
     }
-    println!();
     println!(
-        "{} runs in {}, {} on the front, {} failed; front in {}",
-        rows.len() + 1,
+        "{} runs in {}, {} on the fronts, {} failed; fronts in {}",
+        study.rows.len() + study.references.len(),
         csv_path.display(),
-        points.len(),
-        failures.len(),
-        front_path.display()
+        study.rows.iter().filter(|r| r.on_front).count(),
+        study.failures.len(),
+        written
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
     );
-    for f in &failures {
-        println!("failed: {}: {}", f.configuration, f.reason);
+    for (law, f) in &study.failures {
+        println!("failed: {law} {}: {}", f.configuration, f.reason);
     }
     if let Some(tolerances) = &args.verify_auto {
         verify_auto(
@@ -220,6 +212,42 @@ pub fn study(args: &StudyArgs) -> Result<(), CliError> {
         )?;
     }
     Ok(())
+}
+
+fn study_error(e: impl Into<StudyError>) -> CliError {
+    CliError::Study(Box::new(e.into()))
+}
+
+/// `law`'s reference and Pareto front as a Markdown table.
+fn print_front(study: &Study, law: &Law, end_time: f64) {
+    if let Some(r) = study.reference(law) {
+        println!(
+            "{law}: reference {}: {} dofs, {:.2} s",
+            r.measured.configuration, r.measured.dofs, r.measured.seconds
+        );
+    }
+    println!();
+    println!("Pareto front of {law} (RMS tip-deflection error against wall time), cheapest first:");
+    println!();
+    println!("| configuration | dofs | wall (s) | x real time | breakaway (ms) | 1st slip (ms) | period (ms) | corridor (um) | RMS (um) |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    let ms = |v: Option<f64>| v.map_or("-".into(), |v| format!("{:.3}", v * 1e3));
+    for row in front_of(&study.rows, law) {
+        let e = &row.errors;
+        println!(
+            "| {} | {} | {:.4} | {:.0} | {} | {} | {} | {} | {:.3} |",
+            row.measured.configuration,
+            row.measured.dofs,
+            row.measured.seconds,
+            end_time / row.measured.seconds,
+            ms(e.breakaway),
+            ms(e.first_slip_duration),
+            ms(e.period),
+            e.corridor.map_or("-".into(), |v| format!("{:.3}", v * 1e6)),
+            e.rms * 1e6
+        );
+    }
+    println!();
 }
 
 /// A configuration label as one CSV field (its commas become spaces).

@@ -656,13 +656,15 @@ impl Scene {
             }
             if self.fidelity.level == FidelityLevel::Auto {
                 // auto's front, its partner ratios and its verification were measured
-                // with the memoryless switch (data/pareto_front.json); no front has been
-                // measured for a law with state, whose stick is a velocity threshold.
+                // with the memoryless switch (data/pareto_front.json). The laws with
+                // state have measured fronts (the study's law axis), but their stick is a
+                // velocity threshold and their own fronts differ (LuGre's cheapest point
+                // under 1 um is another configuration), so auto's chain does not carry over.
                 return Err(SceneError::Invalid {
                     field: "fidelity.level",
                     value: "auto".into(),
                     requirement: format!(
-                        "modal, beam or plane-stress with friction.law = {}: auto's measured front and partner chain are for the memoryless laws only, none was measured for a law with state",
+                        "modal, beam or plane-stress with friction.law = {}: auto's measured front and partner chain are for the memoryless laws only, none was measured for a law with state as auto walks it (their own study fronts: `stickslip study --laws`, docs/speed-accuracy.md, \"Friction laws with memory\")",
                         crate::choice::Choice::name(f.law)
                     ),
                 });
