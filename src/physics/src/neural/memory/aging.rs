@@ -19,18 +19,7 @@
 //! spans decades (it grows like the time at rest), psi is O(1) at steady sliding
 //! (psi_ss = ln(V_0 / V)) and does not depend on D_c there.
 
-/// One aging step and its derivatives (dimensionless psi; v in m/s; D_c in m).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AgingStep {
-    /// psi_{n+1} (1).
-    pub state: f64,
-    /// d psi_{n+1} / d psi_n (1), in (0, 1].
-    pub d_state: f64,
-    /// d psi_{n+1} / d v_{n+1} (s/m), odd in v (the step reads |v|).
-    pub d_velocity: f64,
-    /// d psi_{n+1} / d ln D_c (1) at fixed psi_n.
-    pub d_log_slip: f64,
-}
+use super::evolution::StateStep;
 
 /// phi(x) = (1 - e^{-x}) / x and phi'(x) = (e^{-x} (1 + x) - 1) / x^2 for x >= 0;
 /// below x = 1e-2 their Taylor series (phi' = -1/2 + x/3 - x^2/8 + x^3/30, error
@@ -46,15 +35,10 @@ fn phi_and_slope(x: f64) -> (f64, f64) {
     }
 }
 
-/// The steady state psi_ss = ln(V_0 / V) at sliding speed `speed` > 0 (m/s).
-pub fn steady_state(speed: f64, reference_velocity: f64) -> f64 {
-    crate::elementary::ln(reference_velocity / speed)
-}
-
 /// Advances psi over a step of `step` seconds ending at sliding velocity `velocity`
 /// (m/s), with characteristic slip `slip` (D_c, m) and reference velocity
 /// `reference_velocity` (V_0, m/s). At v = 0 the contact ages: theta' = theta + h.
-pub fn step(state: f64, velocity: f64, step: f64, slip: f64, reference_velocity: f64) -> AgingStep {
+pub fn step(state: f64, velocity: f64, step: f64, slip: f64, reference_velocity: f64) -> StateStep {
     let speed = velocity.abs();
     let x = speed * step / slip;
     let k = reference_velocity * step / slip;
@@ -75,7 +59,7 @@ pub fn step(state: f64, velocity: f64, step: f64, slip: f64, reference_velocity:
     // du/dx / u = -w_kept + w_gained phi'/phi.
     let du_dx = -w_kept + w_gained * phi_slope / phi;
     let dx_dv = crate::friction::signum_or_zero(velocity) * step / slip;
-    AgingStep {
+    StateStep {
         state: new_state,
         d_state: w_kept,
         d_velocity: du_dx * dx_dv,
@@ -86,6 +70,7 @@ pub fn step(state: f64, velocity: f64, step: f64, slip: f64, reference_velocity:
 
 #[cfg(test)]
 mod tests {
+    use super::super::evolution::steady_state;
     use super::*;
 
     /// The step is the closed form theta(t) = D_c/V + (theta_0 - D_c/V) e^{-V t/D_c}:
