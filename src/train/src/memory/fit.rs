@@ -8,13 +8,14 @@
 //! L = (1/n) sum_k (F_law(t_k) - F_k)^2 + (lambda / 2) ||correction weights||^2
 //! ```
 //!
-//! Gradient: the state psi depends on the parameters only through D_c (the aging step;
-//! its start, the steady state ln(V_0 / |v_0|), on none), so one scalar sensitivity
+//! Gradient: the state psi depends on the parameters only through D_c (the aging or
+//! slip step; its start, the steady state ln(V_0 / |v_0|), on none), so one scalar
+//! sensitivity
 //! s = d psi / d ln D_c is carried along each record, s_k = (d psi_k / d psi_{k-1})
 //! s_{k-1} + d psi_k / d ln D_c, and dF_k/dp = dF/dp|_psi + dF/dpsi s_k [p = ln D_c].
 //! Exact for the discrete simulation (tested against differences).
 //!
-//! Why single shooting: the aging state forgets its past over a slip of a few D_c,
+//! Why single shooting: either law's state forgets its past over a slip of a few D_c,
 //! so records hours long do not make the gradient explode the way a chaotic system's
 //! would; what makes the fit non-convex is D_c itself (a guess decades off sees a flat
 //! loss), so the fit starts from a grid of D_c (`DC_GRID`) with the structured part
@@ -23,6 +24,7 @@
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 
+use super::evolution::LearnedEvolution;
 use super::series::{simulate, ForceSeries};
 use crate::data::{seeded_rng, INIT_STREAM};
 use crate::error::TrainError;
@@ -30,8 +32,8 @@ use crate::lbfgs::{minimize, LbfgsOptions};
 use stickslip::neural::memory::correction::PER_UNIT;
 use stickslip::neural::memory::law::{LOG_SLIP, STRUCTURED};
 use stickslip::neural::memory::{
-    Correction, InputScale, LearnedStateLaw, StateLawFile, StateLawParameters, StateMetrics,
-    StateTrainingInfo, TrainingRanges,
+    Correction, InputScale, LearnedStateLaw, StateEvolution, StateLawFile, StateLawParameters,
+    StateMetrics, StateTrainingInfo, TrainingRanges,
 };
 
 /// Settings of [`train_state_law`].
@@ -49,6 +51,9 @@ pub struct StateTrainConfig {
     pub seed: u64,
     /// Every `test_every`-th record (1-based) is held out for testing; 0: none.
     pub test_every: usize,
+    /// The learned law's state evolution, or both (`evolution::train_state_law`).
+    #[serde(default)]
+    pub evolution: LearnedEvolution,
 }
 
 impl Default for StateTrainConfig {
@@ -60,6 +65,7 @@ impl Default for StateTrainConfig {
             grid_iterations: 40,
             seed: 2,
             test_every: 5,
+            evolution: LearnedEvolution::default(),
         }
     }
 }
@@ -75,6 +81,9 @@ pub struct StateTrainReport {
     pub final_loss: f64,
     pub iterations: usize,
     pub evaluations: usize,
+    /// Every evolution trained, with its law's RMS errors (N), in training order; the
+    /// file holds the one with the lower held-out error.
+    pub candidates: Vec<(StateEvolution, StateMetrics)>,
 }
 
 /// Loss and gradient of `law` with trainable parameters `x` over `records`.
@@ -164,15 +173,16 @@ fn scale(name: &str, unit: &str, [lo, hi]: [f64; 2]) -> InputScale {
     }
 }
 
-/// Trains a learned state law on `records` (checked first). `data` and `noise_std`
-/// describe the data for the file; `on_iteration` sees (iteration, loss) of the final
-/// fit.
-pub fn train_state_law(
+/// Trains a learned state law with the evolution `evolution` on `records` (checked
+/// first). `data` and `noise_std` describe the data for the file; `on_iteration` sees
+/// (iteration, loss) of the final fit.
+pub(super) fn fit_state_law(
     records: &[ForceSeries],
     config: &StateTrainConfig,
+    evolution: StateEvolution,
     data: &str,
     noise_std: f64,
-    mut on_iteration: impl FnMut(usize, f64),
+    on_iteration: &mut impl FnMut(usize, f64),
 ) -> Result<(StateLawFile, StateTrainReport), TrainError> {
     if !(config.lambda >= 0.0 && config.lambda.is_finite()) {
         return Err(TrainError::InvalidInput(format!(
@@ -246,6 +256,7 @@ pub fn train_state_law(
                 direct_effect: 0.01,
                 evolution_effect: 0.01,
                 characteristic_slip: d_c,
+                state_evolution: evolution,
             },
             correction: None,
         };
@@ -337,6 +348,7 @@ pub fn train_state_law(
             final_loss: result.value,
             iterations: result.iterations,
             evaluations: result.evaluations,
+            candidates: vec![(evolution, metrics)],
         },
     ))
 }
@@ -348,18 +360,26 @@ mod tests {
 
     /// The forward-sensitivity gradient of the loss against central differences, with a
     /// correction, on short noisy records (relative 1e-5: differences of step 1e-6 in
-    /// parameters of O(1) to O(10)).
+    /// parameters of O(1) to O(10)), with either evolution law (the slip law's records
+    /// and law: its step's D_c sensitivity is another formula).
     #[test]
     fn the_loss_gradient_is_exact_for_the_discrete_simulation() {
-        let spec = TribometerSpec {
+        for evolution in [StateEvolution::Aging, StateEvolution::Slip] {
+            loss_gradient_matches_differences(evolution);
+        }
+    }
+
+    fn loss_gradient_matches_differences(evolution: StateEvolution) {
+        let mut spec = TribometerSpec {
             hold_slip: 3e-5,
             hold_time: 0.02,
             normal_forces: vec![80.0, 120.0],
             ..TribometerSpec::default()
         };
+        spec.law.state_evolution = evolution;
         let records = spec.generate(1).unwrap();
         let refs: Vec<&ForceSeries> = records.iter().collect();
-        let mut law = spec.as_learned().unwrap();
+        let mut law = spec.as_learned();
         law.parameters.characteristic_slip = 1.3e-5;
         law.parameters.evolution_effect = 0.018;
         law.correction = Some(Correction {
@@ -385,7 +405,7 @@ mod tests {
             let fd = (plus - minus) / (2.0 * e);
             assert!(
                 (g[i] - fd).abs() < 1e-5 * fd.abs().max(1.0),
-                "p{i}: {} vs {fd}",
+                "{evolution:?} p{i}: {} vs {fd}",
                 g[i]
             );
         }

@@ -3,12 +3,15 @@
 //! - `series`: the records (t, v, F_n, F), their CSV form, simulating a law along them;
 //! - `protocol`: synthetic tribometer records from a rate-and-state law, with noise;
 //! - `fit`: the fit by simulating the records with forward-sensitivity gradients and
-//!   L-BFGS.
+//!   L-BFGS;
+//! - `evolution`: which state evolution (aging, slip, or both and keep the better).
 
+pub mod evolution;
 pub mod fit;
 pub mod protocol;
 pub mod series;
 
-pub use fit::{train_state_law, StateTrainConfig, StateTrainReport};
+pub use evolution::{train_state_law, LearnedEvolution};
+pub use fit::{StateTrainConfig, StateTrainReport};
 pub use protocol::TribometerSpec;
 pub use series::{read_series_csv, simulate, write_series_csv, ForceSeries};
