@@ -70,6 +70,7 @@ pub fn step(state: f64, velocity: f64, step: f64, slip: f64, reference_velocity:
 
 #[cfg(test)]
 mod tests {
+    use super::super::evolution::checks::{derivatives_match_differences, steps_compose};
     use super::super::evolution::steady_state;
     use super::*;
 
@@ -80,12 +81,7 @@ mod tests {
     fn steps_compose_to_the_closed_form_and_derivatives_are_exact() {
         let (d_c, v0) = (2e-5, 1e-6);
         let psi0 = steady_state(1e-3, v0);
-        let mut psi = psi0;
-        for _ in 0..10 {
-            psi = step(psi, 0.02, 1e-4, d_c, v0).state;
-        }
-        let whole = step(psi0, 0.02, 1e-3, d_c, v0).state;
-        assert!((psi - whole).abs() < 1e-12, "{psi} vs {whole}");
+        let whole = steps_compose(step, psi0, d_c, v0);
         let theta = |t: f64, v: f64| {
             d_c / v + (d_c / 1e-3 - d_c / v) * crate::elementary::exp(-v * t / d_c)
         };
@@ -96,30 +92,11 @@ mod tests {
         assert!((far - steady_state(0.02, v0)).abs() < 1e-12);
         let aged = step(psi0, 0.0, 0.5, d_c, v0).state;
         assert!(((crate::elementary::exp(aged) * d_c / v0) - (d_c / 1e-3 + 0.5)).abs() < 1e-12);
-        for (v, h) in [(0.02, 1e-4), (-3e-3, 1e-3), (1e-7, 1e-5), (0.5, 1e-2)] {
-            let s = step(psi0, v, h, d_c, v0);
+        for (v, h) in [(0.02f64, 1e-4), (-3e-3, 1e-3), (1e-7, 1e-5), (0.5, 1e-2)] {
             // Relative steps; 10 % at the smallest speed, where psi is linear in v to
             // O(x) = 5e-8 and a smaller step would drown in rounding.
-            let dv = if v.abs() < 1e-5 { 0.1 } else { 1e-6 } * v.abs();
-            let fd_v = (step(psi0, v + dv, h, d_c, v0).state
-                - step(psi0, v - dv, h, d_c, v0).state)
-                / (2.0 * dv);
-            assert!(
-                (s.d_velocity - fd_v).abs() < 1e-6 * fd_v.abs().max(1.0),
-                "v {v}"
-            );
-            let e: f64 = 1e-6;
-            let fd_c = (step(psi0, v, h, d_c * crate::elementary::exp(e), v0).state
-                - step(psi0, v, h, d_c * crate::elementary::exp(-e), v0).state)
-                / (2.0 * e);
-            assert!(
-                (s.d_log_slip - fd_c).abs() < 1e-7,
-                "v {v}: {} {fd_c}",
-                s.d_log_slip
-            );
-            let fd_s = (step(psi0 + e, v, h, d_c, v0).state - step(psi0 - e, v, h, d_c, v0).state)
-                / (2.0 * e);
-            assert!((s.d_state - fd_s).abs() < 1e-7, "v {v}");
+            let relative = if v.abs() < 1e-5 { 0.1 } else { 1e-6 };
+            derivatives_match_differences(step, (psi0, v, h, d_c, v0), (relative, 1e-6));
         }
     }
 }

@@ -52,6 +52,7 @@ pub fn step(state: f64, velocity: f64, step: f64, slip: f64, reference_velocity:
 
 #[cfg(test)]
 mod tests {
+    use super::super::evolution::checks::{derivatives_match_differences, steps_compose};
     use super::super::evolution::steady_state;
     use super::*;
 
@@ -94,14 +95,8 @@ mod tests {
             let got = step(psi0, v, h, d_c, v0).state;
             assert!((got - want).abs() < 1e-9, "v {v}, h {h}: {got} vs {want}");
         }
-        // Exact steps compose: ten steps of h are one of 10 h (to rounding).
         let psi0 = steady_state(1e-3, v0);
-        let mut psi = psi0;
-        for _ in 0..10 {
-            psi = step(psi, 0.02, 1e-4, d_c, v0).state;
-        }
-        let whole = step(psi0, 0.02, 1e-3, d_c, v0).state;
-        assert!((psi - whole).abs() < 1e-12, "{psi} vs {whole}");
+        steps_compose(step, psi0, d_c, v0);
         // A long step reaches the steady state; at rest the state is frozen.
         let far = step(psi0, 0.02, 10.0, d_c, v0).state;
         assert!((far - steady_state(0.02, v0)).abs() < 1e-12);
@@ -130,33 +125,12 @@ mod tests {
             (0.5, 1e-2),
             (1e-12, 1.0),
         ] {
-            let s = step(psi0, v, h, d_c, v0);
-            let (relative, bound) = if v.abs() < 1e-6 {
+            let accuracy = if v.abs() < 1e-6 {
                 (1e-2, 1e-5)
             } else {
                 (1e-6, 1e-6)
             };
-            let dv = relative * v.abs();
-            let fd_v = (step(psi0, v + dv, h, d_c, v0).state
-                - step(psi0, v - dv, h, d_c, v0).state)
-                / (2.0 * dv);
-            assert!(
-                (s.d_velocity - fd_v).abs() < bound * fd_v.abs().max(1.0),
-                "v {v}: {} {fd_v}",
-                s.d_velocity
-            );
-            let e: f64 = 1e-6;
-            let fd_c = (step(psi0, v, h, d_c * crate::elementary::exp(e), v0).state
-                - step(psi0, v, h, d_c * crate::elementary::exp(-e), v0).state)
-                / (2.0 * e);
-            assert!(
-                (s.d_log_slip - fd_c).abs() < 1e-7,
-                "v {v}: {} {fd_c}",
-                s.d_log_slip
-            );
-            let fd_s = (step(psi0 + e, v, h, d_c, v0).state - step(psi0 - e, v, h, d_c, v0).state)
-                / (2.0 * e);
-            assert!((s.d_state - fd_s).abs() < 1e-7, "v {v}");
+            derivatives_match_differences(step, (psi0, v, h, d_c, v0), accuracy);
         }
         for v in [5e-324, -1e-300, 1e-200] {
             let s = step(psi0, v, 1e-3, d_c, v0);
