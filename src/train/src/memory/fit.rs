@@ -25,7 +25,7 @@ use rand::Rng;
 use serde::{Deserialize, Serialize};
 
 use super::evolution::LearnedEvolution;
-use super::series::{simulate, ForceSeries};
+use super::series::{rms_error, simulate, ForceSeries};
 use crate::data::{seeded_rng, INIT_STREAM};
 use crate::error::TrainError;
 use crate::lbfgs::{minimize, LbfgsOptions};
@@ -134,21 +134,6 @@ fn loss_and_gradient(
         }
     }
     squared / n as f64 + 0.5 * lambda * penalty
-}
-
-/// Root-mean-square force error (N) of `law` over `records` (NaN for none).
-pub fn rms_error(law: &LearnedStateLaw, records: &[&ForceSeries]) -> f64 {
-    let (mut sum, mut n) = (0.0, 0usize);
-    for record in records {
-        let (forces, _) = simulate(law, record);
-        sum += forces
-            .iter()
-            .zip(&record.force)
-            .map(|(f, m)| (f - m) * (f - m))
-            .sum::<f64>();
-        n += record.len();
-    }
-    (sum / n as f64).sqrt()
 }
 
 fn range(values: impl Iterator<Item = f64>) -> [f64; 2] {

@@ -105,6 +105,21 @@ pub fn simulate(law: &LearnedStateLaw, series: &ForceSeries) -> (Vec<f64>, Vec<f
     (forces, states)
 }
 
+/// Root-mean-square force error (N) of `law` over `records` (NaN for none).
+pub fn rms_error(law: &LearnedStateLaw, records: &[&ForceSeries]) -> f64 {
+    let (mut sum, mut n) = (0.0, 0usize);
+    for record in records {
+        let (forces, _) = simulate(law, record);
+        sum += forces
+            .iter()
+            .zip(&record.force)
+            .map(|(f, m)| (f - m) * (f - m))
+            .sum::<f64>();
+        n += record.len();
+    }
+    (sum / n as f64).sqrt()
+}
+
 /// The CSV header the records are read and written with.
 pub const COLUMNS: [(&str, &str); 4] = [("t", "s"), ("v", "m/s"), ("F_n", "N"), ("F", "N")];
 
