@@ -69,7 +69,7 @@ pub fn train_state_law(
                 file.metrics.rms_error_train
             }
         };
-        // NaN never wins: a comparison with it is false.
+        // Finite: each file was validated. Strictly lower, so a tie keeps the first.
         if best
             .as_ref()
             .is_none_or(|(kept, _)| error(&file) < error(kept))
