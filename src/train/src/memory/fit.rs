@@ -10,9 +10,9 @@
 //!
 //! Gradient: the state psi depends on the parameters only through D_c (the aging or
 //! slip step; its start, the steady state ln(V_0 / |v_0|), on none), so one scalar
-//! sensitivity
-//! s = d psi / d ln D_c is carried along each record, s_k = (d psi_k / d psi_{k-1})
-//! s_{k-1} + d psi_k / d ln D_c, and dF_k/dp = dF/dp|_psi + dF/dpsi s_k [p = ln D_c].
+//! sensitivity s = d psi / d ln D_c is carried along each record,
+//! s_k = (d psi_k / d psi_{k-1}) s_{k-1} + d psi_k / d ln D_c, and
+//! dF_k/dp = dF/dp|_psi + dF/dpsi s_k [p = ln D_c].
 //! Exact for the discrete simulation (tested against differences).
 //!
 //! Why single shooting: either law's state forgets its past over a slip of a few D_c,
@@ -36,7 +36,7 @@ use stickslip::neural::memory::{
     StateMetrics, StateTrainingInfo, TrainingRanges,
 };
 
-/// Settings of [`train_state_law`].
+/// Settings of [`super::evolution::train_state_law`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StateTrainConfig {
     /// Hidden units of the correction network (0: none, the structured law alone).
