@@ -57,6 +57,10 @@ pub struct TrainMemoryArgs {
     /// L-BFGS iterations of the final fit.
     #[arg(long, default_value_t = StateTrainConfig::default().max_iterations)]
     pub iterations: usize,
+    /// Train each record's initial state too, for records that start from rest or
+    /// mid-transient (otherwise each starts from steady sliding at its first velocity).
+    #[arg(long)]
+    pub train_initial_state: bool,
     /// Every N-th record is held out for testing (0: none).
     #[arg(long, default_value_t = StateTrainConfig::default().test_every)]
     pub test_every: usize,
@@ -107,6 +111,7 @@ pub fn run_train_memory(args: &TrainMemoryArgs) -> Result<StateLawFile, CliError
         seed: args.seed,
         test_every: args.test_every,
         evolution: args.learned_evolution,
+        train_initial_state: args.train_initial_state,
         ..StateTrainConfig::default()
     };
     let quiet = args.quiet;
