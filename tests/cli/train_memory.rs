@@ -1,6 +1,6 @@
 //! `stickslip train-memory`: records from CSV, bad rows refused with their line, the
-//! exported records read back (and trained with the slip evolution), and the weights
-//! file it writes run by `simulate`.
+//! exported records read back (and trained with the slip evolution and trained initial
+//! states), and the weights file it writes run by `simulate`.
 
 use crate::stickslip;
 
@@ -76,6 +76,7 @@ fn exported_records_train_again_and_the_weights_run_a_scene() {
         "3",
         "--learned-evolution",
         "slip",
+        "--train-initial-state",
         "--quiet",
         "--out",
         second.to_str().unwrap(),
@@ -87,6 +88,7 @@ fn exported_records_train_again_and_the_weights_run_a_scene() {
     assert!(stdout.contains("learned (slip law)"), "{stdout}");
     let text = std::fs::read_to_string(&second).unwrap();
     assert!(text.contains("\"state_evolution\": \"slip\""), "{text}");
+    assert!(text.contains("from a trained initial state"), "{text}");
     let (ok, stdout, err) = stickslip(&[
         "simulate",
         "--friction",
