@@ -1,5 +1,6 @@
 //! `stickslip train-memory`: records from CSV, bad rows refused with their line, the
-//! exported records read back, and the weights file it writes run by `simulate`.
+//! exported records read back (and trained with the slip evolution and trained initial
+//! states), and the weights file it writes run by `simulate`.
 
 use crate::stickslip;
 
@@ -73,12 +74,21 @@ fn exported_records_train_again_and_the_weights_run_a_scene() {
         records.to_str().unwrap(),
         "--iterations",
         "3",
+        "--learned-evolution",
+        "slip",
+        "--train-initial-state",
         "--quiet",
         "--out",
         second.to_str().unwrap(),
     ]);
     assert!(ok, "{err}");
     assert!(stdout.contains("12 records"), "{stdout}");
+    // The learned law's evolution is the one asked for, and the file says so; the
+    // scene below runs the slip law through the contact.
+    assert!(stdout.contains("learned (slip law)"), "{stdout}");
+    let text = std::fs::read_to_string(&second).unwrap();
+    assert!(text.contains("\"state_evolution\": \"slip\""), "{text}");
+    assert!(text.contains("from a trained initial state"), "{text}");
     let (ok, stdout, err) = stickslip(&[
         "simulate",
         "--friction",

@@ -14,7 +14,8 @@ use stickslip::memory::parameters::StateEvolution;
 use stickslip::neural::memory::response::{velocity_step, velocity_step_curve};
 use stickslip::neural::memory::{LearnedStateFriction, StateLawFile};
 use stickslip_train::memory::{
-    read_series_csv, train_state_law, write_series_csv, StateTrainConfig, TribometerSpec,
+    read_series_csv, train_state_law, write_series_csv, LearnedEvolution, StateTrainConfig,
+    TribometerSpec,
 };
 
 /// `stickslip train-memory`.
@@ -36,6 +37,14 @@ pub struct TrainMemoryArgs {
         conflicts_with = "data"
     )]
     pub state_evolution: StateEvolution,
+    /// The learned law's state evolution ("both" trains each and keeps the one with the
+    /// lower held-out RMS force error).
+    #[arg(
+        long,
+        value_parser = crate::choice::parser::<LearnedEvolution>(),
+        default_value = LearnedEvolution::default().name()
+    )]
+    pub learned_evolution: LearnedEvolution,
     /// Seed of the synthetic noise and the correction's initial weights.
     #[arg(long, default_value_t = StateTrainConfig::default().seed)]
     pub seed: u64,
@@ -48,6 +57,10 @@ pub struct TrainMemoryArgs {
     /// L-BFGS iterations of the final fit.
     #[arg(long, default_value_t = StateTrainConfig::default().max_iterations)]
     pub iterations: usize,
+    /// Train each record's initial state too, for records that start from rest or
+    /// mid-transient (otherwise each starts from steady sliding at its first velocity).
+    #[arg(long)]
+    pub train_initial_state: bool,
     /// Every N-th record is held out for testing (0: none).
     #[arg(long, default_value_t = StateTrainConfig::default().test_every)]
     pub test_every: usize,
@@ -97,6 +110,8 @@ pub fn run_train_memory(args: &TrainMemoryArgs) -> Result<StateLawFile, CliError
         max_iterations: args.iterations,
         seed: args.seed,
         test_every: args.test_every,
+        evolution: args.learned_evolution,
+        train_initial_state: args.train_initial_state,
         ..StateTrainConfig::default()
     };
     let quiet = args.quiet;
@@ -106,12 +121,23 @@ pub fn run_train_memory(args: &TrainMemoryArgs) -> Result<StateLawFile, CliError
         }
     })?;
     file.save(&args.out)?;
+    if report.candidates.len() > 1 {
+        for (evolution, m) in &report.candidates {
+            println!(
+                "{} law: RMS force error train {:.4} N, test {:.4} N",
+                evolution.name(),
+                m.rms_error_train,
+                m.rms_error_test
+            );
+        }
+    }
     let p = &file.law;
     println!(
-        "{} records ({} samples) -> {}\nlearned: mu_0 {:.5} at V_0 {} m/s, a {:.5}, b {:.5}, D_c {:.4e} m; correction {} units\nRMS force error: train {:.4} N, test {:.4} N; {} iterations ({:?}); D_c grid start {:.1e} m",
+        "{} records ({} samples) -> {}\nlearned ({} law): mu_0 {:.5} at V_0 {} m/s, a {:.5}, b {:.5}, D_c {:.4e} m; correction {} units\nRMS force error: train {:.4} N, test {:.4} N; {} iterations ({:?}); D_c grid start {:.1e} m",
         records.len(),
         file.training.samples,
         args.out.display(),
+        p.state_evolution.name(),
         p.reference_coefficient,
         p.reference_velocity,
         p.direct_effect,

@@ -188,7 +188,7 @@ pub fn set_checked(
 mod tests {
     use super::*;
     use crate::friction::ExponentialLaw;
-    use crate::memory::parameters::{LuGreParameters, RateStateParameters};
+    use crate::memory::parameters::{LuGreParameters, RateStateParameters, StateEvolution};
     use crate::neural::memory::{LearnedStateFriction, LearnedStateLaw, StateLawParameters};
     use std::sync::Arc;
 
@@ -210,6 +210,7 @@ mod tests {
                 direct_effect: 0.01,
                 evolution_effect: 0.015,
                 characteristic_slip: 1e-5,
+                state_evolution: StateEvolution::Aging,
             },
             correction: None,
         }));

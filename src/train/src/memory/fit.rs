@@ -8,13 +8,14 @@
 //! L = (1/n) sum_k (F_law(t_k) - F_k)^2 + (lambda / 2) ||correction weights||^2
 //! ```
 //!
-//! Gradient: the state psi depends on the parameters only through D_c (the aging step;
-//! its start, the steady state ln(V_0 / |v_0|), on none), so one scalar sensitivity
-//! s = d psi / d ln D_c is carried along each record, s_k = (d psi_k / d psi_{k-1})
-//! s_{k-1} + d psi_k / d ln D_c, and dF_k/dp = dF/dp|_psi + dF/dpsi s_k [p = ln D_c].
+//! Gradient: the state psi depends on the parameters only through D_c (the aging or
+//! slip step; its start, the steady state ln(V_0 / |v_0|), on none), so one scalar
+//! sensitivity s = d psi / d ln D_c is carried along each record,
+//! s_k = (d psi_k / d psi_{k-1}) s_{k-1} + d psi_k / d ln D_c, and
+//! dF_k/dp = dF/dp|_psi + dF/dpsi s_k [p = ln D_c].
 //! Exact for the discrete simulation (tested against differences).
 //!
-//! Why single shooting: the aging state forgets its past over a slip of a few D_c,
+//! Why single shooting: either law's state forgets its past over a slip of a few D_c,
 //! so records hours long do not make the gradient explode the way a chaotic system's
 //! would; what makes the fit non-convex is D_c itself (a guess decades off sees a flat
 //! loss), so the fit starts from a grid of D_c (`DC_GRID`) with the structured part
@@ -23,18 +24,18 @@
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 
-use super::series::{simulate, ForceSeries};
+use super::evolution::LearnedEvolution;
+use super::loss::{loss_and_gradient, steady_starts};
+use super::series::{rms_error, simulate_from, ForceSeries};
 use crate::data::{seeded_rng, INIT_STREAM};
 use crate::error::TrainError;
 use crate::lbfgs::{minimize, LbfgsOptions};
-use stickslip::neural::memory::correction::PER_UNIT;
-use stickslip::neural::memory::law::{LOG_SLIP, STRUCTURED};
 use stickslip::neural::memory::{
-    Correction, InputScale, LearnedStateLaw, StateLawFile, StateLawParameters, StateMetrics,
-    StateTrainingInfo, TrainingRanges,
+    Correction, InputScale, LearnedStateLaw, StateEvolution, StateLawFile, StateLawParameters,
+    StateMetrics, StateTrainingInfo, TrainingRanges,
 };
 
-/// Settings of [`train_state_law`].
+/// Settings of [`super::evolution::train_state_law`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StateTrainConfig {
     /// Hidden units of the correction network (0: none, the structured law alone).
@@ -49,6 +50,14 @@ pub struct StateTrainConfig {
     pub seed: u64,
     /// Every `test_every`-th record (1-based) is held out for testing; 0: none.
     pub test_every: usize,
+    /// The learned law's state evolution, or both (`evolution::train_state_law`).
+    #[serde(default)]
+    pub evolution: LearnedEvolution,
+    /// Train each record's initial state psi_0 too (records that start from rest or
+    /// mid-transient); otherwise each starts from steady sliding at its first velocity.
+    /// Held-out records get theirs fitted with the law fixed.
+    #[serde(default)]
+    pub train_initial_state: bool,
 }
 
 impl Default for StateTrainConfig {
@@ -60,6 +69,8 @@ impl Default for StateTrainConfig {
             grid_iterations: 40,
             seed: 2,
             test_every: 5,
+            evolution: LearnedEvolution::default(),
+            train_initial_state: false,
         }
     }
 }
@@ -75,71 +86,9 @@ pub struct StateTrainReport {
     pub final_loss: f64,
     pub iterations: usize,
     pub evaluations: usize,
-}
-
-/// Loss and gradient of `law` with trainable parameters `x` over `records`.
-fn loss_and_gradient(
-    law: &mut LearnedStateLaw,
-    records: &[&ForceSeries],
-    lambda: f64,
-    x: &[f64],
-    gradient: &mut [f64],
-) -> f64 {
-    law.set_trainable(x);
-    gradient.iter_mut().for_each(|g| *g = 0.0);
-    let n: usize = records.iter().map(|r| r.len()).sum();
-    let mut sample_gradient = vec![0.0; x.len()];
-    let mut squared = 0.0;
-    for record in records {
-        let mut state = law.steady_state(record.velocity[0].abs());
-        let mut sensitivity = 0.0;
-        for k in 0..record.len() {
-            if k > 0 {
-                let dt = record.time[k] - record.time[k - 1];
-                let step = law.step_state(state, record.velocity[k], dt);
-                state = step.state;
-                sensitivity = step.d_state * sensitivity + step.d_log_slip;
-            }
-            sample_gradient.iter_mut().for_each(|g| *g = 0.0);
-            let f = law.force_with_gradient(
-                state,
-                record.velocity[k],
-                record.normal_force[k],
-                Some((&mut sample_gradient, 1.0)),
-            );
-            sample_gradient[LOG_SLIP] += f.d_state * sensitivity;
-            let residual = f.force - record.force[k];
-            squared += residual * residual;
-            let weight = 2.0 * residual / n as f64;
-            for (g, s) in gradient.iter_mut().zip(&sample_gradient) {
-                *g += weight * s;
-            }
-        }
-    }
-    let mut penalty = 0.0;
-    for (i, (g, p)) in gradient.iter_mut().zip(x).enumerate().skip(STRUCTURED) {
-        // Weights, not biases: unit slots 0, 1 (hidden) and 3 (output).
-        if (i - STRUCTURED) % PER_UNIT != 2 {
-            penalty += p * p;
-            *g += lambda * p;
-        }
-    }
-    squared / n as f64 + 0.5 * lambda * penalty
-}
-
-/// Root-mean-square force error (N) of `law` over `records` (NaN for none).
-pub fn rms_error(law: &LearnedStateLaw, records: &[&ForceSeries]) -> f64 {
-    let (mut sum, mut n) = (0.0, 0usize);
-    for record in records {
-        let (forces, _) = simulate(law, record);
-        sum += forces
-            .iter()
-            .zip(&record.force)
-            .map(|(f, m)| (f - m) * (f - m))
-            .sum::<f64>();
-        n += record.len();
-    }
-    (sum / n as f64).sqrt()
+    /// Every evolution trained, with its law's RMS errors (N), in training order; the
+    /// file holds the one with the lower held-out error.
+    pub candidates: Vec<(StateEvolution, StateMetrics)>,
 }
 
 fn range(values: impl Iterator<Item = f64>) -> [f64; 2] {
@@ -148,7 +97,7 @@ fn range(values: impl Iterator<Item = f64>) -> [f64; 2] {
     })
 }
 
-fn scale(name: &str, unit: &str, [lo, hi]: [f64; 2]) -> InputScale {
+pub(super) fn scale(name: &str, unit: &str, [lo, hi]: [f64; 2]) -> InputScale {
     let half = 0.5 * (hi - lo);
     InputScale {
         name: name.into(),
@@ -164,15 +113,16 @@ fn scale(name: &str, unit: &str, [lo, hi]: [f64; 2]) -> InputScale {
     }
 }
 
-/// Trains a learned state law on `records` (checked first). `data` and `noise_std`
-/// describe the data for the file; `on_iteration` sees (iteration, loss) of the final
-/// fit.
-pub fn train_state_law(
+/// Trains a learned state law with the evolution `evolution` on `records` (checked
+/// first). `data` and `noise_std` describe the data for the file; `on_iteration` sees
+/// (iteration, loss) of the final fit.
+pub(super) fn fit_state_law(
     records: &[ForceSeries],
     config: &StateTrainConfig,
+    evolution: StateEvolution,
     data: &str,
     noise_std: f64,
-    mut on_iteration: impl FnMut(usize, f64),
+    on_iteration: &mut impl FnMut(usize, f64),
 ) -> Result<(StateLawFile, StateTrainReport), TrainError> {
     if !(config.lambda >= 0.0 && config.lambda.is_finite()) {
         return Err(TrainError::InvalidInput(format!(
@@ -186,7 +136,11 @@ pub fn train_state_law(
         ));
     }
     for record in records {
-        record.check()?;
+        if config.train_initial_state {
+            record.check_samples()?;
+        } else {
+            record.check()?;
+        }
     }
     let held_out = |i: usize| config.test_every > 0 && (i + 1).is_multiple_of(config.test_every);
     let train: Vec<&ForceSeries> = records
@@ -246,19 +200,20 @@ pub fn train_state_law(
                 direct_effect: 0.01,
                 evolution_effect: 0.01,
                 characteristic_slip: d_c,
+                state_evolution: evolution,
             },
             correction: None,
         };
-        let mut x = law.trainable();
+        let (mut x, law_len) = with_starts(&law, &train, config.train_initial_state);
         let mut fit_law = law.clone();
         let result = minimize(
-            |x, g| loss_and_gradient(&mut fit_law, &train, 0.0, x, g),
+            |x, g| loss_and_gradient(&mut fit_law, &train, 0.0, law_len, x, g),
             &mut x,
             &options(config.grid_iterations),
             |_, _| {},
         );
         let Ok(result) = result else { continue };
-        law.set_trainable(&x);
+        law.set_trainable(&x[..law_len]);
         if best.as_ref().is_none_or(|(loss, _)| result.value < *loss) {
             best = Some((result.value, law));
         }
@@ -270,8 +225,9 @@ pub fn train_state_law(
 
     if config.hidden > 0 {
         let mut states = Vec::new();
-        for r in &train {
-            states.extend(simulate(&law, r).1);
+        let starts = steady_starts(&law, &train);
+        for (r, start) in train.iter().zip(starts) {
+            states.extend(simulate_from(&law, r, start).1);
         }
         let mut rng = seeded_rng(config.seed, INIT_STREAM);
         // Glorot-uniform hidden weights; output weights 0, so training starts from the
@@ -289,11 +245,11 @@ pub fn train_state_law(
             output_weights: vec![0.0; config.hidden],
         });
     }
-    let mut x = law.trainable();
+    let (mut x, law_len) = with_starts(&law, &train, config.train_initial_state);
     let mut fit_law = law.clone();
     let mut iteration_count = 0;
     let result = minimize(
-        |x, g| loss_and_gradient(&mut fit_law, &train, config.lambda, x, g),
+        |x, g| loss_and_gradient(&mut fit_law, &train, config.lambda, law_len, x, g),
         &mut x,
         &options(config.max_iterations),
         |info, _| {
@@ -301,13 +257,23 @@ pub fn train_state_law(
             on_iteration(info.iteration, info.value);
         },
     )?;
-    law.set_trainable(&x);
+    law.set_trainable(&x[..law_len]);
+    let train_starts = if config.train_initial_state {
+        x[law_len..].to_vec()
+    } else {
+        steady_starts(&law, &train)
+    };
+    let test_starts = if config.train_initial_state {
+        fit_starts(&law, &test, config.grid_iterations)
+    } else {
+        steady_starts(&law, &test)
+    };
     let metrics = StateMetrics {
-        rms_error_train: rms_error(&law, &train),
+        rms_error_train: rms_error(&law, &train, &train_starts),
         rms_error_test: if test.is_empty() {
             0.0
         } else {
-            rms_error(&law, &test)
+            rms_error(&law, &test, &test_starts)
         },
     };
     let training = StateTrainingInfo {
@@ -318,7 +284,12 @@ pub fn train_state_law(
         noise_std,
         seed: config.seed,
         lambda: config.lambda,
-        loss: "mean squared force error of the simulated records (N^2) + lambda/2 ||correction weights||^2; single shooting from steady sliding at each record's first velocity".into(),
+        loss: if config.train_initial_state {
+            "mean squared force error of the simulated records (N^2) + lambda/2 ||correction weights||^2; single shooting from a trained initial state per record (held-out records: fitted with the law fixed)"
+        } else {
+            "mean squared force error of the simulated records (N^2) + lambda/2 ||correction weights||^2; single shooting from steady sliding at each record's first velocity"
+        }
+        .into(),
         iterations: result.iterations,
         evaluations: result.evaluations,
         stop_reason: result.stop,
@@ -337,57 +308,53 @@ pub fn train_state_law(
             final_loss: result.value,
             iterations: result.iterations,
             evaluations: result.evaluations,
+            candidates: vec![(evolution, metrics)],
         },
     ))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::memory::protocol::TribometerSpec;
-
-    /// The forward-sensitivity gradient of the loss against central differences, with a
-    /// correction, on short noisy records (relative 1e-5: differences of step 1e-6 in
-    /// parameters of O(1) to O(10)).
-    #[test]
-    fn the_loss_gradient_is_exact_for_the_discrete_simulation() {
-        let spec = TribometerSpec {
-            hold_slip: 3e-5,
-            hold_time: 0.02,
-            normal_forces: vec![80.0, 120.0],
-            ..TribometerSpec::default()
-        };
-        let records = spec.generate(1).unwrap();
-        let refs: Vec<&ForceSeries> = records.iter().collect();
-        let mut law = spec.as_learned().unwrap();
-        law.parameters.characteristic_slip = 1.3e-5;
-        law.parameters.evolution_effect = 0.018;
-        law.correction = Some(Correction {
-            inputs: [
-                scale("state", "1", [-5.0, 2.0]),
-                scale("normal_force", "N", [80.0, 120.0]),
-            ],
-            hidden_weights: vec![[0.5, -0.3], [0.2, 0.8]],
-            hidden_biases: vec![0.1, -0.2],
-            output_weights: vec![0.01, -0.02],
-        });
-        let x = law.trainable();
-        let mut g = vec![0.0; x.len()];
-        loss_and_gradient(&mut law, &refs, 0.1, &x, &mut g);
-        for i in 0..x.len() {
-            let e = 1e-6;
-            let mut xp = x.clone();
-            xp[i] += e;
-            let mut scratch = vec![0.0; x.len()];
-            let plus = loss_and_gradient(&mut law, &refs, 0.1, &xp, &mut scratch);
-            xp[i] -= 2.0 * e;
-            let minus = loss_and_gradient(&mut law, &refs, 0.1, &xp, &mut scratch);
-            let fd = (plus - minus) / (2.0 * e);
-            assert!(
-                (g[i] - fd).abs() < 1e-5 * fd.abs().max(1.0),
-                "p{i}: {} vs {fd}",
-                g[i]
-            );
-        }
+/// The flat parameters to start from: the law's, then (`trained`) each record's start,
+/// first guessed at steady sliding; and the law's count.
+fn with_starts(
+    law: &LearnedStateLaw,
+    records: &[&ForceSeries],
+    trained: bool,
+) -> (Vec<f64>, usize) {
+    let mut x = law.trainable();
+    let law_len = x.len();
+    if trained {
+        x.extend(steady_starts(law, records));
     }
+    (x, law_len)
+}
+
+/// Each record's start fitted with `law` fixed (`iterations` of L-BFGS in one
+/// variable): how held-out records that do not start from steady sliding are compared.
+fn fit_starts(law: &LearnedStateLaw, records: &[&ForceSeries], iterations: usize) -> Vec<f64> {
+    let guesses = steady_starts(law, records);
+    let law_x = law.trainable();
+    let law_len = law_x.len();
+    let mut fit_law = law.clone();
+    records
+        .iter()
+        .zip(guesses)
+        .map(|(record, guess)| {
+            let mut start = [guess];
+            let mut full = vec![0.0; law_len + 1];
+            let objective = |y: &[f64], g: &mut [f64]| {
+                let x = [law_x.as_slice(), y].concat();
+                let value =
+                    loss_and_gradient(&mut fit_law, &[*record], 0.0, law_len, &x, &mut full);
+                g[0] = full[law_len];
+                value
+            };
+            let options = LbfgsOptions {
+                max_iterations: iterations,
+                ..LbfgsOptions::default()
+            };
+            // A failed search leaves the guess, which is then what the error measures.
+            let _ = minimize(objective, &mut start, &options, |_, _| {});
+            start[0]
+        })
+        .collect()
 }

@@ -2,13 +2,17 @@
 //! records under velocity histories:
 //! - `series`: the records (t, v, F_n, F), their CSV form, simulating a law along them;
 //! - `protocol`: synthetic tribometer records from a rate-and-state law, with noise;
-//! - `fit`: the fit by simulating the records with forward-sensitivity gradients and
-//!   L-BFGS.
+//! - `fit`: the fit by simulating the records with forward-sensitivity gradients
+//!   (`loss`) and L-BFGS;
+//! - `evolution`: which state evolution (aging, slip, or both and keep the better).
 
+pub mod evolution;
 pub mod fit;
+pub mod loss;
 pub mod protocol;
 pub mod series;
 
-pub use fit::{train_state_law, StateTrainConfig, StateTrainReport};
+pub use evolution::{train_state_law, LearnedEvolution};
+pub use fit::{StateTrainConfig, StateTrainReport};
 pub use protocol::TribometerSpec;
 pub use series::{read_series_csv, simulate, write_series_csv, ForceSeries};

@@ -19,7 +19,7 @@ use super::series::ForceSeries;
 use crate::data::{seeded_rng, DATA_STREAM};
 use crate::error::TrainError;
 use stickslip::friction::FrictionLaw;
-use stickslip::memory::parameters::{RateStateParameters, StateEvolution};
+use stickslip::memory::parameters::RateStateParameters;
 use stickslip::memory::rate_state::RateStateLaw;
 use stickslip::memory::{LawStep, MemoryLaw};
 use stickslip::neural::memory::{LearnedStateLaw, StateLawParameters};
@@ -152,20 +152,21 @@ impl TribometerSpec {
         RateStateLaw::new(self.law.clone())
     }
 
-    /// The generating law in the learned law's form (no correction), when its state
-    /// evolves by the aging law (the learned law's): the same equations.
-    pub fn as_learned(&self) -> Option<LearnedStateLaw> {
+    /// The generating law in the learned law's form (no correction): the same
+    /// equations, with either evolution law.
+    pub fn as_learned(&self) -> LearnedStateLaw {
         let l = &self.law;
-        (l.state_evolution == StateEvolution::Aging).then_some(LearnedStateLaw {
+        LearnedStateLaw {
             parameters: StateLawParameters {
                 reference_coefficient: l.reference_coefficient,
                 reference_velocity: l.reference_velocity,
                 direct_effect: l.direct_effect,
                 evolution_effect: l.evolution_effect,
                 characteristic_slip: l.characteristic_slip,
+                state_evolution: l.state_evolution,
             },
             correction: None,
-        })
+        }
     }
 
     /// The four velocity histories, named.

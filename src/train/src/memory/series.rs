@@ -34,10 +34,22 @@ impl ForceSeries {
         self.time.is_empty()
     }
 
-    /// Checks what simulating needs: equal lengths, at least two samples, time strictly
-    /// increasing, a first velocity that is not 0 (its steady state starts the state),
-    /// positive normal forces, finite numbers.
+    /// Checks what simulating from steady sliding needs: [`ForceSeries::check_samples`]
+    /// and a first velocity that is not 0 (its steady state starts the state).
     pub fn check(&self) -> Result<(), TrainError> {
+        self.check_samples()?;
+        if self.velocity[0] == 0.0 {
+            return Err(TrainError::InvalidInput(format!(
+                "{}: the first velocity is 0: a record must start from steady sliding (or train its initial state)",
+                self.name
+            )));
+        }
+        Ok(())
+    }
+
+    /// Checks what simulating from a given state needs: equal lengths, at least two
+    /// samples, time strictly increasing, positive normal forces, finite numbers.
+    pub fn check_samples(&self) -> Result<(), TrainError> {
         let bad = |m: String| Err(TrainError::InvalidInput(format!("{}: {m}", self.name)));
         let n = self.time.len();
         if [
@@ -79,16 +91,23 @@ impl ForceSeries {
                 ));
             }
         }
-        if self.velocity[0] == 0.0 {
-            return bad("the first velocity is 0: a record must start from steady sliding".into());
-        }
         Ok(())
     }
 }
 
-/// The law's force along `series` (one value per sample) and, per sample, the state.
+/// The law's force along `series` (one value per sample) and, per sample, the state,
+/// from steady sliding at the first velocity.
 pub fn simulate(law: &LearnedStateLaw, series: &ForceSeries) -> (Vec<f64>, Vec<f64>) {
-    let mut state = law.steady_state(series.velocity[0].abs());
+    simulate_from(law, series, law.steady_state(series.velocity[0].abs()))
+}
+
+/// As [`simulate`], from the state `start` (psi).
+pub fn simulate_from(
+    law: &LearnedStateLaw,
+    series: &ForceSeries,
+    start: f64,
+) -> (Vec<f64>, Vec<f64>) {
+    let mut state = start;
     let mut forces = Vec::with_capacity(series.len());
     let mut states = Vec::with_capacity(series.len());
     for k in 0..series.len() {
@@ -103,6 +122,22 @@ pub fn simulate(law: &LearnedStateLaw, series: &ForceSeries) -> (Vec<f64>, Vec<f
         states.push(state);
     }
     (forces, states)
+}
+
+/// Root-mean-square force error (N) of `law` over `records`, each from its state in
+/// `starts` (NaN for none).
+pub fn rms_error(law: &LearnedStateLaw, records: &[&ForceSeries], starts: &[f64]) -> f64 {
+    let (mut sum, mut n) = (0.0, 0usize);
+    for (record, start) in records.iter().zip(starts) {
+        let (forces, _) = simulate_from(law, record, *start);
+        sum += forces
+            .iter()
+            .zip(&record.force)
+            .map(|(f, m)| (f - m) * (f - m))
+            .sum::<f64>();
+        n += record.len();
+    }
+    (sum / n as f64).sqrt()
 }
 
 /// The CSV header the records are read and written with.

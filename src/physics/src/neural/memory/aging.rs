@@ -19,18 +19,7 @@
 //! spans decades (it grows like the time at rest), psi is O(1) at steady sliding
 //! (psi_ss = ln(V_0 / V)) and does not depend on D_c there.
 
-/// One aging step and its derivatives (dimensionless psi; v in m/s; D_c in m).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AgingStep {
-    /// psi_{n+1} (1).
-    pub state: f64,
-    /// d psi_{n+1} / d psi_n (1), in (0, 1].
-    pub d_state: f64,
-    /// d psi_{n+1} / d v_{n+1} (s/m), odd in v (the step reads |v|).
-    pub d_velocity: f64,
-    /// d psi_{n+1} / d ln D_c (1) at fixed psi_n.
-    pub d_log_slip: f64,
-}
+use super::evolution::StateStep;
 
 /// phi(x) = (1 - e^{-x}) / x and phi'(x) = (e^{-x} (1 + x) - 1) / x^2 for x >= 0;
 /// below x = 1e-2 their Taylor series (phi' = -1/2 + x/3 - x^2/8 + x^3/30, error
@@ -46,15 +35,10 @@ fn phi_and_slope(x: f64) -> (f64, f64) {
     }
 }
 
-/// The steady state psi_ss = ln(V_0 / V) at sliding speed `speed` > 0 (m/s).
-pub fn steady_state(speed: f64, reference_velocity: f64) -> f64 {
-    crate::elementary::ln(reference_velocity / speed)
-}
-
 /// Advances psi over a step of `step` seconds ending at sliding velocity `velocity`
 /// (m/s), with characteristic slip `slip` (D_c, m) and reference velocity
 /// `reference_velocity` (V_0, m/s). At v = 0 the contact ages: theta' = theta + h.
-pub fn step(state: f64, velocity: f64, step: f64, slip: f64, reference_velocity: f64) -> AgingStep {
+pub fn step(state: f64, velocity: f64, step: f64, slip: f64, reference_velocity: f64) -> StateStep {
     let speed = velocity.abs();
     let x = speed * step / slip;
     let k = reference_velocity * step / slip;
@@ -75,7 +59,7 @@ pub fn step(state: f64, velocity: f64, step: f64, slip: f64, reference_velocity:
     // du/dx / u = -w_kept + w_gained phi'/phi.
     let du_dx = -w_kept + w_gained * phi_slope / phi;
     let dx_dv = crate::friction::signum_or_zero(velocity) * step / slip;
-    AgingStep {
+    StateStep {
         state: new_state,
         d_state: w_kept,
         d_velocity: du_dx * dx_dv,
@@ -86,6 +70,8 @@ pub fn step(state: f64, velocity: f64, step: f64, slip: f64, reference_velocity:
 
 #[cfg(test)]
 mod tests {
+    use super::super::evolution::checks::{derivatives_match_differences, steps_compose};
+    use super::super::evolution::steady_state;
     use super::*;
 
     /// The step is the closed form theta(t) = D_c/V + (theta_0 - D_c/V) e^{-V t/D_c}:
@@ -95,12 +81,7 @@ mod tests {
     fn steps_compose_to_the_closed_form_and_derivatives_are_exact() {
         let (d_c, v0) = (2e-5, 1e-6);
         let psi0 = steady_state(1e-3, v0);
-        let mut psi = psi0;
-        for _ in 0..10 {
-            psi = step(psi, 0.02, 1e-4, d_c, v0).state;
-        }
-        let whole = step(psi0, 0.02, 1e-3, d_c, v0).state;
-        assert!((psi - whole).abs() < 1e-12, "{psi} vs {whole}");
+        let whole = steps_compose(step, psi0, d_c, v0);
         let theta = |t: f64, v: f64| {
             d_c / v + (d_c / 1e-3 - d_c / v) * crate::elementary::exp(-v * t / d_c)
         };
@@ -111,30 +92,11 @@ mod tests {
         assert!((far - steady_state(0.02, v0)).abs() < 1e-12);
         let aged = step(psi0, 0.0, 0.5, d_c, v0).state;
         assert!(((crate::elementary::exp(aged) * d_c / v0) - (d_c / 1e-3 + 0.5)).abs() < 1e-12);
-        for (v, h) in [(0.02, 1e-4), (-3e-3, 1e-3), (1e-7, 1e-5), (0.5, 1e-2)] {
-            let s = step(psi0, v, h, d_c, v0);
+        for (v, h) in [(0.02f64, 1e-4), (-3e-3, 1e-3), (1e-7, 1e-5), (0.5, 1e-2)] {
             // Relative steps; 10 % at the smallest speed, where psi is linear in v to
             // O(x) = 5e-8 and a smaller step would drown in rounding.
-            let dv = if v.abs() < 1e-5 { 0.1 } else { 1e-6 } * v.abs();
-            let fd_v = (step(psi0, v + dv, h, d_c, v0).state
-                - step(psi0, v - dv, h, d_c, v0).state)
-                / (2.0 * dv);
-            assert!(
-                (s.d_velocity - fd_v).abs() < 1e-6 * fd_v.abs().max(1.0),
-                "v {v}"
-            );
-            let e: f64 = 1e-6;
-            let fd_c = (step(psi0, v, h, d_c * crate::elementary::exp(e), v0).state
-                - step(psi0, v, h, d_c * crate::elementary::exp(-e), v0).state)
-                / (2.0 * e);
-            assert!(
-                (s.d_log_slip - fd_c).abs() < 1e-7,
-                "v {v}: {} {fd_c}",
-                s.d_log_slip
-            );
-            let fd_s = (step(psi0 + e, v, h, d_c, v0).state - step(psi0 - e, v, h, d_c, v0).state)
-                / (2.0 * e);
-            assert!((s.d_state - fd_s).abs() < 1e-7, "v {v}");
+            let relative = if v.abs() < 1e-5 { 0.1 } else { 1e-6 };
+            derivatives_match_differences(step, (psi0, v, h, d_c, v0), (relative, 1e-6));
         }
     }
 }

@@ -4,13 +4,19 @@
 //! ```text
 //! { "format": "stickslip-state-friction", "version": 1,
 //!   "law": { reference_coefficient, reference_velocity, direct_effect,
-//!            evolution_effect, characteristic_slip },       // mu_0, V_0 m/s, a, b, D_c m
+//!            evolution_effect, characteristic_slip,         // mu_0, V_0 m/s, a, b, D_c m
+//!            state_evolution },                             // "aging" | "slip"
 //!   "state": "psi = ln(theta V_0 / D_c), aging law, ...",   // words, for the reader
 //!   "correction": null | { inputs: [state, normal_force], hidden_weights, ... },
 //!   "ranges": { sliding_velocity: [min, max] m/s, normal_force: [min, max] N },
 //!   "training": { data, series, samples, noise_std, lambda, iterations, ... },
 //!   "metrics": { rms_error_train, rms_error_test } }         // N
 //! ```
+//!
+//! `law.state_evolution` came with the slip law; a file without it is aging (the files
+//! written before it, such as the shipped one, read unchanged), and a build from before
+//! it refuses a file that has it as an unknown field rather than misreading it, so the
+//! version stayed 1. A value other than "aging" or "slip" is refused with its line.
 //!
 //! Loading checks format and version first (so a foreign or newer file says so), then
 //! every field, that every number is finite and that the parameters are in their
@@ -22,6 +28,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use super::correction::Correction;
+use super::evolution::StateEvolution;
 use super::law::{LearnedStateLaw, StateLawParameters};
 use crate::neural::error::NeuralError;
 use crate::neural::file_checks::{
@@ -34,8 +41,19 @@ pub const STATE_FORMAT_NAME: &str = "stickslip-state-friction";
 /// Value of the file's `version` field that this build reads and writes.
 pub const STATE_FORMAT_VERSION: u32 = 1;
 
-/// What the state is, written into every file for a reader without this code.
+/// What the state is, written into every file of the aging law for a reader without
+/// this code.
 pub const STATE_DEFINITION: &str = "psi = ln(theta V_0 / D_c); d theta/dt = 1 - |v| theta / D_c (aging law), stepped exactly for the speed at the step's end";
+/// The same for the slip law.
+pub const SLIP_STATE_DEFINITION: &str = "psi = ln(theta V_0 / D_c); d theta/dt = -(|v| theta / D_c) ln(|v| theta / D_c) (slip law; frozen at v = 0), stepped exactly for the speed at the step's end";
+
+/// The words of the `state` field for `evolution`.
+pub fn state_definition(evolution: StateEvolution) -> &'static str {
+    match evolution {
+        StateEvolution::Aging => STATE_DEFINITION,
+        StateEvolution::Slip => SLIP_STATE_DEFINITION,
+    }
+}
 
 /// The data ranges the law was trained on (inputs beyond them extrapolate).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -105,7 +123,7 @@ impl StateLawFile {
             format: STATE_FORMAT_NAME.into(),
             version: STATE_FORMAT_VERSION,
             law: law.parameters.clone(),
-            state: STATE_DEFINITION.into(),
+            state: state_definition(law.parameters.state_evolution).into(),
             correction: law.correction.clone(),
             ranges,
             training,

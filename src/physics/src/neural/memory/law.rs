@@ -5,10 +5,12 @@
 //! ```text
 //! F = F_n a asinh( v / (2 V_0) exp(Omega / a) ),   Omega = mu_0 + b psi + N(psi, F_n)
 //! d theta / dt = 1 - |v| theta / D_c,               psi = ln(theta V_0 / D_c)
+//!   (aging law; or the slip law -(|v| theta / D_c) ln(|v| theta / D_c))
 //! ```
 //!
-//! (`regularised`, `aging`, `correction`). V_0 is fixed (it only shifts mu_0:
-//! mu_0 - a ln V_0 is what the data determine). The state is advanced by `aging::step`,
+//! (`regularised`, `evolution`, `correction`). V_0 is fixed (it only shifts mu_0:
+//! mu_0 - a ln V_0 is what the data determine). The evolution law is a choice of the
+//! file, not trained. The state is advanced by `evolution::step`,
 //! implicit in the step's end velocity, so a contact's slip solve gets the force after
 //! the step and its exact total slope dF/dv_{n+1} (`LearnedStateLaw::after_step`).
 //!
@@ -23,8 +25,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::aging::{self, AgingStep};
 use super::correction::Correction;
+use super::evolution::{self, StateEvolution, StateStep};
 use super::regularised;
 
 /// The structured parameters (the rate-and-state names of issue 24).
@@ -41,6 +43,10 @@ pub struct StateLawParameters {
     pub evolution_effect: f64,
     /// D_c (m), > 0.
     pub characteristic_slip: f64,
+    /// How the state evolves; a file without it (format version 1 before the slip law)
+    /// is aging.
+    #[serde(default)]
+    pub state_evolution: StateEvolution,
 }
 
 /// The law: structured parameters and an optional correction network.
@@ -79,13 +85,14 @@ pub const LOG_SLIP: usize = 3;
 impl LearnedStateLaw {
     /// The steady state at sliding speed `speed` (m/s, > 0): psi_ss = ln(V_0 / V).
     pub fn steady_state(&self, speed: f64) -> f64 {
-        aging::steady_state(speed, self.parameters.reference_velocity)
+        evolution::steady_state(speed, self.parameters.reference_velocity)
     }
 
     /// The state after a step of `step` s ending at sliding velocity `velocity` (m/s).
-    pub fn step_state(&self, state: f64, velocity: f64, step: f64) -> AgingStep {
+    pub fn step_state(&self, state: f64, velocity: f64, step: f64) -> StateStep {
         let p = &self.parameters;
-        aging::step(
+        evolution::step(
+            p.state_evolution,
             state,
             velocity,
             step,
@@ -270,6 +277,7 @@ mod tests {
                 direct_effect: 0.01,
                 evolution_effect: 0.015,
                 characteristic_slip: 2e-5,
+                state_evolution: StateEvolution::Aging,
             },
             correction: (hidden > 0).then(|| Correction {
                 inputs: [
@@ -285,11 +293,17 @@ mod tests {
 
     /// The parameter gradient and the state and velocity slopes against central
     /// differences of the force (relative 1e-6: step 1e-6 in each parameter, the force's
-    /// curvature is O(1) in these units), with and without the correction.
+    /// curvature is O(1) in these units), with and without the correction, and the
+    /// step's total slope with either evolution law.
     #[test]
     fn gradients_and_slopes_match_differences() {
-        for hidden in [0, 3] {
+        for (hidden, evolution) in [
+            (0, StateEvolution::Aging),
+            (3, StateEvolution::Aging),
+            (3, StateEvolution::Slip),
+        ] {
             let mut law = law(hidden);
+            law.parameters.state_evolution = evolution;
             let x = law.trainable();
             let (psi, v, f_n) = (-8.5, 3e-3, 95.0);
             let mut g = vec![0.0; x.len()];
@@ -348,5 +362,31 @@ mod tests {
                 / (2.0 * dv);
             assert!((s.slope - fd).abs() < 1e-5 * fd.abs(), "{} {fd}", s.slope);
         }
+    }
+
+    /// The slip law at rest: the state is frozen and the step's total slope is the
+    /// slope at fixed state, finite, and continuous there (the state's ln V slope meets
+    /// a dF/dpsi that vanishes like V: here 1/E = 2 V_0 e^{-Omega/a} ~ 1e-33 m/s, and at
+    /// |v| = 1e-40 m/s their product is ~1e-3 N s/m against a slope of F_n a E ~ 1e33
+    /// N s/m, so 1e-9 relative is generous).
+    #[test]
+    fn the_slip_law_is_frozen_at_rest_with_a_finite_continuous_slope() {
+        let mut law = law(3);
+        law.parameters.state_evolution = StateEvolution::Slip;
+        let (psi, f_n, h) = (2.0, 100.0, 1e-3);
+        let rest = law.after_step(psi, 0.0, f_n, h);
+        assert_eq!(rest.state, psi);
+        assert_eq!(rest.slope, law.force(psi, 0.0, f_n).d_velocity);
+        for v in [1e-40, -1e-40, 5e-324] {
+            let s = law.after_step(psi, v, f_n, h);
+            assert!(s.slope.is_finite() && s.force.is_finite(), "v {v}: {s:?}");
+            assert!(
+                (s.slope - rest.slope).abs() < 1e-9 * rest.slope,
+                "v {v}: {s:?}"
+            );
+        }
+        // The aging law heals at rest instead: theta grows by h.
+        law.parameters.state_evolution = StateEvolution::Aging;
+        assert!(law.after_step(psi, 0.0, f_n, h).state > psi);
     }
 }

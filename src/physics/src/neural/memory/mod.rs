@@ -2,7 +2,8 @@
 //! its parameters fitted to force records under velocity histories, plus a small
 //! network correction (`law` says why this form and what is trained).
 //!
-//! - `aging`: the state's evolution, stepped exactly for the step's end velocity;
+//! - `evolution`: the state's evolution, by the aging (`aging`) or the slip law
+//!   (`slip`), each stepped exactly for the step's end velocity;
 //! - `regularised`: the force, regularised at v = 0 (asinh form);
 //! - `correction`: the network part;
 //! - `law`: [`LearnedStateLaw`], the three together, with the gradients training needs;
@@ -16,14 +17,17 @@
 
 pub mod aging;
 pub mod correction;
+pub mod evolution;
 pub mod file;
 pub mod law;
 pub mod regularised;
 pub mod response;
+pub mod slip;
 pub mod source;
 pub mod stepped;
 
 pub use correction::{Correction, InputScale};
+pub use evolution::{StateEvolution, StateStep};
 pub use file::{StateLawFile, StateMetrics, StateTrainingInfo, TrainingRanges};
 pub use law::{LearnedStateLaw, StateLawParameters, StepForce};
 pub use stepped::LearnedStateFriction;

@@ -7,7 +7,8 @@
 //!   new steady value falls to 1/e of its value at the step. For the aging law the
 //!   excess is b ln(1 + (V_2/V_1 - 1) e^{-delta / D_c}), so this length is D_c times a
 //!   function of V_2/V_1 alone: two laws' decay lengths at the same step are in the
-//!   ratio of their D_c.
+//!   ratio of their D_c. For the slip law the excess is b ln(V_2/V_1) e^{-delta / D_c}
+//!   (x = ln(V theta / D_c) decays exponentially in slip), so the length is D_c itself.
 //!
 //! Any [`MemoryLaw`] is measured through its trait alone, so a learned law and the
 //! analytical law that generated its data are read by the same code.
