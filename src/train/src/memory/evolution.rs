@@ -8,35 +8,10 @@
 //! the training records when none are held out; the report lists both.
 
 use super::fit::{fit_state_law, StateTrainConfig, StateTrainReport};
+pub use super::learned_evolution::LearnedEvolution;
 use super::series::ForceSeries;
 use crate::error::TrainError;
-use stickslip::neural::memory::{StateEvolution, StateLawFile};
-
-stickslip::choice! {
-    /// The state evolution the learned law is trained with.
-    #[choice(name = "LearnedEvolution", description = "State evolution of the learned law with memory")]
-    #[derive(Default)]
-    pub enum LearnedEvolution {
-        /// The aging law (Dieterich): the default, today's behaviour and speed.
-        #[default]
-        Aging = "aging": "the aging law d theta/dt = 1 - |v| theta / D_c: heals at rest",
-        /// The slip law (Ruina).
-        Slip = "slip": "the slip law d theta/dt = -(|v| theta / D_c) ln(|v| theta / D_c): frozen at rest",
-        /// Each, keeping the better.
-        Both = "both": "train with each law and keep the one with the lower held-out RMS force error (twice the time)",
-    }
-}
-
-impl LearnedEvolution {
-    /// The evolutions to train, in order.
-    pub fn candidates(self) -> &'static [StateEvolution] {
-        match self {
-            LearnedEvolution::Aging => &[StateEvolution::Aging],
-            LearnedEvolution::Slip => &[StateEvolution::Slip],
-            LearnedEvolution::Both => &[StateEvolution::Aging, StateEvolution::Slip],
-        }
-    }
-}
+use stickslip::neural::memory::StateLawFile;
 
 /// Trains a learned state law on `records` (checked first) with the evolution(s) of
 /// `config.evolution`, returning the file of the better one (lower held-out RMS error;
@@ -86,6 +61,7 @@ pub fn train_state_law(
 mod tests {
     use super::*;
     use crate::memory::protocol::TribometerSpec;
+    use stickslip::neural::memory::StateEvolution;
 
     /// `both` trains each law, reports both, and keeps the one with the lower held-out
     /// error, which on slip-law records is the slip law: short records (one normal

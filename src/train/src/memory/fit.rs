@@ -24,7 +24,7 @@
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 
-use super::evolution::LearnedEvolution;
+use super::learned_evolution::LearnedEvolution;
 use super::loss::{loss_and_gradient, steady_starts};
 use super::series::{rms_error, simulate_from, ForceSeries};
 use crate::data::{seeded_rng, INIT_STREAM};

@@ -19,7 +19,7 @@
 //! spans decades (it grows like the time at rest), psi is O(1) at steady sliding
 //! (psi_ss = ln(V_0 / V)) and does not depend on D_c there.
 
-use super::evolution::StateStep;
+use super::state_step::StateStep;
 
 /// phi(x) = (1 - e^{-x}) / x and phi'(x) = (e^{-x} (1 + x) - 1) / x^2 for x >= 0;
 /// below x = 1e-2 their Taylor series (phi' = -1/2 + x/3 - x^2/8 + x^3/30, error
@@ -70,8 +70,8 @@ pub fn step(state: f64, velocity: f64, step: f64, slip: f64, reference_velocity:
 
 #[cfg(test)]
 mod tests {
-    use super::super::evolution::checks::{derivatives_match_differences, steps_compose};
     use super::super::evolution::steady_state;
+    use super::super::state_step::checks::{derivatives_match_differences, steps_compose};
     use super::*;
 
     /// The step is the closed form theta(t) = D_c/V + (theta_0 - D_c/V) e^{-V t/D_c}:

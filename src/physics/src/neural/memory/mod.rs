@@ -24,6 +24,7 @@ pub mod regularised;
 pub mod response;
 pub mod slip;
 pub mod source;
+pub mod state_step;
 pub mod stepped;
 
 pub use correction::{Correction, InputScale};

@@ -21,7 +21,7 @@
 //! regularised force's dF/dpsi vanishes like V, so the total slope dF/dv_{n+1} is finite
 //! for every v and continuous at 0.
 
-use super::evolution::StateStep;
+use super::state_step::StateStep;
 
 /// Advances psi over a step of `step` seconds ending at sliding velocity `velocity`
 /// (m/s), with characteristic slip `slip` (D_c, m) and reference velocity
@@ -52,8 +52,8 @@ pub fn step(state: f64, velocity: f64, step: f64, slip: f64, reference_velocity:
 
 #[cfg(test)]
 mod tests {
-    use super::super::evolution::checks::{derivatives_match_differences, steps_compose};
     use super::super::evolution::steady_state;
+    use super::super::state_step::checks::{derivatives_match_differences, steps_compose};
     use super::*;
 
     /// RK4 of the slip law in theta itself (not the closed form), n substeps.
