@@ -169,19 +169,22 @@ fn rate_and_state_theta_settles_to_dc_over_v_in_steady_sliding() {
 }
 
 /// Rate-and-state heals in stick: the aging law's d theta/dt = 1 - V theta / D_c is 1 at
-/// V = 0. Over the longest run of samples where the tip creeps (|v_rel| < 1e-9 m/s) in
-/// the default scene (which stick-slips), the slope of theta lies in
+/// V = 0. Over the longest run of samples after the first slip where the tip creeps
+/// (|v_rel| < 1e-9 m/s) in the default scene (which stick-slips), the slope of theta
+/// lies in
 /// [1 - max(V theta / D_c), 1] over the run, V theta / D_c read off the samples; plus
-/// 1e-9 for the rounding of theta (~1e-16 s per step over 1e4 steps against a rise of
-/// ~0.1 s).
+/// 1e-9 for the rounding of theta (~1e-17 s per step over the ~200 steps of the run,
+/// against a rise of ~0.02 s: 1e-13). Measured: the slope is 1 to 1e-14 over 20 ms.
 #[test]
 fn rate_and_state_theta_grows_as_time_in_stick() {
     let s = scene(FrictionLawKind::RateAndState);
     let dc = s.friction.rate_and_state.characteristic_slip;
     let result = run(s);
     let creeping = |x: &Sample| x.relative_velocity.abs() < 1e-9;
+    let first_slip = result.samples.iter().position(|x| !x.stick).unwrap();
     let mut best: &[Sample] = &[];
-    for window in result.samples.chunk_by(|a, b| creeping(a) == creeping(b)) {
+    let after_slip = &result.samples[first_slip..];
+    for window in after_slip.chunk_by(|a, b| creeping(a) == creeping(b)) {
         if creeping(&window[0]) && window.len() > best.len() {
             best = window;
         }
