@@ -78,14 +78,20 @@ fn each_state_variable_is_an_output_of_both_descriptions() {
             .unwrap();
         assert_eq!(row.causality, Causality::Output);
         assert!(row.description.starts_with(variable.description));
-        assert!(row.description.contains("0 for a law without this variable"));
+        assert!(row
+            .description
+            .contains("0 for a law without this variable"));
         let Access::Real { unit, set, .. } = &row.access else {
             panic!("{} is not a Real", row.name);
         };
         assert!(set.is_none());
         assert_eq!(*unit, (variable.unit != "1").then_some(variable.unit));
         let name = format!("name=\"{}\"", variable.name);
-        assert!(v2.contains(&name) && v3.contains(&name), "{}", variable.name);
+        assert!(
+            v2.contains(&name) && v3.contains(&name),
+            "{}",
+            variable.name
+        );
     }
 }
 
@@ -96,7 +102,10 @@ fn each_state_variable_is_an_output_of_both_descriptions() {
 fn the_state_outputs_are_the_command_lines_column() {
     let dir = std::env::temp_dir().join(format!("stickslip-law-state-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    for (law, slot) in [(FrictionLawKind::Lugre, 0), (FrictionLawKind::RateAndState, 1)] {
+    for (law, slot) in [
+        (FrictionLawKind::Lugre, 0),
+        (FrictionLawKind::RateAndState, 1),
+    ] {
         let end = 0.8;
         let mut b = initialized(law, end);
         let steps = (end / H).round() as usize;
@@ -165,7 +174,10 @@ fn the_state_outputs_are_the_command_lines_column() {
 /// for bit, the serialised state included.
 #[test]
 fn the_state_outputs_follow_a_restored_fmu_state() {
-    for (law, slot) in [(FrictionLawKind::Lugre, 0), (FrictionLawKind::RateAndState, 1)] {
+    for (law, slot) in [
+        (FrictionLawKind::Lugre, 0),
+        (FrictionLawKind::RateAndState, 1),
+    ] {
         let mut b = initialized(law, 1.0);
         run(&mut b, 0.0, 450);
         let at_save = state_outputs(&mut b);
