@@ -4,30 +4,15 @@
 //! healing in stick, and zeros for a memoryless law. Paper beam at modal fidelity
 //! (4 modes) unless a test says otherwise.
 
+use super::contact::{run, scene};
 use stickslip::friction::ExponentialLaw;
-use stickslip::law_source::LawSource;
 use stickslip::memory::STATE_VARIABLES;
-use stickslip::run::{run_scene, Run};
-use stickslip::scene::{FidelityLevel, FrictionLawKind, Scene};
+use stickslip::scene::{FrictionLawKind, Scene};
 use stickslip::simulation::Sample;
 
-/// Index of the LuGre, rate-and-state and learned state in `Sample::law_state`.
+/// Index of the LuGre and the rate-and-state state in `Sample::law_state`.
 const Z: usize = 0;
 const THETA: usize = 1;
-
-fn scene(law: FrictionLawKind) -> Scene {
-    let mut s = Scene::default();
-    s.friction.law = law;
-    s.fidelity.level = FidelityLevel::Modal;
-    s.fidelity.modes = 4;
-    s
-}
-
-fn run(s: Scene) -> Run {
-    let checked = s.check().unwrap();
-    let source = LawSource::resolve(&checked).unwrap();
-    run_scene(checked, &source, 1).unwrap()
-}
 
 fn g(s: &Scene, v: f64) -> f64 {
     let law = ExponentialLaw {
