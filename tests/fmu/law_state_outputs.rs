@@ -27,8 +27,32 @@ fn state_vrs() -> Vec<u32> {
         .collect()
 }
 
-/// A modal-fidelity (4 modes) StickSlipBeam with `law`, initialised for 0..`end` s.
-fn initialized(law: FrictionLawKind, end: f64) -> Instance<StickSlipBeam> {
+/// The shipped learned law with memory (`friction.law = neural`).
+fn learned_weights() -> String {
+    let path = stickslip_tests::weights_dir().join("rate-and-state-learned.json");
+    path.to_str().unwrap().to_string()
+}
+
+/// The paper scene at modal fidelity (4 modes) with `law` (and its `weights`), to `end`.
+fn scene(law: FrictionLawKind, weights: Option<&str>, end: f64) -> Scene {
+    let mut scene = Scene::default();
+    scene.friction.law = law;
+    scene.friction.weights = weights.map(str::to_string);
+    scene.fidelity.level = FidelityLevel::Modal;
+    scene.fidelity.modes = 4;
+    scene.time.end = end;
+    scene
+}
+
+/// The library's samples of `scene` every 10 steps (1 ms), and the slots its law fills.
+fn library(scene: &Scene) -> (Vec<stickslip::simulation::Sample>, Vec<usize>) {
+    let checked = scene.clone().check().unwrap();
+    let run = run_scene(checked.clone(), &LawSource::resolve(&checked).unwrap(), 10).unwrap();
+    (run.samples, run.law_state_slots)
+}
+
+/// StickSlipBeam on `scene(law, weights, end)`, initialised for 0..`end` s.
+fn initialized(law: FrictionLawKind, weights: Option<&str>, end: f64) -> Instance<StickSlipBeam> {
     let logger = Box::new(|_, _: &str, _: &str| {});
     let mut b =
         Instance::new("beam", Some(&stickslip_tests::weights_dir()), false, logger).unwrap();
@@ -42,6 +66,10 @@ fn initialized(law: FrictionLawKind, end: f64) -> Instance<StickSlipBeam> {
         &[FidelityLevel::Modal.code(), 4, law.code()],
     )
     .unwrap();
+    if let Some(weights) = weights {
+        b.set_string(&[vr::<StickSlipBeam>("friction.weights")], &[weights])
+            .unwrap();
+    }
     b.enter_initialization_mode().unwrap();
     b.exit_initialization_mode().unwrap();
     b
@@ -107,19 +135,12 @@ fn the_state_outputs_are_the_command_lines_column() {
         (FrictionLawKind::RateAndState, 1),
     ] {
         let end = 0.8;
-        let mut b = initialized(law, end);
+        let mut b = initialized(law, None, end);
         let steps = (end / H).round() as usize;
         let fmu = run(&mut b, 0.0, steps);
 
-        let mut scene = Scene::default();
-        scene.friction.law = law;
-        scene.fidelity.level = FidelityLevel::Modal;
-        scene.fidelity.modes = 4;
-        scene.time.end = end;
-        let checked = scene.clone().check().unwrap();
-        let library = run_scene(checked.clone(), &LawSource::resolve(&checked).unwrap(), 10)
-            .unwrap()
-            .samples;
+        let scene = scene(law, None, end);
+        let (library, _) = library(&scene);
         assert_eq!(library.len(), steps + 1);
         for (k, outputs) in fmu.iter().enumerate() {
             assert_eq!(outputs[..], library[k + 1].law_state[..], "{law:?} at {k}");
@@ -178,7 +199,7 @@ fn the_state_outputs_follow_a_restored_fmu_state() {
         (FrictionLawKind::Lugre, 0),
         (FrictionLawKind::RateAndState, 1),
     ] {
-        let mut b = initialized(law, 1.0);
+        let mut b = initialized(law, None, 1.0);
         run(&mut b, 0.0, 450);
         let at_save = state_outputs(&mut b);
         let saved = b.get_state().unwrap();
@@ -192,12 +213,35 @@ fn the_state_outputs_follow_a_restored_fmu_state() {
     }
 }
 
+/// The learned law with memory (`friction.law = neural` with the shipped
+/// `rate-and-state-learned.json`) fills `state_psi` and nothing else, with the library's
+/// values of the same scene, bit for bit.
+#[test]
+fn the_learned_law_outputs_its_psi() {
+    let weights = learned_weights();
+    let mut b = initialized(FrictionLawKind::Neural, Some(&weights), 0.8);
+    let fmu = run(&mut b, 0.0, 800);
+    let (samples, slots) = library(&scene(FrictionLawKind::Neural, Some(&weights), 0.8));
+    let psi = STATE_VARIABLES
+        .iter()
+        .position(|v| v.name == "state_psi")
+        .unwrap();
+    assert_eq!(slots, [psi]);
+    for (k, outputs) in fmu.iter().enumerate() {
+        assert_eq!(outputs[..], samples[k + 1].law_state[..], "at {k}");
+        for (j, &value) in outputs.iter().enumerate() {
+            assert!(j == psi || value == 0.0, "entry {j} at {k}: {value}");
+        }
+    }
+    assert!(fmu.iter().any(|o| o[psi] != fmu[0][psi]));
+}
+
 /// A memoryless law has no state: every state output is 0, before the first step and
 /// after stick-slip.
 #[test]
 fn a_memoryless_law_outputs_zero_state() {
     for law in [FrictionLawKind::Exponential, FrictionLawKind::Coulomb] {
-        let mut b = initialized(law, 1.2);
+        let mut b = initialized(law, None, 1.2);
         assert_eq!(state_outputs(&mut b), vec![0.0; STATE_VARIABLES.len()]);
         for outputs in run(&mut b, 0.0, 1200) {
             assert_eq!(outputs, vec![0.0; STATE_VARIABLES.len()], "{law:?}");
