@@ -14,23 +14,16 @@ import numpy as np
 import pytest
 from fmpy import simulate_fmu
 
-from stickslip_checks.artifacts import BEAM, Model, find_binary, fmu3_paths, fmu_paths
+from stickslip_checks.artifacts import BEAM, Model, find_binary
 
 STOP = 0.8  # s: past the breakaway at about 0.4 s, so the state both loads and slips
 STATE = ("bristle_deflection", "state_theta", "state_psi")
 OWN = {"lugre": "bristle_deflection", "rate-and-state": "state_theta"}
 
 
-@pytest.fixture(scope="module")
-def paths():
-    try:
-        return {"2.0": fmu_paths(), "3.0": fmu3_paths()}
-    except FileNotFoundError as error:
-        pytest.fail(str(error), pytrace=False)
-
-
 @pytest.mark.parametrize("law", sorted(OWN))
-def test_state_outputs_in_both_versions_and_the_command_line(paths, law, tmp_path):
+def test_state_outputs_in_both_versions_and_the_command_line(fmu_versions, law, tmp_path):
+    paths = fmu_versions
     model = Model.read(paths["2.0"][BEAM])
     start = {
         "fidelity.level": model.code("fidelity.level", "modal"),
