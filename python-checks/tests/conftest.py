@@ -1,10 +1,11 @@
-"""Shared pytest fixture for the FMU checks: the unpacked FMUs, once per module."""
+"""Shared pytest fixtures for the FMU checks: the unpacked FMUs, once per module, and the
+packaged FMUs' paths by FMI version."""
 
 from __future__ import annotations
 
 import pytest
 
-from stickslip_checks.artifacts import Fmus, fmu_paths
+from stickslip_checks.artifacts import Fmus, fmu3_paths, fmu_paths
 
 
 @pytest.fixture(scope="module")
@@ -25,3 +26,13 @@ def need(value):
     if isinstance(value, Exception):
         pytest.fail(str(value), pytrace=False)
     return value
+
+
+@pytest.fixture(scope="module")
+def fmu_versions():
+    """The packaged FMUs' paths by FMI version ("2.0", "3.0"); FAILS (never skips) with
+    the message that says how to build them."""
+    try:
+        return {"2.0": fmu_paths(), "3.0": fmu3_paths()}
+    except FileNotFoundError as error:
+        pytest.fail(str(error), pytrace=False)

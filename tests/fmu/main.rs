@@ -11,6 +11,7 @@ mod ffi3;
 mod friction_memory;
 mod fuzz_regressions;
 mod instance;
+mod law_state_outputs;
 mod long_run;
 mod memory_laws;
 mod model_description;

@@ -3,8 +3,11 @@
 //! The command-line contract (relied on by scripts; extend it, don't rename it):
 //! `stickslip simulate [--scene FILE] [--fidelity LEVEL] [--tolerance M]
 //! [--friction LAW] [--integrator SCHEME] [--dt S] [--t-end S] [--out FILE.csv]`
-//! writes `t,tip_deflection,tip_velocity,friction_force,stick` (SI units, stick as 0/1)
-//! and prints a summary.
+//! writes `t,tip_deflection,tip_velocity,friction_force,stick` (SI units, stick as 0/1),
+//! followed, for a friction law with state, by one column per state variable of the law
+//! under its name (`bristle_deflection` (m) for LuGre, `state_theta` (s) for
+//! rate-and-state, `state_psi` (1) for the learned law with memory:
+//! `stickslip::memory::STATE_VARIABLES`), and prints a summary.
 //! `stickslip static [--fidelity LEVEL] [--element-size M] [--convergence]`.
 //!
 //! LEVEL, LAW and SCHEME are the words of the scene's `fidelity.level`, `friction.law`
@@ -16,6 +19,7 @@ use crate::scene_args::SceneArgs;
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
+use stickslip::memory::STATE_VARIABLES;
 use stickslip::run::run_scene;
 use stickslip::simulation::Sample;
 use stickslip::statics::convergence_study;
@@ -26,7 +30,9 @@ use stickslip::structure::{euler_bernoulli_tip_deflection, StructuralModel};
 pub struct SimulateArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// CSV output: t,tip_deflection,tip_velocity,friction_force,stick (SI units).
+    /// CSV output: t,tip_deflection,tip_velocity,friction_force,stick (SI units), and
+    /// for a law with state its state variables (bristle_deflection, state_theta or
+    /// state_psi).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Write every N-th step to the CSV.
@@ -37,22 +43,33 @@ pub struct SimulateArgs {
     pub summary_json: Option<PathBuf>,
 }
 
-/// Writes samples as the contract's CSV.
-pub fn write_csv(path: &PathBuf, samples: &[Sample]) -> Result<(), CliError> {
+/// Writes samples as the contract's CSV, with a column for each of the law's state
+/// variables `law_state` (indices in `STATE_VARIABLES` and `Sample::law_state`, as
+/// `run::Run::law_state_slots` gives them; none for a memoryless law, whose file is
+/// then the five columns it always was).
+pub fn write_csv(path: &PathBuf, samples: &[Sample], law_state: &[usize]) -> Result<(), CliError> {
     let io = |source: std::io::Error| CliError::Output {
         path: path.clone(),
         source,
     };
     let file = std::fs::File::create(path).map_err(io)?;
     let mut w = std::io::BufWriter::new(file);
-    writeln!(w, "t,tip_deflection,tip_velocity,friction_force,stick").map_err(io)?;
+    write!(w, "t,tip_deflection,tip_velocity,friction_force,stick").map_err(io)?;
+    for &k in law_state {
+        write!(w, ",{}", STATE_VARIABLES[k].name).map_err(io)?;
+    }
+    writeln!(w).map_err(io)?;
     for s in samples {
-        writeln!(
+        write!(
             w,
             "{:.10e},{:.10e},{:.10e},{:.10e},{}",
             s.time, s.tip_deflection, s.tip_velocity, s.friction_force, s.stick as u8
         )
         .map_err(io)?;
+        for &k in law_state {
+            write!(w, ",{:.10e}", s.law_state[k]).map_err(io)?;
+        }
+        writeln!(w).map_err(io)?;
     }
     w.flush().map_err(io)
 }
@@ -74,7 +91,7 @@ pub fn simulate(args: &SimulateArgs) -> Result<(), CliError> {
     if let Some(path) = &args.out {
         let every = args.every.max(1);
         let kept: Vec<Sample> = run.samples.iter().step_by(every).copied().collect();
-        write_csv(path, &kept)?;
+        write_csv(path, &kept, &run.law_state_slots)?;
     }
     if let Some(path) = &args.summary_json {
         let text = serde_json::to_string_pretty(&run.summary).map_err(|source| CliError::Json {

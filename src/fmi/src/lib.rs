@@ -13,7 +13,8 @@
 //! - `variables`: the table type each model fills once (names, value references, units,
 //!   accessors);
 //! - `model_description`: generates modelDescription.xml from that table;
-//! - `declare`: the macros both models write their variable rows with;
+//! - `declare`: the macros both models write their variable rows with; `law_state`: the
+//!   friction law's state variables as output rows;
 //! - `beam` (a folder: variables, build, saved states, the `Model`), `friction`: the
 //!   models;
 //! - `networks`: the neural weights files a model reads from the FMU's `resources/`;
@@ -34,6 +35,7 @@ pub mod ffi2;
 pub mod ffi3;
 pub mod friction;
 pub mod instance;
+mod law_state;
 pub mod model;
 pub mod model_description;
 pub mod networks;

@@ -44,6 +44,9 @@ pub struct Run {
     pub label: String,
     /// Degrees of freedom of the structural model.
     pub dofs: usize,
+    /// The law's state variables, as indices in `memory::STATE_VARIABLES` and in each
+    /// sample's `law_state` (`Simulator::law_state_slots`); empty for a memoryless law.
+    pub law_state_slots: Vec<usize>,
 }
 
 /// Runs a checked scene to its end time under `law` (resolved from this scene, or
@@ -68,5 +71,6 @@ pub fn run_scene(scene: CheckedScene, law: &LawSource, every: usize) -> Result<R
         seconds,
         label: format!("{}, {} friction", sim.model().label, sim.law_name()),
         dofs: sim.model().dofs(),
+        law_state_slots: sim.law_state_slots(),
     })
 }

@@ -8,6 +8,7 @@
 use crate::contact::{Contact, ContactState, Kinetic, Previous, SlipSolve, SlipSolver, Transition};
 use crate::friction::FrictionLaw;
 use crate::integrator::{Coefficients, Integrator, Kinematics};
+use crate::memory::{StateVariable, STATE_VARIABLES};
 use crate::modal_slip::{SlipBasis, SlipBasisError};
 use crate::scene::{CheckedScene, DampingPhase, InitialState, TipVelocity};
 use crate::structure::{singular, ModelError, StructuralModel};
@@ -60,7 +61,15 @@ pub struct Sample {
     /// Force that stick needs (N).
     pub holding_force: f64,
     pub stick: bool,
+    /// The friction law's committed state, one value per entry of
+    /// [`STATE_VARIABLES`] in its order, in that entry's unit: 0 where the run's law has
+    /// not that variable (every entry for a memoryless law; see
+    /// [`Simulator::law_state_slots`] for the ones it has).
+    pub law_state: LawStateValues,
 }
+
+/// A value per entry of [`STATE_VARIABLES`] (see [`Sample::law_state`]).
+pub type LawStateValues = [f64; STATE_VARIABLES.len()];
 
 /// A simulation that cannot go on.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -158,6 +167,10 @@ pub struct Simulator {
     keep_all_transitions: bool,
     /// The slip solve of the last step, if it needed one.
     last_slip: Option<SlipSolve>,
+    /// For each component of the law's state listed in [`STATE_VARIABLES`]: its
+    /// position in `SimulationState::law_state` and its index in the list; empty for a
+    /// memoryless law.
+    law_state_slots: Vec<(usize, usize)>,
 }
 
 /// How many transitions a simulator keeps at least, unless asked to keep all of them
@@ -206,11 +219,13 @@ impl Simulator {
         };
         let contact = Contact::new(&scene, integrator.coefficients());
         let mut state = initial_state(&scene, &model)?;
+        let mut law_state_slots = Vec::new();
         if let Some(memory) = law.as_memory_mut() {
             if scene.contact.preload > 0.0 {
                 memory.hold(state.holding_force, scene.loading.normal_force);
             }
             state.law_state = memory.state().to_vec();
+            law_state_slots = slots_of(memory.state_variables());
         }
         let modal_slip = match scene.contact.slip_modes_below {
             cutoff if cutoff > 0.0 => Some(ModalSlip::new(&scene, &model, cutoff)?),
@@ -234,6 +249,7 @@ impl Simulator {
             transitions: Vec::with_capacity(256),
             keep_all_transitions: false,
             last_slip: None,
+            law_state_slots,
         })
     }
 
@@ -247,6 +263,12 @@ impl Simulator {
 
     pub fn law_name(&self) -> &str {
         self.law.name()
+    }
+
+    /// The indices in [`STATE_VARIABLES`] (and in [`Sample::law_state`]) of the run's
+    /// law's state variables, in the law's order; none for a memoryless law.
+    pub fn law_state_slots(&self) -> Vec<usize> {
+        self.law_state_slots.iter().map(|&(_, slot)| slot).collect()
     }
 
     pub fn state(&self) -> &SimulationState {
@@ -366,7 +388,18 @@ impl Simulator {
             friction_force: self.state.contact_force,
             holding_force: self.state.holding_force,
             stick: self.state.contact == ContactState::Stick,
+            law_state: self.law_state_values(),
         }
+    }
+
+    /// The committed law state of `state` spread over [`STATE_VARIABLES`]: read off the
+    /// simulation state, so that after [`Self::restore`] it is the restored one.
+    fn law_state_values(&self) -> LawStateValues {
+        let mut values = [0.0; STATE_VARIABLES.len()];
+        for &(k, slot) in &self.law_state_slots {
+            values[slot] = self.state.law_state[k];
+        }
+        values
     }
 
     /// Static limit (N): mu_s F_n, or the external one when set.
@@ -660,6 +693,23 @@ impl Simulator {
         }
         Ok(samples)
     }
+}
+
+/// Where a law's state variables sit: (position in the law's state, index in
+/// [`STATE_VARIABLES`]) for each one listed there. A law of a library user whose
+/// variable the list lacks still runs; that variable only reaches no output (the list
+/// holds every law of this crate, tested in `memory`).
+fn slots_of(variables: &[StateVariable]) -> Vec<(usize, usize)> {
+    variables
+        .iter()
+        .enumerate()
+        .filter_map(|(k, v)| {
+            STATE_VARIABLES
+                .iter()
+                .position(|listed| listed == v)
+                .map(|slot| (k, slot))
+        })
+        .collect()
 }
 
 /// The slip phase on modes below a cut-off (`contact.slip_modes_below`).

@@ -11,7 +11,7 @@ use stickslip::scene::{FidelityLevel, FrictionLawKind, Scene, Scheme, SlidingVel
 use stickslip::simulation::{Sample, Simulator};
 use stickslip::stability::cantilever_omega;
 
-fn scene(law: FrictionLawKind) -> Scene {
+pub(super) fn scene(law: FrictionLawKind) -> Scene {
     let mut s = Scene::default();
     s.friction.law = law;
     s.fidelity.level = FidelityLevel::Modal;
@@ -19,7 +19,7 @@ fn scene(law: FrictionLawKind) -> Scene {
     s
 }
 
-fn run(s: Scene) -> Run {
+pub(super) fn run(s: Scene) -> Run {
     let checked = s.check().unwrap();
     let source = LawSource::resolve(&checked).unwrap();
     run_scene(checked, &source, 1).unwrap()
