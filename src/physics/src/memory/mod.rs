@@ -33,6 +33,8 @@
 //! assert!(law.state()[0] > 0.0 && force > 0.0 && slope > 0.0);
 //! ```
 
+use crate::jacobian::LawJacobian;
+
 pub mod lugre;
 pub mod parameters;
 pub mod rate_state;
@@ -111,6 +113,14 @@ pub trait MemoryLaw: Send {
     /// [`MemoryLaw::step_force_and_slope`] used for the same step.
     fn commit(&mut self, step: LawStep);
 
+    /// The force at the committed state, held, for the sliding velocity
+    /// `sliding_velocity` (m/s) and normal force `normal_force` (N): F (N), S = dF/dv
+    /// (N s/m) and their gradients over (v, F_n) (`LawJacobian`, inputs in that order).
+    /// The limit of [`MemoryLaw::step_force_and_slope`]'s force as dt -> 0 (its slope is
+    /// the direct effect only: the state does not move). What NeuralFriction outputs
+    /// between its steps, and its directional derivatives.
+    fn force_at_state(&self, sliding_velocity: f64, normal_force: f64) -> LawJacobian;
+
     /// Puts the law in the state in which it carries `force` (N) at rest (v = 0) under
     /// `normal_force` (N), where it can: the start of a preloaded run, whose beam is
     /// held by that force at t = 0. The default keeps the initial state (a law whose
@@ -163,35 +173,15 @@ pub fn set_checked(
 }
 
 #[cfg(test)]
+mod at_state_tests;
+
+#[cfg(test)]
 mod tests {
     use super::*;
-    use crate::friction::ExponentialLaw;
-    use crate::memory::parameters::{LuGreParameters, RateStateParameters};
-    use crate::neural::memory::{LearnedStateFriction, LearnedStateLaw, StateLawParameters};
-    use std::sync::Arc;
 
     #[test]
     fn the_list_of_state_variables_is_each_laws_own_and_names_are_unique() {
-        let lugre = lugre::LuGreLaw::new(
-            LuGreParameters::default(),
-            ExponentialLaw {
-                static_coefficient: 0.5,
-                kinetic_coefficient: 0.2,
-                decay: 5.0,
-            },
-        );
-        let rate_state = rate_state::RateStateLaw::new(RateStateParameters::default());
-        let learned = LearnedStateFriction::new(Arc::new(LearnedStateLaw {
-            parameters: StateLawParameters {
-                reference_coefficient: 0.5,
-                reference_velocity: 1e-3,
-                direct_effect: 0.01,
-                evolution_effect: 0.015,
-                characteristic_slip: 1e-5,
-            },
-            correction: None,
-        }));
-        let laws: [&dyn MemoryLaw; 3] = [&lugre, &rate_state, &learned];
+        let laws = at_state_tests::example_laws();
         for (law, listed) in laws.iter().zip(STATE_VARIABLES) {
             assert_eq!(law.state_variables(), &[listed]);
         }

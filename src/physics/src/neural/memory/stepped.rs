@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use super::law::LearnedStateLaw;
 use crate::friction::FrictionLaw;
+use crate::jacobian::LawJacobian;
 use crate::memory::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable};
 
 /// The learned law's state psi = ln(theta V_0 / D_c) (1): 0 in steady sliding at V_0.
@@ -101,5 +102,11 @@ impl MemoryLaw for LearnedStateFriction {
             .law
             .step_state(self.state[0], step.sliding_velocity, step.dt)
             .state;
+    }
+
+    /// The learned law's Jacobian at the committed psi (`LearnedStateLaw::jacobian`).
+    fn force_at_state(&self, sliding_velocity: f64, normal_force: f64) -> LawJacobian {
+        self.law
+            .jacobian(self.state[0], sliding_velocity, normal_force)
     }
 }
