@@ -2,9 +2,10 @@
 //! anything else that needs a friction force).
 //!
 //! The outputs follow the inputs directly: they are evaluated when read. A law with
-//! state (the learned law with memory, weights of format `stickslip-state-friction`)
-//! also integrates its state over each communication step (`memory`), and the outputs
-//! are evaluated at the committed state. A
+//! state (`law = lugre`, `rate-and-state`, or the learned law with memory: weights of
+//! format `stickslip-state-friction`) also integrates its state over each
+//! communication step (`memory`), the outputs are evaluated at the committed state, and
+//! the state is an output (`state_outputs`). A
 //! network's features are filled by role: the one with role sliding_velocity from
 //! `sliding_velocity`, normal_force from `normal_force`, and any further features, in
 //! the order the weights file lists them, from `extra_feature[1]` ... `extra_feature[4]`
@@ -19,6 +20,7 @@
 
 use crate::declare::{
     choice_parameter, non_negative, real_input, real_output, real_parameter, weights_parameter,
+    with_memory_law_parameters, LUGRE_PARAMETERS, RATE_STATE_PARAMETERS,
 };
 use crate::model::{Model, ModelInfo, PartialDerivatives};
 use crate::networks::{NetworkError, Networks, DEFAULT_WEIGHTS, WEIGHTS_RESOURCES};
@@ -28,11 +30,16 @@ use crate::variables::{
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use stickslip::friction::{ExponentialLaw, FrictionLaw, LawChoice};
+use stickslip::memory::parameters::{LuGreParameters, RateStateParameters};
+use stickslip::memory::STATE_VARIABLES;
 use stickslip::neural::{FeatureRole, NeuralError, NeuralModel};
 use stickslip::scene::{Scene, SceneError};
 
 mod derivatives;
 mod memory;
+mod state_outputs;
+
+use state_outputs::STATE_OUTPUT;
 
 /// How many features beyond velocity and normal force a network may have.
 pub const EXTRA_FEATURES: usize = 4;
@@ -45,6 +52,12 @@ struct Settings {
     kinetic_coefficient: f64,
     decay: f64,
     weights: String,
+    /// Absent from states saved before `law = lugre` existed: the defaults.
+    #[serde(default)]
+    lugre: LuGreParameters,
+    /// As `lugre`.
+    #[serde(default)]
+    rate_and_state: RateStateParameters,
     sliding_velocity: f64,
     normal_force: f64,
     extra_features: [f64; EXTRA_FEATURES],
@@ -97,6 +110,8 @@ impl Default for Settings {
             kinetic_coefficient: scene.friction.kinetic_coefficient,
             decay: scene.friction.decay,
             weights: DEFAULT_WEIGHTS.into(),
+            lugre: scene.friction.lugre,
+            rate_and_state: scene.friction.rate_and_state,
             sliding_velocity: 0.0,
             normal_force: scene.loading.normal_force,
             extra_features: [0.0; EXTRA_FEATURES],
@@ -113,6 +128,8 @@ struct Outputs {
     velocity: f64,
     coefficient: f64,
     static_limit: f64,
+    /// The law's state, one entry per `STATE_VARIABLES` (0 for those it has not).
+    state: [f64; STATE_VARIABLES.len()],
 }
 
 /// Why the outputs could not be evaluated (the `Model` methods log the message).
@@ -120,6 +137,9 @@ struct Outputs {
 enum EvaluateError {
     #[error(transparent)]
     Network(#[from] NetworkError),
+    /// A parameter or a restored law state that the law refuses.
+    #[error("{0}")]
+    Parameter(String),
     #[error("weights {weights} have more than {EXTRA_FEATURES} features besides sliding velocity and normal force")]
     TooManyFeatures { weights: String },
     #[error("weights {weights}: {source}")]
@@ -154,6 +174,8 @@ pub struct NeuralFriction {
     /// for: an
     /// importer asks column by column, one input at a time, at the same inputs.
     derivatives_at: Option<(Settings, Vec<f64>, PartialDerivatives)>,
+    /// The law with state last built (`memory`).
+    built: Option<memory::BuiltLaw>,
     /// The committed state of a law with state (`memory`); empty otherwise.
     law_state: Vec<f64>,
     /// Where the model is (s): the start time, then the end of the last step.
@@ -168,12 +190,15 @@ impl NeuralFriction {
         scene.friction.static_coefficient = s.static_coefficient;
         scene.friction.kinetic_coefficient = s.kinetic_coefficient;
         scene.friction.decay = s.decay;
+        scene.friction.lugre = s.lugre.clone();
+        scene.friction.rate_and_state = s.rate_and_state.clone();
         scene.loading.normal_force = s.normal_force;
         scene.check().map(|_| ())
     }
 
     fn evaluate(&mut self) -> Result<Outputs, EvaluateError> {
         let s = self.settings.clone();
+        let mut state = [0.0; STATE_VARIABLES.len()];
         let (force, slope) = match s.law {
             LawChoice::Exponential => {
                 let mut law = ExponentialLaw {
@@ -186,9 +211,10 @@ impl NeuralFriction {
                     law.slope(s.sliding_velocity, s.normal_force),
                 )
             }
-            LawChoice::Neural => 'neural: {
-                if let Some(law) = self.state_law()? {
-                    break 'neural self.state_force(&law);
+            LawChoice::Neural | LawChoice::Lugre | LawChoice::RateAndState => 'memory: {
+                if let Some((jacobian, values)) = self.state_jacobian()? {
+                    state = values;
+                    break 'memory (jacobian.force, jacobian.slope);
                 }
                 let mut features = std::mem::take(&mut self.scratch);
                 // Never shared (this model hands its networks to no one), so evaluated in
@@ -217,6 +243,7 @@ impl NeuralFriction {
                 0.0
             },
             static_limit: s.static_coefficient * s.normal_force,
+            state,
         };
         if ![
             outputs.force,
@@ -226,6 +253,7 @@ impl NeuralFriction {
             outputs.static_limit,
         ]
         .iter()
+        .chain(&outputs.state)
         .all(|x| x.is_finite())
         {
             return Err(EvaluateError::NonFiniteOutputs {
@@ -290,6 +318,15 @@ const LAW_OUTPUT: Dependencies = Dependencies {
         KINETIC_COEFFICIENT,
         DECAY,
         WEIGHTS,
+        LUGRE_PARAMETERS[0],
+        LUGRE_PARAMETERS[1],
+        LUGRE_PARAMETERS[2],
+        RATE_STATE_PARAMETERS[0],
+        RATE_STATE_PARAMETERS[1],
+        RATE_STATE_PARAMETERS[2],
+        RATE_STATE_PARAMETERS[3],
+        RATE_STATE_PARAMETERS[4],
+        RATE_STATE_PARAMETERS[5],
     ]),
 };
 
@@ -305,12 +342,14 @@ const STATIC_LIMIT: Dependencies = Dependencies {
     initial: InitialDependencies::InputsAnd(&[STATIC_COEFFICIENT]),
 };
 
-static VARIABLES: &[Variable<NeuralFriction>] = &[
+static VARIABLES: &[Variable<NeuralFriction>] = &with_memory_law_parameters!(
+    |m: NeuralFriction| m.settings.lugre, m.settings.rate_and_state;
+    [
     choice_parameter!(
         LAW,
         "law",
         LawChoice,
-        "Friction law: the network, or the analytical law for comparison",
+        "Friction law: the network, the analytical law for comparison, or a law with state",
         |m: NeuralFriction| m.settings.law
     ),
     real_parameter!(
@@ -340,6 +379,8 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         "Network weights: a file in resources/ or an absolute path",
         |m: NeuralFriction| m.settings.weights
     ),
+    ]
+    [
     real_input!(
         SLIDING_VELOCITY,
         "sliding_velocity",
@@ -431,12 +472,37 @@ static VARIABLES: &[Variable<NeuralFriction>] = &[
         EVALUATED_VELOCITY,
         |m: NeuralFriction| m.outputs.velocity
     ),
-];
+    real_output!(
+        STATE_OUTPUT[0],
+        STATE_VARIABLES[0].name,
+        state_outputs::unit(&STATE_VARIABLES[0]),
+        state_outputs::DESCRIPTION[0],
+        state_outputs::DEPENDS_ON[0],
+        |m: NeuralFriction| m.outputs.state[0]
+    ),
+    real_output!(
+        STATE_OUTPUT[1],
+        STATE_VARIABLES[1].name,
+        state_outputs::unit(&STATE_VARIABLES[1]),
+        state_outputs::DESCRIPTION[1],
+        state_outputs::DEPENDS_ON[1],
+        |m: NeuralFriction| m.outputs.state[1]
+    ),
+    real_output!(
+        STATE_OUTPUT[2],
+        STATE_VARIABLES[2].name,
+        state_outputs::unit(&STATE_VARIABLES[2]),
+        state_outputs::DESCRIPTION[2],
+        state_outputs::DEPENDS_ON[2],
+        |m: NeuralFriction| m.outputs.state[2]
+    ),
+    ]
+);
 
 impl Model for NeuralFriction {
     const INFO: ModelInfo = ModelInfo {
         model_identifier: "NeuralFriction",
-        description: "Kinetic friction force from a trained neural network (or the analytical law), for coupling with StickSlipBeam",
+        description: "Kinetic friction force from a trained neural network (or an analytical law, with or without state), for coupling with StickSlipBeam",
         start_time: 0.0,
         stop_time: 1.2,
         step_size: 1e-3,
@@ -460,6 +526,7 @@ impl Model for NeuralFriction {
             outputs: Outputs::default(),
             scratch: Vec::new(),
             derivatives_at: None,
+            built: None,
             law_state: Vec::new(),
             time: 0.0,
         }
