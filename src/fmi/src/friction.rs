@@ -318,15 +318,15 @@ const LAW_OUTPUT: Dependencies = Dependencies {
         KINETIC_COEFFICIENT,
         DECAY,
         WEIGHTS,
-        LUGRE_PARAMETERS[0],
+        // sigma1, sigma2; a, V_0, mu_0: the laws with state at their initial state.
+        // sigma0 acts through z only (z = 0 at the start), and b, D_c and the
+        // evolution law through theta, where b ln(V_0 theta / D_c) = 0 at the initial
+        // theta = D_c / V_0 (to rounding): they reach the outputs in the steps.
         LUGRE_PARAMETERS[1],
         LUGRE_PARAMETERS[2],
         RATE_STATE_PARAMETERS[0],
-        RATE_STATE_PARAMETERS[1],
-        RATE_STATE_PARAMETERS[2],
         RATE_STATE_PARAMETERS[3],
         RATE_STATE_PARAMETERS[4],
-        RATE_STATE_PARAMETERS[5],
     ]),
 };
 
