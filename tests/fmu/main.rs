@@ -8,6 +8,7 @@ mod directional;
 mod directional_errors;
 mod ffi;
 mod ffi3;
+mod friction_laws;
 mod friction_memory;
 mod fuzz_regressions;
 mod instance;
