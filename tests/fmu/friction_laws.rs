@@ -349,3 +349,70 @@ fn bad_parameters_are_refused_with_the_reason() {
         }
     }
 }
+
+/// The directional derivatives at a committed state away from the initial one (3 steps
+/// of 1e-4 s at 0.02 m/s: the state mid-transient) against central differences of the
+/// outputs read with no step between. Relative steps 1e-6 of each input: truncation
+/// ~1e-12 and rounding ~eps |F| / (1e-6 x) ~1e-10 of the derivative's scale for these
+/// smooth laws (away from v = 0), so 1e-6 relative (plus 1e-9 absolute, for zeros)
+/// bounds both with room.
+#[test]
+fn directional_derivatives_at_the_committed_state_match_central_differences() {
+    let outputs = [
+        "friction_force",
+        "friction_force_slope",
+        "friction_coefficient",
+    ];
+    let inputs = ["sliding_velocity", "normal_force"];
+    for version in VERSIONS {
+        for law in [LawChoice::Lugre, LawChoice::RateAndState] {
+            let (f, _) = initialised(version, law, &[], &[]);
+            let mut f = f.unwrap();
+            set_velocity(&mut f, 2e-2);
+            steps(&mut f, version, 0.0, 1e-4, 3);
+            for (v, normal) in [(0.01, 100.0), (0.03, 80.0), (-0.02, 120.0)] {
+                let x: [f64; 2] = [v, normal];
+                let set = |f: &mut Instance<NeuralFriction>, x: [f64; 2]| {
+                    f.set_real(
+                        &[
+                            vr::<NeuralFriction>("sliding_velocity"),
+                            vr::<NeuralFriction>("normal_force"),
+                        ],
+                        &x,
+                    )
+                    .unwrap();
+                };
+                for (j, input) in inputs.iter().enumerate() {
+                    let h = 1e-6 * x[j].abs();
+                    let mut read = |t: f64| -> Vec<f64> {
+                        let mut p = x;
+                        p[j] += t * h;
+                        set(&mut f, p);
+                        outputs.iter().map(|o| real(&mut f, o)).collect()
+                    };
+                    let (up, down) = (read(1.0), read(-1.0));
+                    set(&mut f, x);
+                    let unknowns: Vec<u32> =
+                        outputs.iter().map(|o| vr::<NeuralFriction>(o)).collect();
+                    let mut exact = vec![0.0; outputs.len()];
+                    f.get_directional_derivative(
+                        &unknowns,
+                        &[vr::<NeuralFriction>(input)],
+                        &[1.0],
+                        &mut exact,
+                    )
+                    .unwrap();
+                    for (o, name) in outputs.iter().enumerate() {
+                        let central = (up[o] - down[o]) / (2.0 * h);
+                        assert!(
+                            (exact[o] - central).abs()
+                                <= 1e-6 * exact[o].abs().max(central.abs()) + 1e-9,
+                            "{version:?} {law:?} d {name} / d {input} at {x:?}: {} vs {central}",
+                            exact[o]
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
