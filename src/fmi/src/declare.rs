@@ -175,7 +175,7 @@ pub const RATE_STATE_PARAMETERS: [u32; 6] = [80, 81, 82, 83, 84, 85];
 /// that has them; `$lugre` and `$rate_state` are the model's `LuGreParameters` and
 /// `RateStateParameters`.
 macro_rules! with_memory_law_parameters {
-    (|$m:ident: $model:ty| $lugre:expr, $rate_state:expr;
+    ($law:literal, |$m:ident: $model:ty| $lugre:expr, $rate_state:expr;
         [$($head:expr),* $(,)?] [$($tail:expr),* $(,)?]) => {
         [
             $($head,)*
@@ -183,7 +183,7 @@ macro_rules! with_memory_law_parameters {
                 $crate::declare::LUGRE_PARAMETERS[0],
                 "friction.lugre.bristle_stiffness",
                 Some("N/m"),
-                "LuGre bristle stiffness sigma0 (law lugre)",
+                concat!("LuGre bristle stiffness sigma0 (", $law, " = lugre)"),
                 |$m: $model| $lugre.bristle_stiffness
             ),
             $crate::declare::real_parameter!(
@@ -204,7 +204,7 @@ macro_rules! with_memory_law_parameters {
                 $crate::declare::RATE_STATE_PARAMETERS[0],
                 "friction.rate_and_state.direct_effect",
                 None,
-                "Rate-and-state direct effect a (law rate-and-state)",
+                concat!("Rate-and-state direct effect a (", $law, " = rate-and-state)"),
                 |$m: $model| $rate_state.direct_effect
             ),
             $crate::declare::real_parameter!(

@@ -31,7 +31,7 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 use stickslip::friction::{ExponentialLaw, FrictionLaw, LawChoice};
 use stickslip::memory::parameters::{LuGreParameters, RateStateParameters};
-use stickslip::memory::STATE_VARIABLES;
+use stickslip::memory::{MemoryLaw, STATE_VARIABLES};
 use stickslip::neural::{FeatureRole, NeuralError, NeuralModel};
 use stickslip::scene::{Scene, SceneError};
 
@@ -175,7 +175,7 @@ pub struct NeuralFriction {
     /// importer asks column by column, one input at a time, at the same inputs.
     derivatives_at: Option<(Settings, Vec<f64>, PartialDerivatives)>,
     /// The law with state last built (`memory`).
-    built: Option<memory::BuiltLaw>,
+    built: Option<(Settings, Box<dyn MemoryLaw>)>,
     /// The committed state of a law with state (`memory`); empty otherwise.
     law_state: Vec<f64>,
     /// Where the model is (s): the start time, then the end of the last step.
@@ -342,7 +342,32 @@ const STATIC_LIMIT: Dependencies = Dependencies {
     initial: InitialDependencies::InputsAnd(&[STATIC_COEFFICIENT]),
 };
 
+/// What the state outputs depend on. The state moves only in a step, so no input
+/// reaches them directly. In Initialization Mode they hold the initial state: z = 0
+/// and psi = 0 whatever the parameters, theta = D_c / V_0 with `law = rate-and-state`
+/// (and 0 with any other law).
+const STATE_OUTPUT_DEPENDS_ON: [Dependencies; STATE_VARIABLES.len()] = [
+    Dependencies {
+        inputs: &[],
+        initial: InitialDependencies::InputsAnd(&[]),
+    },
+    Dependencies {
+        inputs: &[],
+        initial: InitialDependencies::InputsAnd(&[
+            LAW,
+            // D_c and V_0.
+            RATE_STATE_PARAMETERS[2],
+            RATE_STATE_PARAMETERS[3],
+        ]),
+    },
+    Dependencies {
+        inputs: &[],
+        initial: InitialDependencies::InputsAnd(&[]),
+    },
+];
+
 static VARIABLES: &[Variable<NeuralFriction>] = &with_memory_law_parameters!(
+    "law",
     |m: NeuralFriction| m.settings.lugre, m.settings.rate_and_state;
     [
     choice_parameter!(
@@ -477,7 +502,7 @@ static VARIABLES: &[Variable<NeuralFriction>] = &with_memory_law_parameters!(
         STATE_VARIABLES[0].name,
         state_outputs::unit(&STATE_VARIABLES[0]),
         state_outputs::DESCRIPTION[0],
-        state_outputs::DEPENDS_ON[0],
+        STATE_OUTPUT_DEPENDS_ON[0],
         |m: NeuralFriction| m.outputs.state[0]
     ),
     real_output!(
@@ -485,7 +510,7 @@ static VARIABLES: &[Variable<NeuralFriction>] = &with_memory_law_parameters!(
         STATE_VARIABLES[1].name,
         state_outputs::unit(&STATE_VARIABLES[1]),
         state_outputs::DESCRIPTION[1],
-        state_outputs::DEPENDS_ON[1],
+        STATE_OUTPUT_DEPENDS_ON[1],
         |m: NeuralFriction| m.outputs.state[1]
     ),
     real_output!(
@@ -493,7 +518,7 @@ static VARIABLES: &[Variable<NeuralFriction>] = &with_memory_law_parameters!(
         STATE_VARIABLES[2].name,
         state_outputs::unit(&STATE_VARIABLES[2]),
         state_outputs::DESCRIPTION[2],
-        state_outputs::DEPENDS_ON[2],
+        STATE_OUTPUT_DEPENDS_ON[2],
         |m: NeuralFriction| m.outputs.state[2]
     ),
     ]

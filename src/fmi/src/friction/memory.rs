@@ -43,13 +43,6 @@ struct Saved {
     law_state: Vec<f64>,
 }
 
-/// The law with state last built, with the settings it was built from: rebuilt only
-/// when they change, so that a step allocates nothing for it.
-pub(super) struct BuiltLaw {
-    settings: Settings,
-    law: Box<dyn MemoryLaw>,
-}
-
 /// Whether `a` and `b` choose the same law with the same parameters (the inputs may
 /// differ).
 fn same_law(a: &Settings, b: &Settings) -> bool {
@@ -66,28 +59,25 @@ impl NeuralFriction {
     /// The law with state the settings choose, in its committed state (the initial one
     /// before the first step), or `None` for a memoryless law.
     fn memory_law(&mut self) -> Result<Option<&mut dyn MemoryLaw>, EvaluateError> {
+        // The law last built is rebuilt only when the settings choose another (or other
+        // parameters), so that a step allocates nothing for it.
         let fresh = match &self.built {
-            Some(built) => !same_law(&built.settings, &self.settings),
+            Some((settings, _)) => !same_law(settings, &self.settings),
             None => true,
         };
         if fresh {
-            self.built = self.build_law()?.map(|law| BuiltLaw {
-                settings: self.settings.clone(),
-                law,
-            });
+            self.built = self.build_law()?.map(|law| (self.settings.clone(), law));
         }
-        let Some(built) = self.built.as_mut() else {
+        let Some((_, law)) = self.built.as_mut() else {
             return Ok(None);
         };
         if self.law_state.is_empty() {
-            built.law.reset();
+            law.reset();
         } else {
-            built
-                .law
-                .set_state(&self.law_state)
+            law.set_state(&self.law_state)
                 .map_err(|e| EvaluateError::Parameter(e.to_string()))?;
         }
-        Ok(Some(built.law.as_mut()))
+        Ok(Some(law.as_mut()))
     }
 
     /// A new law with state for the settings, its parameters checked first (the laws'
@@ -140,7 +130,14 @@ impl NeuralFriction {
                 outputs[k] = *value;
             }
         }
-        Ok(Some((law.force_at_state(v, normal), outputs)))
+        let at = law.force_at_state(v, normal);
+        let jacobian = LawJacobian {
+            force: at.force,
+            slope: at.slope,
+            force_gradient: at.force_gradient.to_vec(),
+            slope_gradient: at.slope_gradient.to_vec(),
+        };
+        Ok(Some((jacobian, outputs)))
     }
 
     /// Commits one law step over `size` (s) to `to` (s) with the inputs held. The step
@@ -162,7 +159,7 @@ impl NeuralFriction {
             law.commit(step);
         }
         // The law just used (disjoint from `law_state`, so both borrows may live).
-        let state = self.built.as_ref().map_or(&[][..], |b| b.law.state());
+        let state = self.built.as_ref().map_or(&[][..], |(_, law)| law.state());
         if let Some(&value) = state.iter().find(|x| !x.is_finite()) {
             return Err(EvaluateError::NonFiniteState {
                 sliding_velocity: step.sliding_velocity,

@@ -4,9 +4,6 @@
 //! list. Each holds the committed state of the law in use, and 0 when that law has not
 //! that variable (a memoryless law has none).
 
-use super::LAW;
-use crate::declare::RATE_STATE_PARAMETERS;
-use crate::variables::{Dependencies, InitialDependencies};
 use stickslip::memory::{StateVariable, STATE_VARIABLES};
 
 /// Their value references, in the order of `STATE_VARIABLES`.
@@ -53,30 +50,6 @@ pub(super) const DESCRIPTION: [&str; STATE_VARIABLES.len()] = [
     state_description!(0),
     state_description!(1),
     state_description!(2),
-];
-
-/// What the state outputs depend on. The state moves only in a step, so no input
-/// reaches them directly. In Initialization Mode they hold the initial state: z = 0
-/// and psi = 0 whatever the parameters, theta = D_c / V_0 with `law = rate-and-state`
-/// (and 0 with any other law).
-pub(super) const DEPENDS_ON: [Dependencies; STATE_VARIABLES.len()] = [
-    Dependencies {
-        inputs: &[],
-        initial: InitialDependencies::InputsAnd(&[]),
-    },
-    Dependencies {
-        inputs: &[],
-        initial: InitialDependencies::InputsAnd(&[
-            LAW,
-            // D_c and V_0.
-            RATE_STATE_PARAMETERS[2],
-            RATE_STATE_PARAMETERS[3],
-        ]),
-    },
-    Dependencies {
-        inputs: &[],
-        initial: InitialDependencies::InputsAnd(&[]),
-    },
 ];
 
 #[cfg(test)]

@@ -10,17 +10,12 @@
 
 use super::parameters::LuGreParameters;
 use super::relaxation::Relaxation;
-use super::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable};
+use super::{set_checked, ForceAtState, LawStep, MemoryLaw, MemoryStateError, StateVariable};
 use crate::friction::{signum_or_zero, ExponentialLaw, FrictionLaw};
-use crate::jacobian::LawJacobian;
 
-/// LuGre's state: the bristle deflection z (m).
-pub const BRISTLE_DEFLECTION: StateVariable = StateVariable {
-    name: "bristle_deflection",
-    unit: "m",
-    positive: false,
-    description: "LuGre bristle deflection z",
-};
+/// This law's state variable, listed in `crate::memory::STATE_VARIABLES` (defined
+/// there, so that the list imports no law).
+pub use super::BRISTLE_DEFLECTION;
 
 const STATE: [StateVariable; 1] = [BRISTLE_DEFLECTION];
 
@@ -173,18 +168,18 @@ impl MemoryLaw for LuGreLaw {
     /// (mu'' = -alpha mu' for the exponential law), dh/dF_n = -h / F_n. At v = 0 the
     /// kink of |v| takes sign 0, as the step's slope does; where g <= 0 the bristles
     /// carry nothing (as in the step): F = sigma2 v.
-    fn force_at_state(&self, sliding_velocity: f64, normal_force: f64) -> LawJacobian {
+    fn force_at_state(&self, sliding_velocity: f64, normal_force: f64) -> ForceAtState {
         let p = &self.parameters;
         let (sigma0, sigma1, sigma2) = (p.bristle_stiffness, p.bristle_damping, p.viscous_damping);
         let v = sliding_velocity;
         let (mu, mu_slope) = self.steady.coefficient_and_slope(v);
         let g = mu * normal_force;
         if g.is_nan() || g <= 0.0 {
-            return LawJacobian {
+            return ForceAtState {
                 force: sigma2 * v,
                 slope: sigma2,
-                force_gradient: vec![sigma2, 0.0],
-                slope_gradient: vec![0.0, 0.0],
+                force_gradient: [sigma2, 0.0],
+                slope_gradient: [0.0, 0.0],
             };
         }
         let (g1, g2) = (
@@ -203,11 +198,11 @@ impl MemoryLaw for LuGreLaw {
         // The bristle force's coefficient in the rate term: sigma1 sigma0 z.
         let damped = sigma1 * sigma0 * self.state[0];
         let slope = sigma1 * (1.0 - sigma0 * self.state[0] * h_v) + sigma2;
-        LawJacobian {
+        ForceAtState {
             force: sigma0 * self.state[0] + sigma1 * (v - sigma0 * self.state[0] * h) + sigma2 * v,
             slope,
-            force_gradient: vec![slope, damped * h / normal_force],
-            slope_gradient: vec![-damped * h_vv, damped * h_v / normal_force],
+            force_gradient: [slope, damped * h / normal_force],
+            slope_gradient: [-damped * h_vv, damped * h_v / normal_force],
         }
     }
 }

@@ -33,8 +33,6 @@
 //! assert!(law.state()[0] > 0.0 && force > 0.0 && slope > 0.0);
 //! ```
 
-use crate::jacobian::LawJacobian;
-
 pub mod lugre;
 pub mod parameters;
 pub mod rate_state;
@@ -53,6 +51,21 @@ pub struct LawStep {
     pub normal_force: f64,
 }
 
+/// A law's force at a held state and its derivatives over its inputs (v, F_n), in that
+/// order: what `jacobian::LawJacobian` holds for a memoryless law (kept apart from it so
+/// that this module does not depend on `jacobian`, which depends on `friction`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ForceAtState {
+    /// F (N).
+    pub force: f64,
+    /// S = dF/dv (N s/m).
+    pub slope: f64,
+    /// (dF/dv, dF/dF_n) (N s/m, 1).
+    pub force_gradient: [f64; 2],
+    /// (dS/dv, dS/dF_n) = (d2F/dv2, d2F/dv dF_n) (N s^2/m^2, s/m).
+    pub slope_gradient: [f64; 2],
+}
+
 /// One component of a law's state, for names in the FMU and in messages.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct StateVariable {
@@ -66,13 +79,35 @@ pub struct StateVariable {
     pub description: &'static str,
 }
 
+/// LuGre's state: the bristle deflection z (m).
+pub const BRISTLE_DEFLECTION: StateVariable = StateVariable {
+    name: "bristle_deflection",
+    unit: "m",
+    positive: false,
+    description: "LuGre bristle deflection z",
+};
+
+/// Rate-and-state's state theta (s): D_c / V in steady sliding at V.
+pub const STATE_THETA: StateVariable = StateVariable {
+    name: "state_theta",
+    unit: "s",
+    positive: true,
+    description: "rate-and-state state theta (D_c / V in steady sliding at V)",
+};
+
+/// The learned law's state psi = ln(theta V_0 / D_c) (1): 0 in steady sliding at V_0.
+pub const STATE_PSI: StateVariable = StateVariable {
+    name: "state_psi",
+    unit: "1",
+    positive: false,
+    description: "learned law's state psi = ln(theta V_0 / D_c)",
+};
+
 /// Every state variable of the laws with state this crate has, one per law, in a fixed
 /// order: the FMUs output each of them (0 where the run's law has not that variable).
-pub const STATE_VARIABLES: [StateVariable; 3] = [
-    lugre::BRISTLE_DEFLECTION,
-    rate_state::STATE_THETA,
-    crate::neural::memory::stepped::STATE_PSI,
-];
+/// Defined here, not in the laws' modules, so that this module imports none of them
+/// (they import it).
+pub const STATE_VARIABLES: [StateVariable; 3] = [BRISTLE_DEFLECTION, STATE_THETA, STATE_PSI];
 
 /// A state that does not fit a law: wrong length, non-finite, or outside its domain.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -115,11 +150,11 @@ pub trait MemoryLaw: Send {
 
     /// The force at the committed state, held, for the sliding velocity
     /// `sliding_velocity` (m/s) and normal force `normal_force` (N): F (N), S = dF/dv
-    /// (N s/m) and their gradients over (v, F_n) (`LawJacobian`, inputs in that order).
+    /// (N s/m) and their gradients over (v, F_n) ([`ForceAtState`]).
     /// The limit of [`MemoryLaw::step_force_and_slope`]'s force as dt -> 0 (its slope is
     /// the direct effect only: the state does not move). What NeuralFriction outputs
     /// between its steps, and its directional derivatives.
-    fn force_at_state(&self, sliding_velocity: f64, normal_force: f64) -> LawJacobian;
+    fn force_at_state(&self, sliding_velocity: f64, normal_force: f64) -> ForceAtState;
 
     /// Puts the law in the state in which it carries `force` (N) at rest (v = 0) under
     /// `normal_force` (N), where it can: the start of a preloaded run, whose beam is

@@ -17,18 +17,13 @@
 
 use super::parameters::{RateStateParameters, StateEvolution};
 use super::relaxation::Relaxation;
-use super::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable};
+use super::{set_checked, ForceAtState, LawStep, MemoryLaw, MemoryStateError, StateVariable};
 use crate::elementary;
 use crate::friction::FrictionLaw;
-use crate::jacobian::LawJacobian;
 
-/// Rate-and-state's state theta (s): D_c / V in steady sliding at V.
-pub const STATE_THETA: StateVariable = StateVariable {
-    name: "state_theta",
-    unit: "s",
-    positive: true,
-    description: "rate-and-state state theta (D_c / V in steady sliding at V)",
-};
+/// This law's state variable, listed in `crate::memory::STATE_VARIABLES` (defined
+/// there, so that the list imports no law).
+pub use super::STATE_THETA;
 
 const STATE: [StateVariable; 1] = [STATE_THETA];
 
@@ -218,14 +213,14 @@ impl MemoryLaw for RateStateLaw {
 
     /// F = mu(v, theta) F_n at the committed theta: dF/dv = mu_v F_n, dF/dF_n = mu,
     /// dS/dv = mu_vv F_n, dS/dF_n = mu_v (`coefficient`).
-    fn force_at_state(&self, sliding_velocity: f64, normal_force: f64) -> LawJacobian {
+    fn force_at_state(&self, sliding_velocity: f64, normal_force: f64) -> ForceAtState {
         let v = sliding_velocity;
         let (mu, mu_v, _, mu_vv) = self.coefficient(v, elementary::ln(self.state[0]));
-        LawJacobian {
+        ForceAtState {
             force: mu * normal_force,
             slope: mu_v * normal_force,
-            force_gradient: vec![mu_v * normal_force, mu],
-            slope_gradient: vec![mu_vv * normal_force, mu_v],
+            force_gradient: [mu_v * normal_force, mu],
+            slope_gradient: [mu_vv * normal_force, mu_v],
         }
     }
 }

@@ -7,16 +7,13 @@ use std::sync::Arc;
 
 use super::law::LearnedStateLaw;
 use crate::friction::FrictionLaw;
-use crate::jacobian::LawJacobian;
-use crate::memory::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable};
-
-/// The learned law's state psi = ln(theta V_0 / D_c) (1): 0 in steady sliding at V_0.
-pub const STATE_PSI: StateVariable = StateVariable {
-    name: "state_psi",
-    unit: "1",
-    positive: false,
-    description: "learned law's state psi = ln(theta V_0 / D_c)",
+use crate::memory::{
+    set_checked, ForceAtState, LawStep, MemoryLaw, MemoryStateError, StateVariable,
 };
+
+/// This law's state variable, listed in `crate::memory::STATE_VARIABLES` (defined
+/// there, so that the list imports no law).
+pub use crate::memory::STATE_PSI;
 
 const STATE: [StateVariable; 1] = [STATE_PSI];
 
@@ -105,8 +102,15 @@ impl MemoryLaw for LearnedStateFriction {
     }
 
     /// The learned law's Jacobian at the committed psi (`LearnedStateLaw::jacobian`).
-    fn force_at_state(&self, sliding_velocity: f64, normal_force: f64) -> LawJacobian {
-        self.law
-            .jacobian(self.state[0], sliding_velocity, normal_force)
+    fn force_at_state(&self, sliding_velocity: f64, normal_force: f64) -> ForceAtState {
+        let j = self
+            .law
+            .jacobian(self.state[0], sliding_velocity, normal_force);
+        ForceAtState {
+            force: j.force,
+            slope: j.slope,
+            force_gradient: [j.force_gradient[0], j.force_gradient[1]],
+            slope_gradient: [j.slope_gradient[0], j.slope_gradient[1]],
+        }
     }
 }
