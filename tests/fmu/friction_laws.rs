@@ -220,7 +220,7 @@ fn run_bits(f: &mut Instance<NeuralFriction>, version: FmiVersion, t: f64) -> Ve
 
 /// The law state is in the FMU state: restored in the same instance after it went on
 /// (get/set), and serialised and restored in a fresh one, the run that follows is the
-/// uninterrupted run's, bit for bit.
+/// uninterrupted run's, bit for bit. A law state outside the law's domain is refused.
 #[test]
 fn the_state_round_trips_bit_for_bit_for_both_laws() {
     for version in VERSIONS {
@@ -247,6 +247,19 @@ fn the_state_round_trips_bit_for_bit_for_both_laws() {
                 uninterrupted,
                 "{law:?} serialised"
             );
+            // A state that does not fit the law is refused when set (theta must be > 0;
+            // LuGre's z may be any finite value), and the instance runs on unchanged.
+            if law == LawChoice::RateAndState {
+                let mut bad = saved.clone();
+                bad.model["law_state"] = serde_json::json!([-1.0]);
+                assert!(other.set_state(&bad).is_err());
+                other.set_state(&saved).unwrap();
+                assert_eq!(
+                    run_bits(&mut other, version, t),
+                    uninterrupted,
+                    "after refusal"
+                );
+            }
         }
     }
 }

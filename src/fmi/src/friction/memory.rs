@@ -204,9 +204,21 @@ impl NeuralFriction {
             ));
         }
         // Plain data: the outputs are evaluated when next read, so a state saved before
-        // its parameters were checked restores too.
-        self.settings = settings;
-        self.law_state = law_state;
+        // its parameters were checked restores too. The law state, though, must fit the
+        // law (length, theta > 0): checked now, so that fmi2SetFMUstate refuses it
+        // rather than the next read; the model is unchanged on refusal.
+        let previous = (
+            std::mem::replace(&mut self.settings, settings),
+            std::mem::replace(&mut self.law_state, law_state),
+        );
+        if !self.law_state.is_empty() {
+            if let Err(e) = self.memory_law() {
+                (self.settings, self.law_state) = previous;
+                return Err(format!(
+                    "saved NeuralFriction state does not fit its law: {e}"
+                ));
+            }
+        }
         self.time = time;
         Ok(())
     }
