@@ -171,10 +171,19 @@ fn neural_friction_outputs_change_with_exactly_the_inputs_and_parameters_declare
     let weights = weights.to_str().unwrap().to_string();
     let neural = LawChoice::Neural.code();
     let exponential = LawChoice::Exponential.code();
+    let (lugre, rate_and_state) = (LawChoice::Lugre.code(), LawChoice::RateAndState.code());
     // Base values inside the networks' training ranges (inputs are clamped to them).
-    let inputs = || {
+    // Rate-and-state is probed inside its regularisation core (|v K| ~ 1 at
+    // v ~ 4e-25 m/s for the defaults), where its slope depends on mu_0 and V_0 as well:
+    // at 0.05 m/s it is a F_n / |v| (to 1e-40 relative) and would hide them.
+    let inputs = |law: i32| {
+        let v = if law == LawChoice::RateAndState.code() {
+            3e-25
+        } else {
+            0.05
+        };
         vec![
-            ("sliding_velocity", Value::Real(0.05), Value::Real(0.1)),
+            ("sliding_velocity", Value::Real(v), Value::Real(2.0 * v)),
             ("normal_force", Value::Real(100.0), Value::Real(105.0)),
             ("extra_feature[1]", Value::Real(0.1), Value::Real(0.5)),
             ("extra_feature[2]", Value::Real(0.2), Value::Real(-0.5)),
@@ -194,24 +203,69 @@ fn neural_friction_outputs_change_with_exactly_the_inputs_and_parameters_declare
                 Value::String(weights.clone()),
                 Value::String("paper-plain.json".into()),
             ),
+            (
+                "friction.lugre.bristle_stiffness",
+                Value::Real(1e7),
+                Value::Real(2e7),
+            ),
+            (
+                "friction.lugre.bristle_damping",
+                Value::Real(1e3),
+                Value::Real(2e3),
+            ),
+            (
+                "friction.lugre.viscous_damping",
+                Value::Real(0.0),
+                Value::Real(5.0),
+            ),
+            (
+                "friction.rate_and_state.direct_effect",
+                Value::Real(0.01),
+                Value::Real(0.012),
+            ),
+            (
+                "friction.rate_and_state.evolution_effect",
+                Value::Real(0.015),
+                Value::Real(0.02),
+            ),
+            (
+                "friction.rate_and_state.characteristic_slip",
+                Value::Real(1e-5),
+                Value::Real(2e-5),
+            ),
+            (
+                "friction.rate_and_state.reference_velocity",
+                Value::Real(1e-3),
+                Value::Real(2e-3),
+            ),
+            (
+                "friction.rate_and_state.reference_coefficient",
+                Value::Real(0.5),
+                Value::Real(0.55),
+            ),
+            (
+                "friction.rate_and_state.state_evolution",
+                Value::Integer(1),
+                Value::Integer(2),
+            ),
         ]
     };
     let mut seen_outputs = DependencyMap::new();
     let mut seen_initial = DependencyMap::new();
-    for law in [neural, exponential] {
+    for law in [neural, exponential, lugre, rate_and_state] {
         let mut fmu = friction();
         for (name, base, _) in parameters(law) {
             set(&mut fmu, name, &base);
         }
         fmu.setup_experiment(0.0, None).unwrap();
         fmu.enter_initialization_mode().unwrap();
-        let mut knowns = inputs();
+        let mut knowns = inputs(law);
         knowns.extend(parameters(law));
         probe(&mut fmu, &knowns, &mut seen_initial);
         fmu.exit_initialization_mode().unwrap();
         fmu.do_step(0.0, 1e-3).unwrap();
         assert_eq!(fmu.mode(), Mode::StepComplete);
-        probe(&mut fmu, &inputs(), &mut seen_outputs);
+        probe(&mut fmu, &inputs(law), &mut seen_outputs);
     }
     let _ = std::fs::remove_file(&weights);
     let seen_outputs = complete(seen_outputs, &declared_outputs);

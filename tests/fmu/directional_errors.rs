@@ -141,7 +141,8 @@ fn fmi3_buffer_lengths_elements_and_time_are_checked() {
     };
     assert_eq!(status, ERROR);
     assert!(fmu.logged("nSensitivity"));
-    assert_eq!(outputs().len(), 6);
+    // The six law outputs and the three state outputs.
+    assert_eq!(outputs().len(), 9);
 }
 
 /// StickSlipBeam declares no directional derivatives: both versions answer Error and

@@ -11,6 +11,8 @@ use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::instance::{FmiVersion, Instance, SavedState, STATE_VERSION};
 use stickslip_tests::vr;
 
+use crate::friction_laws::{set_velocity, steps};
+
 const WEIGHTS: &str = "rate-and-state-learned.json";
 
 fn learned(version: FmiVersion) -> Instance<NeuralFriction> {
@@ -26,31 +28,11 @@ fn learned(version: FmiVersion) -> Instance<NeuralFriction> {
     f
 }
 
-fn set_velocity(f: &mut Instance<NeuralFriction>, v: f64) {
-    f.set_real(&[vr::<NeuralFriction>("sliding_velocity")], &[v])
-        .unwrap();
-}
-
 fn force(f: &mut Instance<NeuralFriction>) -> f64 {
     let mut out = [0.0];
     f.get_real(&[vr::<NeuralFriction>("friction_force")], &mut out)
         .unwrap();
     out[0]
-}
-
-/// Steps from `t` for `n` steps of `h` in the given FMI version's way; returns the end.
-fn steps(f: &mut Instance<NeuralFriction>, version: FmiVersion, t: f64, h: f64, n: usize) -> f64 {
-    let mut t = t;
-    for _ in 0..n {
-        match version {
-            FmiVersion::V2 => f.do_step(t, h).unwrap(),
-            FmiVersion::V3 => {
-                f.do_step3(t, h).unwrap();
-            }
-        }
-        t += h;
-    }
-    t
 }
 
 fn law() -> LearnedStateFriction {

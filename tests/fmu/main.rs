@@ -8,6 +8,8 @@ mod directional;
 mod directional_errors;
 mod ffi;
 mod ffi3;
+mod friction_laws;
+mod friction_laws_coupled;
 mod friction_memory;
 mod fuzz_regressions;
 mod instance;

@@ -276,7 +276,10 @@ fn the_annotated_choices_are_the_scenes_choices() {
     );
     assert_eq!(
         annotated_choices(&checked_in(FmuKind::NeuralFriction)),
-        vec![declared::<LawChoice>("law")]
+        vec![
+            declared::<LawChoice>("law"),
+            declared::<StateEvolution>("friction.rate_and_state.state_evolution"),
+        ]
     );
 }
 

@@ -150,7 +150,9 @@ fn parameters_are_the_defaults_except_what_the_system_sets() {
             })
             .collect::<Vec<_>>()
     };
-    assert!(beam_starts.len() > 20 && friction_starts.len() == 5);
+    // NeuralFriction: law, three coefficients, weights, and the 3 + 6 parameters of
+    // LuGre and rate-and-state.
+    assert!(beam_starts.len() > 20 && friction_starts.len() == 14);
     assert_eq!(
         ssd_parameters(&coupled, "beam"),
         with(

@@ -162,6 +162,91 @@ macro_rules! weights_parameter {
     };
 }
 
+/// The value references of LuGre's parameters (sigma0, sigma1, sigma2) in every model
+/// that has them ([`with_memory_law_parameters`]).
+pub const LUGRE_PARAMETERS: [u32; 3] = [70, 71, 72];
+/// The value references of rate-and-state's parameters (a, b, D_c, V_0, mu_0, the
+/// evolution law).
+pub const RATE_STATE_PARAMETERS: [u32; 6] = [80, 81, 82, 83, 84, 85];
+
+/// A table with the parameters of the laws with state (`stickslip::memory::parameters`)
+/// between its rows `$head` and `$tail`: value references [`LUGRE_PARAMETERS`] and
+/// [`RATE_STATE_PARAMETERS`], under the scene file's names. One declaration for every model
+/// that has them; `$lugre` and `$rate_state` are the model's `LuGreParameters` and
+/// `RateStateParameters`.
+macro_rules! with_memory_law_parameters {
+    ($law:literal, |$m:ident: $model:ty| $lugre:expr, $rate_state:expr;
+        [$($head:expr),* $(,)?] [$($tail:expr),* $(,)?]) => {
+        [
+            $($head,)*
+            $crate::declare::real_parameter!(
+                $crate::declare::LUGRE_PARAMETERS[0],
+                "friction.lugre.bristle_stiffness",
+                Some("N/m"),
+                concat!("LuGre bristle stiffness sigma0 (", $law, " = lugre)"),
+                |$m: $model| $lugre.bristle_stiffness
+            ),
+            $crate::declare::real_parameter!(
+                $crate::declare::LUGRE_PARAMETERS[1],
+                "friction.lugre.bristle_damping",
+                Some("N.s/m"),
+                "LuGre bristle damping sigma1",
+                |$m: $model| $lugre.bristle_damping
+            ),
+            $crate::declare::real_parameter!(
+                $crate::declare::LUGRE_PARAMETERS[2],
+                "friction.lugre.viscous_damping",
+                Some("N.s/m"),
+                "LuGre viscous damping sigma2",
+                |$m: $model| $lugre.viscous_damping
+            ),
+            $crate::declare::real_parameter!(
+                $crate::declare::RATE_STATE_PARAMETERS[0],
+                "friction.rate_and_state.direct_effect",
+                None,
+                concat!("Rate-and-state direct effect a (", $law, " = rate-and-state)"),
+                |$m: $model| $rate_state.direct_effect
+            ),
+            $crate::declare::real_parameter!(
+                $crate::declare::RATE_STATE_PARAMETERS[1],
+                "friction.rate_and_state.evolution_effect",
+                None,
+                "Rate-and-state evolution effect b",
+                |$m: $model| $rate_state.evolution_effect
+            ),
+            $crate::declare::real_parameter!(
+                $crate::declare::RATE_STATE_PARAMETERS[2],
+                "friction.rate_and_state.characteristic_slip",
+                Some("m"),
+                "Rate-and-state characteristic slip D_c",
+                |$m: $model| $rate_state.characteristic_slip
+            ),
+            $crate::declare::real_parameter!(
+                $crate::declare::RATE_STATE_PARAMETERS[3],
+                "friction.rate_and_state.reference_velocity",
+                Some("m/s"),
+                "Rate-and-state reference velocity V_0",
+                |$m: $model| $rate_state.reference_velocity
+            ),
+            $crate::declare::real_parameter!(
+                $crate::declare::RATE_STATE_PARAMETERS[4],
+                "friction.rate_and_state.reference_coefficient",
+                None,
+                "Rate-and-state steady coefficient mu_0 at V_0",
+                |$m: $model| $rate_state.reference_coefficient
+            ),
+            $crate::declare::choice_parameter!(
+                $crate::declare::RATE_STATE_PARAMETERS[5],
+                "friction.rate_and_state.state_evolution",
+                ::stickslip::memory::parameters::StateEvolution,
+                "Rate-and-state evolution law of theta",
+                |$m: $model| $rate_state.state_evolution
+            ),
+            $($tail,)*
+        ]
+    };
+}
+
 /// An input's check: the value must not be negative (a force, a magnitude).
 pub fn non_negative(v: f64) -> Result<(), String> {
     if v < 0.0 {
@@ -173,5 +258,5 @@ pub fn non_negative(v: f64) -> Result<(), String> {
 
 pub(crate) use {
     choice_parameter, count_parameter, real_input, real_output, real_parameter, row,
-    weights_parameter,
+    weights_parameter, with_memory_law_parameters,
 };

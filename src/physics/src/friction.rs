@@ -13,13 +13,17 @@ use crate::scene::{Friction, FrictionLawKind};
 
 crate::choice! {
     /// The law of a friction model evaluated on its own (the NeuralFriction FMU): the
-    /// network, or the paper's analytical law to compare it with.
+    /// network, the paper's analytical law to compare it with, or a law with state.
     #[choice(name = "FrictionLaw", description = "Which law gives the friction force")]
     pub enum LawChoice {
         /// A trained network (see `neural`).
         Neural = "neural": "the network in weights",
         /// The paper's exponential law (Eq. 6), [`ExponentialLaw`].
         Exponential = "exponential": "mu(v) = mu_k + (mu_s - mu_k) exp(-alpha |v|) (paper, Eq. 6)",
+        /// LuGre with the exponential law as g(v) ([`crate::memory::lugre`]).
+        Lugre = "lugre": "LuGre bristle law, g(v) the exponential law (Canudas de Wit et al. 1995)",
+        /// Rate-and-state friction ([`crate::memory::rate_state`]).
+        RateAndState = "rate-and-state": "regularised Dieterich-Ruina rate-and-state law",
     }
 }
 

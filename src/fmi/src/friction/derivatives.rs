@@ -27,11 +27,8 @@ impl NeuralFriction {
     /// The law's Jacobian at the current inputs, and the input that feeds each of the
     /// law's inputs.
     fn law_jacobian(&mut self) -> Result<(LawJacobian, Vec<u32>), EvaluateError> {
-        if let Some(law) = self.state_law()? {
-            return Ok((
-                self.state_jacobian(&law),
-                vec![SLIDING_VELOCITY, NORMAL_FORCE],
-            ));
+        if let Some((jacobian, _)) = self.state_jacobian()? {
+            return Ok((jacobian, vec![SLIDING_VELOCITY, NORMAL_FORCE]));
         }
         match self.settings.law {
             LawChoice::Exponential => {
@@ -44,7 +41,8 @@ impl NeuralFriction {
                 let jacobian = law.jacobian(s.sliding_velocity, s.normal_force);
                 Ok((jacobian, vec![SLIDING_VELOCITY, NORMAL_FORCE]))
             }
-            LawChoice::Neural => {
+            // A law with state answered above.
+            LawChoice::Neural | LawChoice::Lugre | LawChoice::RateAndState => {
                 let s = &self.settings;
                 let network = self.networks.get(&s.weights)?;
                 let inputs = feature_inputs(network.model(), &s.weights)?;

@@ -1,26 +1,34 @@
-//! NeuralFriction with a law that has state: the learned law with memory
-//! (`stickslip::neural::memory`), chosen by `law = neural` with `weights` naming a file
-//! of format `stickslip-state-friction` (the shipped `rate-and-state-learned.json`).
+//! NeuralFriction with a law that has state (`stickslip::memory::MemoryLaw`), one path
+//! for the three: `law = lugre` (bristle deflection z, g(v) the exponential law of
+//! `static_coefficient`, `kinetic_coefficient`, `decay`), `law = rate-and-state` (theta),
+//! and `law = neural` with `weights` naming a file of format `stickslip-state-friction`
+//! (the learned law with memory, psi; `rate-and-state-learned.json` is shipped).
 //!
-//! - The state psi starts at the law's initial state (0: steady sliding at V_0) when
-//!   initialisation ends.
-//! - Each communication step from t to t + h advances it with the inputs held over the
-//!   step (sliding velocity, normal force as set before the step): the law's step is
-//!   exact for a velocity held over it, so no substeps are needed and any h is stable.
-//! - Outputs are the force at the committed state and the current inputs: setting a
-//!   new velocity between steps moves the force at once by the direct effect, and the
-//!   state follows over the next steps. `friction_force_slope` is dF/dv at the committed
-//!   state (the direct effect's slope), and the directional derivatives are those at
-//!   fixed state.
+//! - The state starts at the law's initial state (`MemoryLaw::reset`: z = 0,
+//!   theta = D_c / V_0, psi = 0) when initialisation ends.
+//! - Each communication step from t to t + h commits one law step over h with the
+//!   inputs held (sliding velocity and normal force as set before the step): the laws
+//!   integrate their state exactly for a velocity held over the step, so no substeps
+//!   are needed and any h is stable. A step of h = 0 keeps the state.
+//! - Outputs are the force at the committed state and the current inputs
+//!   (`MemoryLaw::force_at_state`): setting a new velocity between steps moves the force
+//!   at once by the direct effect, and the state follows over the next steps.
+//!   `friction_force_slope` is dF/dv at the committed state, and the directional
+//!   derivatives are those at fixed state.
 //! - The state is part of the FMU state (state version 4: `{settings, law_state}`);
 //!   states of versions 1 to 3, which NeuralFriction wrote before it had laws with state,
-//!   are the plain settings and restore with the initial law state.
+//!   are the plain settings and restore with the initial law state. Version-4 states
+//!   written before `lugre` and `rate-and-state` came have no parameters for them: they
+//!   read with the defaults (`Settings`).
 
 use super::{EvaluateError, NeuralFriction, Settings};
 use serde::{Deserialize, Serialize};
-use std::sync::Arc;
+use stickslip::friction::{ExponentialLaw, LawChoice};
 use stickslip::jacobian::LawJacobian;
-use stickslip::neural::memory::LearnedStateLaw;
+use stickslip::memory::lugre::LuGreLaw;
+use stickslip::memory::rate_state::RateStateLaw;
+use stickslip::memory::{LawStep, MemoryLaw, STATE_VARIABLES};
+use stickslip::neural::memory::LearnedStateFriction;
 
 /// The first FMU state version whose NeuralFriction state holds the law's state.
 pub(super) const LAW_STATE_VERSION: u32 = 4;
@@ -30,61 +38,136 @@ pub(super) const LAW_STATE_VERSION: u32 = 4;
 #[serde(deny_unknown_fields)]
 struct Saved {
     settings: Settings,
-    /// The committed law state (empty for a law without state).
+    /// The committed law state (empty for a law without state, or before the first
+    /// step: the initial state).
     law_state: Vec<f64>,
 }
 
+/// Whether `a` and `b` choose the same law with the same parameters (the inputs may
+/// differ).
+fn same_law(a: &Settings, b: &Settings) -> bool {
+    a.law == b.law
+        && a.static_coefficient.to_bits() == b.static_coefficient.to_bits()
+        && a.kinetic_coefficient.to_bits() == b.kinetic_coefficient.to_bits()
+        && a.decay.to_bits() == b.decay.to_bits()
+        && a.lugre == b.lugre
+        && a.rate_and_state == b.rate_and_state
+        && a.weights == b.weights
+}
+
 impl NeuralFriction {
-    /// The learned law with state the settings choose, if they choose one.
-    pub(super) fn state_law(&mut self) -> Result<Option<Arc<LearnedStateLaw>>, EvaluateError> {
-        match self.settings.law {
-            stickslip::friction::LawChoice::Neural => {
-                Ok(self.networks.state_law(&self.settings.weights)?)
-            }
-            _ => Ok(None),
+    /// The law with state the settings choose, in its committed state (the initial one
+    /// before the first step), or `None` for a memoryless law.
+    fn memory_law(&mut self) -> Result<Option<&mut dyn MemoryLaw>, EvaluateError> {
+        // The law last built is rebuilt only when the settings choose another (or other
+        // parameters), so that a step allocates nothing for it.
+        let fresh = match &self.built {
+            Some((settings, _)) => !same_law(settings, &self.settings),
+            None => true,
+        };
+        if fresh {
+            self.built = self.build_law()?.map(|law| (self.settings.clone(), law));
         }
+        let Some((_, law)) = self.built.as_mut() else {
+            return Ok(None);
+        };
+        if self.law_state.is_empty() {
+            law.reset();
+        } else {
+            law.set_state(&self.law_state)
+                .map_err(|e| EvaluateError::Parameter(e.to_string()))?;
+        }
+        Ok(Some(law.as_mut()))
     }
 
-    /// The committed state psi (the initial 0 before any step).
-    pub(super) fn psi(&self) -> f64 {
-        self.law_state.first().copied().unwrap_or(0.0)
-    }
-
-    /// Force and slope at the committed state and the current inputs.
-    pub(super) fn state_force(&self, law: &LearnedStateLaw) -> (f64, f64) {
+    /// A new law with state for the settings, its parameters checked first (the laws'
+    /// constructors take checked parameters only).
+    fn build_law(&mut self) -> Result<Option<Box<dyn MemoryLaw>>, EvaluateError> {
         let s = &self.settings;
-        let f = law.force(self.psi(), s.sliding_velocity, s.normal_force);
-        (f.force, f.d_velocity)
+        let refuse = |(field, value, requirement): (&str, f64, &str)| {
+            EvaluateError::Parameter(format!("{field} = {value} must be {requirement}"))
+        };
+        Ok(match s.law {
+            LawChoice::Exponential => None,
+            LawChoice::Lugre => {
+                if let Some(problem) = s.lugre.problem() {
+                    return Err(refuse(problem));
+                }
+                let g = ExponentialLaw {
+                    static_coefficient: s.static_coefficient,
+                    kinetic_coefficient: s.kinetic_coefficient,
+                    decay: s.decay,
+                };
+                Some(Box::new(LuGreLaw::new(s.lugre.clone(), g)))
+            }
+            LawChoice::RateAndState => {
+                if let Some(problem) = s.rate_and_state.problem() {
+                    return Err(refuse(problem));
+                }
+                Some(Box::new(RateStateLaw::new(s.rate_and_state.clone())))
+            }
+            LawChoice::Neural => {
+                let weights = s.weights.clone();
+                self.networks
+                    .state_law(&weights)?
+                    .map(|law| Box::new(LearnedStateFriction::new(law)) as Box<dyn MemoryLaw>)
+            }
+        })
     }
 
-    /// The Jacobian at fixed state over (v, F_n).
-    pub(super) fn state_jacobian(&self, law: &LearnedStateLaw) -> LawJacobian {
-        let s = &self.settings;
-        law.jacobian(self.psi(), s.sliding_velocity, s.normal_force)
+    /// The force at the committed state and the current inputs with its Jacobian over
+    /// (v, F_n), and the state outputs, or `None` for a memoryless law.
+    pub(super) fn state_jacobian(
+        &mut self,
+    ) -> Result<Option<(LawJacobian, [f64; STATE_VARIABLES.len()])>, EvaluateError> {
+        let (v, normal) = (self.settings.sliding_velocity, self.settings.normal_force);
+        let Some(law) = self.memory_law()? else {
+            return Ok(None);
+        };
+        let mut outputs = [0.0; STATE_VARIABLES.len()];
+        for (variable, value) in law.state_variables().iter().zip(law.state()) {
+            if let Some(k) = STATE_VARIABLES.iter().position(|s| s == variable) {
+                outputs[k] = *value;
+            }
+        }
+        let at = law.force_at_state(v, normal);
+        let jacobian = LawJacobian {
+            force: at.force,
+            slope: at.slope,
+            force_gradient: at.force_gradient.to_vec(),
+            slope_gradient: at.slope_gradient.to_vec(),
+        };
+        Ok(Some((jacobian, outputs)))
     }
 
-    /// Advances the state over the step of `size` (s) to `to` (s) with the inputs held;
-    /// the initial state at the first step of a law with state. The step is `size`, the
-    /// importer's communication step size, so that every master that gives the same
-    /// sizes gets the same bits (`Model::do_step`).
+    /// Commits one law step over `size` (s) to `to` (s) with the inputs held. The step
+    /// is `size`, the importer's communication step size, so that every master that
+    /// gives the same sizes gets the same bits (`Model::do_step`).
     pub(super) fn advance_state(&mut self, to: f64, size: f64) -> Result<(), EvaluateError> {
-        let step = size;
         self.time = to;
-        let Some(law) = self.state_law()? else {
+        let step = LawStep {
+            dt: size,
+            sliding_velocity: self.settings.sliding_velocity,
+            normal_force: self.settings.normal_force,
+        };
+        let Some(law) = self.memory_law()? else {
             self.law_state.clear();
             return Ok(());
         };
-        let s = &self.settings;
-        let next = law
-            .step_state(self.psi(), s.sliding_velocity, step.max(0.0))
-            .state;
-        if !next.is_finite() {
+        // dt = 0 (an event iteration's step): nothing slides, the state stays.
+        if size > 0.0 {
+            law.commit(step);
+        }
+        // The law just used (disjoint from `law_state`, so both borrows may live).
+        let state = self.built.as_ref().map_or(&[][..], |(_, law)| law.state());
+        if let Some(&value) = state.iter().find(|x| !x.is_finite()) {
             return Err(EvaluateError::NonFiniteState {
-                sliding_velocity: s.sliding_velocity,
-                state: next,
+                sliding_velocity: step.sliding_velocity,
+                state: value,
             });
         }
-        self.law_state = vec![next];
+        self.law_state.clear();
+        self.law_state.extend_from_slice(state);
         Ok(())
     }
 
@@ -113,15 +196,29 @@ impl NeuralFriction {
                 .map_err(|e| format!("saved NeuralFriction state is malformed: {e}"))?;
             (settings, Vec::new())
         };
+        // The state's own checks (length, finite, theta > 0) are the law's, made when it
+        // is next used; these are the ones that need no law.
         if law_state.len() > 1 || law_state.iter().any(|x| !x.is_finite()) {
             return Err(format!(
                 "saved NeuralFriction law state {law_state:?} is not one finite value"
             ));
         }
         // Plain data: the outputs are evaluated when next read, so a state saved before
-        // its parameters were checked restores too.
-        self.settings = settings;
-        self.law_state = law_state;
+        // its parameters were checked restores too. The law state, though, must fit the
+        // law (length, theta > 0): checked now, so that fmi2SetFMUstate refuses it
+        // rather than the next read; the model is unchanged on refusal.
+        let previous = (
+            std::mem::replace(&mut self.settings, settings),
+            std::mem::replace(&mut self.law_state, law_state),
+        );
+        if !self.law_state.is_empty() {
+            if let Err(e) = self.memory_law() {
+                (self.settings, self.law_state) = previous;
+                return Err(format!(
+                    "saved NeuralFriction state does not fit its law: {e}"
+                ));
+            }
+        }
         self.time = time;
         Ok(())
     }

@@ -10,8 +10,12 @@
 
 use super::parameters::LuGreParameters;
 use super::relaxation::Relaxation;
-use super::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable, BRISTLE_DEFLECTION};
+use super::{set_checked, ForceAtState, LawStep, MemoryLaw, MemoryStateError, StateVariable};
 use crate::friction::{signum_or_zero, ExponentialLaw, FrictionLaw};
+
+/// This law's state variable, listed in `crate::memory::STATE_VARIABLES` (defined
+/// there, so that the list imports no law).
+pub use super::BRISTLE_DEFLECTION;
 
 const STATE: [StateVariable; 1] = [BRISTLE_DEFLECTION];
 
@@ -156,5 +160,49 @@ impl MemoryLaw for LuGreLaw {
 
     fn commit(&mut self, step: LawStep) {
         self.state[0] = self.advance(step).deflection;
+    }
+
+    /// F = sigma0 z + sigma1 (v - sigma0 z h(v)) + sigma2 v with h = |v| / g(v),
+    /// g = mu(|v|) F_n and z the committed deflection. With u = |v| and ' = d/du:
+    /// dh/dv = sign(v) (1/g - u g'/g^2), d2h/dv2 = -2 g'/g^2 - u g''/g^2 + 2 u g'^2/g^3
+    /// (mu'' = -alpha mu' for the exponential law), dh/dF_n = -h / F_n. At v = 0 the
+    /// kink of |v| takes sign 0, as the step's slope does; where g <= 0 the bristles
+    /// carry nothing (as in the step): F = sigma2 v.
+    fn force_at_state(&self, sliding_velocity: f64, normal_force: f64) -> ForceAtState {
+        let p = &self.parameters;
+        let (sigma0, sigma1, sigma2) = (p.bristle_stiffness, p.bristle_damping, p.viscous_damping);
+        let v = sliding_velocity;
+        let (mu, mu_slope) = self.steady.coefficient_and_slope(v);
+        let g = mu * normal_force;
+        if g.is_nan() || g <= 0.0 {
+            return ForceAtState {
+                force: sigma2 * v,
+                slope: sigma2,
+                force_gradient: [sigma2, 0.0],
+                slope_gradient: [0.0, 0.0],
+            };
+        }
+        let (g1, g2) = (
+            mu_slope * normal_force,
+            -self.steady.decay * mu_slope * normal_force,
+        );
+        let u = v.abs();
+        let sign = signum_or_zero(v);
+        let h = u / g;
+        let h_v = sign * (1.0 / g - u * g1 / (g * g));
+        let h_vv = if v == 0.0 {
+            0.0
+        } else {
+            -2.0 * g1 / (g * g) - u * g2 / (g * g) + 2.0 * u * g1 * g1 / (g * g * g)
+        };
+        // The bristle force's coefficient in the rate term: sigma1 sigma0 z.
+        let damped = sigma1 * sigma0 * self.state[0];
+        let slope = sigma1 * (1.0 - sigma0 * self.state[0] * h_v) + sigma2;
+        ForceAtState {
+            force: sigma0 * self.state[0] + sigma1 * (v - sigma0 * self.state[0] * h) + sigma2 * v,
+            slope,
+            force_gradient: [slope, damped * h / normal_force],
+            slope_gradient: [-damped * h_vv, damped * h_v / normal_force],
+        }
     }
 }

@@ -51,6 +51,21 @@ pub struct LawStep {
     pub normal_force: f64,
 }
 
+/// A law's force at a held state and its derivatives over its inputs (v, F_n), in that
+/// order: what `jacobian::LawJacobian` holds for a memoryless law (kept apart from it so
+/// that this module does not depend on `jacobian`, which depends on `friction`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ForceAtState {
+    /// F (N).
+    pub force: f64,
+    /// S = dF/dv (N s/m).
+    pub slope: f64,
+    /// (dF/dv, dF/dF_n) (N s/m, 1).
+    pub force_gradient: [f64; 2],
+    /// (dS/dv, dS/dF_n) = (d2F/dv2, d2F/dv dF_n) (N s^2/m^2, s/m).
+    pub slope_gradient: [f64; 2],
+}
+
 /// One component of a law's state, for names in the FMU and in messages.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct StateVariable {
@@ -90,8 +105,8 @@ pub const STATE_PSI: StateVariable = StateVariable {
 
 /// Every state variable of the laws with state this crate has, one per law, in a fixed
 /// order: the FMUs output each of them (0 where the run's law has not that variable).
-/// They are defined here, not beside their laws, because each law's module imports this
-/// one (the crate's layering test forbids the way back).
+/// Defined here, not in the laws' modules, so that this module imports none of them
+/// (they import it).
 pub const STATE_VARIABLES: [StateVariable; 3] = [BRISTLE_DEFLECTION, STATE_THETA, STATE_PSI];
 
 /// A state that does not fit a law: wrong length, non-finite, or outside its domain.
@@ -132,6 +147,14 @@ pub trait MemoryLaw: Send {
     /// Advances the committed state over `step`: the state
     /// [`MemoryLaw::step_force_and_slope`] used for the same step.
     fn commit(&mut self, step: LawStep);
+
+    /// The force at the committed state, held, for the sliding velocity
+    /// `sliding_velocity` (m/s) and normal force `normal_force` (N): F (N), S = dF/dv
+    /// (N s/m) and their gradients over (v, F_n) ([`ForceAtState`]).
+    /// The limit of [`MemoryLaw::step_force_and_slope`]'s force as dt -> 0 (its slope is
+    /// the direct effect only: the state does not move). What NeuralFriction outputs
+    /// between its steps, and its directional derivatives.
+    fn force_at_state(&self, sliding_velocity: f64, normal_force: f64) -> ForceAtState;
 
     /// Puts the law in the state in which it carries `force` (N) at rest (v = 0) under
     /// `normal_force` (N), where it can: the start of a preloaded run, whose beam is
@@ -185,36 +208,15 @@ pub fn set_checked(
 }
 
 #[cfg(test)]
+mod at_state_tests;
+
+#[cfg(test)]
 mod tests {
     use super::*;
-    use crate::friction::ExponentialLaw;
-    use crate::memory::parameters::{LuGreParameters, RateStateParameters, StateEvolution};
-    use crate::neural::memory::{LearnedStateFriction, LearnedStateLaw, StateLawParameters};
-    use std::sync::Arc;
 
     #[test]
     fn the_list_of_state_variables_is_each_laws_own_and_names_are_unique() {
-        let lugre = lugre::LuGreLaw::new(
-            LuGreParameters::default(),
-            ExponentialLaw {
-                static_coefficient: 0.5,
-                kinetic_coefficient: 0.2,
-                decay: 5.0,
-            },
-        );
-        let rate_state = rate_state::RateStateLaw::new(RateStateParameters::default());
-        let learned = LearnedStateFriction::new(Arc::new(LearnedStateLaw {
-            parameters: StateLawParameters {
-                reference_coefficient: 0.5,
-                reference_velocity: 1e-3,
-                direct_effect: 0.01,
-                evolution_effect: 0.015,
-                characteristic_slip: 1e-5,
-                state_evolution: StateEvolution::Aging,
-            },
-            correction: None,
-        }));
-        let laws: [&dyn MemoryLaw; 3] = [&lugre, &rate_state, &learned];
+        let laws = at_state_tests::example_laws();
         for (law, listed) in laws.iter().zip(STATE_VARIABLES) {
             assert_eq!(law.state_variables(), &[listed]);
         }

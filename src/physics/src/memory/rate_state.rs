@@ -17,9 +17,13 @@
 
 use super::parameters::{RateStateParameters, StateEvolution};
 use super::relaxation::Relaxation;
-use super::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable, STATE_THETA};
+use super::{set_checked, ForceAtState, LawStep, MemoryLaw, MemoryStateError, StateVariable};
 use crate::elementary;
 use crate::friction::FrictionLaw;
+
+/// This law's state variable, listed in `crate::memory::STATE_VARIABLES` (defined
+/// there, so that the list imports no law).
+pub use super::STATE_THETA;
 
 const STATE: [StateVariable; 1] = [STATE_THETA];
 
@@ -92,8 +96,9 @@ impl RateStateLaw {
         }
     }
 
-    /// mu(v, theta) (1), d mu / dv (s/m) and d mu / d ln theta (1), from ln theta.
-    fn coefficient(&self, v: f64, log_theta: f64) -> (f64, f64, f64) {
+    /// mu(v, theta) (1), d mu / dv (s/m), d mu / d ln theta (1) and d2 mu / dv2 (s^2/m^2),
+    /// from ln theta.
+    fn coefficient(&self, v: f64, log_theta: f64) -> (f64, f64, f64, f64) {
         let p = &self.parameters;
         let a = p.direct_effect;
         // Psi / a with Psi = mu_0 + b ln(V_0 theta / D_c).
@@ -108,15 +113,23 @@ impl RateStateLaw {
         if log_w > LARGE_LOG {
             // asinh|w| = ln 2|w|, d asinh / dv = 1 / |v|, w / sqrt(1 + w^2) = sign.
             let mu = a * (log_w + std::f64::consts::LN_2);
-            (sign * mu, a / speed, sign * p.evolution_effect)
+            (
+                sign * mu,
+                a / speed,
+                sign * p.evolution_effect,
+                -sign * a / (speed * speed),
+            )
         } else {
             let w = sign * elementary::exp(log_w);
             let root = (1.0 + w * w).sqrt();
             let k = elementary::exp(exponent - elementary::ln(2.0 * p.reference_velocity));
+            let mu_v = a * k / root;
             (
                 a * elementary::asinh(w),
-                a * k / root,
+                mu_v,
                 p.evolution_effect * w / root,
+                // d/dv of a K (1 + w^2)^(-1/2) with dw/dv = K.
+                -mu_v * w * k / (root * root),
             )
         }
     }
@@ -140,7 +153,7 @@ impl FrictionLaw for RateStateLaw {
         }
         let speed = sliding_velocity.abs();
         let log_theta = elementary::ln(self.parameters.characteristic_slip / speed);
-        let (mu, mu_v, mu_log_theta) = self.coefficient(sliding_velocity, log_theta);
+        let (mu, mu_v, mu_log_theta, _) = self.coefficient(sliding_velocity, log_theta);
         // d ln theta_ss / dv = -1 / v.
         (
             mu * normal_force,
@@ -179,7 +192,7 @@ impl MemoryLaw for RateStateLaw {
     fn step_force_and_slope(&mut self, step: LawStep) -> (f64, f64) {
         let v = step.sliding_velocity;
         let end = self.advance(step.dt, v.abs());
-        let (mu, mu_v, mu_log_theta) = self.coefficient(v, end.log_theta);
+        let (mu, mu_v, mu_log_theta, _) = self.coefficient(v, end.log_theta);
         let sign = if v > 0.0 {
             1.0
         } else if v < 0.0 {
@@ -196,5 +209,18 @@ impl MemoryLaw for RateStateLaw {
     fn commit(&mut self, step: LawStep) {
         self.state[0] =
             elementary::exp(self.advance(step.dt, step.sliding_velocity.abs()).log_theta);
+    }
+
+    /// F = mu(v, theta) F_n at the committed theta: dF/dv = mu_v F_n, dF/dF_n = mu,
+    /// dS/dv = mu_vv F_n, dS/dF_n = mu_v (`coefficient`).
+    fn force_at_state(&self, sliding_velocity: f64, normal_force: f64) -> ForceAtState {
+        let v = sliding_velocity;
+        let (mu, mu_v, _, mu_vv) = self.coefficient(v, elementary::ln(self.state[0]));
+        ForceAtState {
+            force: mu * normal_force,
+            slope: mu_v * normal_force,
+            force_gradient: [mu_v * normal_force, mu],
+            slope_gradient: [mu_vv * normal_force, mu_v],
+        }
     }
 }

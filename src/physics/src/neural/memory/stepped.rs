@@ -7,7 +7,13 @@ use std::sync::Arc;
 
 use super::law::LearnedStateLaw;
 use crate::friction::FrictionLaw;
-use crate::memory::{set_checked, LawStep, MemoryLaw, MemoryStateError, StateVariable, STATE_PSI};
+use crate::memory::{
+    set_checked, ForceAtState, LawStep, MemoryLaw, MemoryStateError, StateVariable,
+};
+
+/// This law's state variable, listed in `crate::memory::STATE_VARIABLES` (defined
+/// there, so that the list imports no law).
+pub use crate::memory::STATE_PSI;
 
 const STATE: [StateVariable; 1] = [STATE_PSI];
 
@@ -93,5 +99,18 @@ impl MemoryLaw for LearnedStateFriction {
             .law
             .step_state(self.state[0], step.sliding_velocity, step.dt)
             .state;
+    }
+
+    /// The learned law's Jacobian at the committed psi (`LearnedStateLaw::jacobian`).
+    fn force_at_state(&self, sliding_velocity: f64, normal_force: f64) -> ForceAtState {
+        let j = self
+            .law
+            .jacobian(self.state[0], sliding_velocity, normal_force);
+        ForceAtState {
+            force: j.force,
+            slope: j.slope,
+            force_gradient: [j.force_gradient[0], j.force_gradient[1]],
+            slope_gradient: [j.slope_gradient[0], j.slope_gradient[1]],
+        }
     }
 }

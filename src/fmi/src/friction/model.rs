@@ -1,0 +1,90 @@
+//! NeuralFriction as an FMI model (`crate::model::Model`): its description, variables,
+//! and the calls the instance makes.
+
+use super::variables::{ARRAYS, VARIABLES};
+use super::*;
+use crate::model::{Model, ModelInfo, PartialDerivatives};
+use crate::networks::WEIGHTS_RESOURCES;
+use crate::variables::{ArrayVariable, Variable};
+use std::path::Path;
+
+impl Model for NeuralFriction {
+    const INFO: ModelInfo = ModelInfo {
+        model_identifier: "NeuralFriction",
+        description: "Kinetic friction force from a trained neural network (or an analytical law, with or without state), for coupling with StickSlipBeam",
+        start_time: 0.0,
+        stop_time: 1.2,
+        step_size: 1e-3,
+        resources: WEIGHTS_RESOURCES,
+        returns_early_at_events: false,
+        provides_directional_derivatives: true,
+    };
+
+    fn variables() -> &'static [Variable<Self>] {
+        VARIABLES
+    }
+
+    fn arrays() -> &'static [ArrayVariable] {
+        ARRAYS
+    }
+
+    fn with_defaults() -> Self {
+        Self {
+            settings: Settings::default(),
+            networks: Networks::default(),
+            outputs: Outputs::default(),
+            scratch: Vec::new(),
+            derivatives_at: None,
+            built: None,
+            law_state: Vec::new(),
+            time: 0.0,
+        }
+    }
+
+    fn load_resources(&mut self, resources: &Path) -> Result<(), String> {
+        self.networks
+            .open_and_read_default(resources)
+            .map_err(|e| e.to_string())
+    }
+
+    fn reset(&mut self) {
+        self.settings = Settings::default();
+        self.outputs = Outputs::default();
+        self.law_state.clear();
+        self.time = 0.0;
+    }
+
+    fn refresh_outputs(&mut self, _start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
+        self.outputs = self.evaluate().map_err(|e| e.to_string())?;
+        Ok(())
+    }
+
+    fn initialize(&mut self, start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
+        self.check().map_err(|e| e.to_string())?;
+        // A law with state starts at its initial state.
+        self.time = start_time;
+        self.law_state.clear();
+        self.outputs = self.evaluate().map_err(|e| e.to_string())?;
+        Ok(())
+    }
+
+    fn do_step(&mut self, to: f64, size: f64, _events: &mut Vec<String>) -> Result<(), String> {
+        self.advance_state(to, size).map_err(|e| e.to_string())?;
+        self.outputs = self.evaluate().map_err(|e| e.to_string())?;
+        Ok(())
+    }
+
+    fn partial_derivatives(&mut self) -> Result<PartialDerivatives, String> {
+        self.derivatives().map_err(|e| e.to_string())
+    }
+
+    /// State version 4: the settings and the law state (`memory`).
+    fn save(&self) -> serde_json::Value {
+        self.saved()
+    }
+
+    /// Versions 1 to 3 hold the settings alone, version 4 the law state besides.
+    fn restore(&mut self, saved: serde_json::Value, version: u32, time: f64) -> Result<(), String> {
+        self.restore_saved(saved, version, time)
+    }
+}

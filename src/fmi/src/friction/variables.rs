@@ -1,0 +1,249 @@
+//! NeuralFriction's variable table: the parameters (the laws' own and, from one
+//! declaration shared with StickSlipBeam, those of the laws with state), the inputs,
+//! the law's outputs and the state outputs, with what each output depends on.
+
+use super::state_outputs::{self, STATE_OUTPUT};
+use super::*;
+use crate::declare::{
+    choice_parameter, non_negative, real_input, real_output, real_parameter, weights_parameter,
+    with_memory_law_parameters, LUGRE_PARAMETERS, RATE_STATE_PARAMETERS,
+};
+use crate::variables::{
+    ArrayVariable, Dependencies, DependencyKind, InitialDependencies, Variable,
+};
+use stickslip::memory::STATE_VARIABLES;
+
+/// NeuralFriction's FMI 3.0 arrays: the extra features.
+pub(super) static ARRAYS: &[ArrayVariable] = &[ArrayVariable {
+    name: "extra_feature",
+    value_reference: EXTRA_FEATURE_ARRAY,
+    description: "Network features besides velocity and normal force, in the order the weights file lists them, if any",
+    elements: &EXTRA_FEATURE,
+}];
+
+/// What the force, its magnitude and the coefficient depend on: the law is evaluated
+/// from the inputs when an output is read, so every input it may read reaches them
+/// directly, with no particular structure (the law is nonlinear in each). The network
+/// reads the extra features it has (none for the shipped ones, up to four), the
+/// exponential law none: the dependencies are those of any law the parameters can
+/// choose. In Initialization Mode also the parameters of the laws.
+const LAW_OUTPUT: Dependencies = Dependencies {
+    inputs: &[
+        (SLIDING_VELOCITY, DependencyKind::Dependent),
+        (NORMAL_FORCE, DependencyKind::Dependent),
+        (EXTRA_FEATURE[0], DependencyKind::Dependent),
+        (EXTRA_FEATURE[1], DependencyKind::Dependent),
+        (EXTRA_FEATURE[2], DependencyKind::Dependent),
+        (EXTRA_FEATURE[3], DependencyKind::Dependent),
+    ],
+    initial: InitialDependencies::InputsAnd(&[
+        LAW,
+        STATIC_COEFFICIENT,
+        KINETIC_COEFFICIENT,
+        DECAY,
+        WEIGHTS,
+        // sigma1, sigma2; a, V_0, mu_0: the laws with state at their initial state.
+        // sigma0 acts through z only (z = 0 at the start), and b, D_c and the
+        // evolution law through theta, where b ln(V_0 theta / D_c) = 0 at the initial
+        // theta = D_c / V_0 (to rounding): they reach the outputs in the steps.
+        LUGRE_PARAMETERS[1],
+        LUGRE_PARAMETERS[2],
+        RATE_STATE_PARAMETERS[0],
+        RATE_STATE_PARAMETERS[3],
+        RATE_STATE_PARAMETERS[4],
+    ]),
+};
+
+/// The velocity the outputs were evaluated at: the input itself.
+const EVALUATED_VELOCITY: Dependencies = Dependencies {
+    inputs: &[(SLIDING_VELOCITY, DependencyKind::Constant)],
+    initial: InitialDependencies::InputsAnd(&[]),
+};
+
+/// The static limit mu_s F_n: the normal force times a fixed parameter.
+const STATIC_LIMIT: Dependencies = Dependencies {
+    inputs: &[(NORMAL_FORCE, DependencyKind::Fixed)],
+    initial: InitialDependencies::InputsAnd(&[STATIC_COEFFICIENT]),
+};
+
+/// What the state outputs depend on. The state moves only in a step, so no input
+/// reaches them directly. In Initialization Mode they hold the initial state: z = 0
+/// and psi = 0 whatever the parameters, theta = D_c / V_0 with `law = rate-and-state`
+/// (and 0 with any other law).
+const STATE_OUTPUT_DEPENDS_ON: [Dependencies; STATE_VARIABLES.len()] = [
+    Dependencies {
+        inputs: &[],
+        initial: InitialDependencies::InputsAnd(&[]),
+    },
+    Dependencies {
+        inputs: &[],
+        initial: InitialDependencies::InputsAnd(&[
+            LAW,
+            // D_c and V_0.
+            RATE_STATE_PARAMETERS[2],
+            RATE_STATE_PARAMETERS[3],
+        ]),
+    },
+    Dependencies {
+        inputs: &[],
+        initial: InitialDependencies::InputsAnd(&[]),
+    },
+];
+
+pub(super) static VARIABLES: &[Variable<NeuralFriction>] = &with_memory_law_parameters!(
+    "law",
+    |m: NeuralFriction| m.settings.lugre, m.settings.rate_and_state;
+    [
+    choice_parameter!(
+        LAW,
+        "law",
+        LawChoice,
+        "Friction law: the network, the analytical law for comparison, or a law with state",
+        |m: NeuralFriction| m.settings.law
+    ),
+    real_parameter!(
+        STATIC_COEFFICIENT,
+        "static_coefficient",
+        None,
+        "Static coefficient mu_s (static limit; exponential law)",
+        |m: NeuralFriction| m.settings.static_coefficient
+    ),
+    real_parameter!(
+        KINETIC_COEFFICIENT,
+        "kinetic_coefficient",
+        None,
+        "Kinetic coefficient mu_k (exponential law)",
+        |m: NeuralFriction| m.settings.kinetic_coefficient
+    ),
+    real_parameter!(
+        DECAY,
+        "decay",
+        Some("s/m"),
+        "Decay alpha (exponential law)",
+        |m: NeuralFriction| m.settings.decay
+    ),
+    weights_parameter!(
+        WEIGHTS,
+        "weights",
+        "Network weights: a file in resources/ or an absolute path",
+        |m: NeuralFriction| m.settings.weights
+    ),
+    ]
+    [
+    real_input!(
+        SLIDING_VELOCITY,
+        "sliding_velocity",
+        Some("m/s"),
+        "Sliding velocity v_rel = v_b - v_tip",
+        |m: NeuralFriction| m.settings.sliding_velocity
+    ),
+    real_input!(
+        NORMAL_FORCE,
+        "normal_force",
+        Some("N"),
+        "Normal force F_n",
+        |m: NeuralFriction| m.settings.normal_force,
+        check = non_negative
+    ),
+    real_input!(
+        EXTRA_FEATURE[0],
+        "extra_feature[1]",
+        None,
+        "First network feature besides velocity and normal force, if any",
+        |m: NeuralFriction| m.settings.extra_features[0]
+    ),
+    real_input!(
+        EXTRA_FEATURE[1],
+        "extra_feature[2]",
+        None,
+        "Second further network feature, if any",
+        |m: NeuralFriction| m.settings.extra_features[1]
+    ),
+    real_input!(
+        EXTRA_FEATURE[2],
+        "extra_feature[3]",
+        None,
+        "Third further network feature, if any",
+        |m: NeuralFriction| m.settings.extra_features[2]
+    ),
+    real_input!(
+        EXTRA_FEATURE[3],
+        "extra_feature[4]",
+        None,
+        "Fourth further network feature, if any",
+        |m: NeuralFriction| m.settings.extra_features[3]
+    ),
+    real_output!(
+        FRICTION_FORCE,
+        "friction_force",
+        Some("N"),
+        "Kinetic friction force, signed: positive for positive sliding velocity",
+        LAW_OUTPUT,
+        |m: NeuralFriction| m.outputs.force
+    ),
+    real_output!(
+        FRICTION_FORCE_MAGNITUDE,
+        "friction_force_magnitude",
+        Some("N"),
+        "Magnitude of the kinetic friction force",
+        LAW_OUTPUT,
+        |m: NeuralFriction| m.outputs.force.abs()
+    ),
+    real_output!(
+        FRICTION_COEFFICIENT,
+        "friction_coefficient",
+        None,
+        "|friction_force| / normal_force (0 when normal_force = 0)",
+        LAW_OUTPUT,
+        |m: NeuralFriction| m.outputs.coefficient
+    ),
+    real_output!(
+        STATIC_LIMIT_OUTPUT,
+        "static_limit",
+        Some("N"),
+        "Static limit mu_s F_n",
+        STATIC_LIMIT,
+        |m: NeuralFriction| m.outputs.static_limit
+    ),
+    real_output!(
+        FRICTION_FORCE_SLOPE,
+        "friction_force_slope",
+        Some("N.s/m"),
+        "dF/dv of friction_force at sliding_velocity (the exponential law: beside its jump at 0)",
+        LAW_OUTPUT,
+        |m: NeuralFriction| m.outputs.slope
+    ),
+    real_output!(
+        EVALUATED_VELOCITY_OUTPUT,
+        "evaluated_velocity",
+        Some("m/s"),
+        "The sliding_velocity the outputs were evaluated at: where friction_force and its slope hold",
+        EVALUATED_VELOCITY,
+        |m: NeuralFriction| m.outputs.velocity
+    ),
+    real_output!(
+        STATE_OUTPUT[0],
+        STATE_VARIABLES[0].name,
+        state_outputs::unit(&STATE_VARIABLES[0]),
+        state_outputs::DESCRIPTION[0],
+        STATE_OUTPUT_DEPENDS_ON[0],
+        |m: NeuralFriction| m.outputs.state[0]
+    ),
+    real_output!(
+        STATE_OUTPUT[1],
+        STATE_VARIABLES[1].name,
+        state_outputs::unit(&STATE_VARIABLES[1]),
+        state_outputs::DESCRIPTION[1],
+        STATE_OUTPUT_DEPENDS_ON[1],
+        |m: NeuralFriction| m.outputs.state[1]
+    ),
+    real_output!(
+        STATE_OUTPUT[2],
+        STATE_VARIABLES[2].name,
+        state_outputs::unit(&STATE_VARIABLES[2]),
+        state_outputs::DESCRIPTION[2],
+        STATE_OUTPUT_DEPENDS_ON[2],
+        |m: NeuralFriction| m.outputs.state[2]
+    ),
+    ]
+);
