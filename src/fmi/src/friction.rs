@@ -5,7 +5,7 @@
 //! state (`law = lugre`, `rate-and-state`, or the learned law with memory: weights of
 //! format `stickslip-state-friction`) also integrates its state over each
 //! communication step (`memory`), the outputs are evaluated at the committed state, and
-//! the state is an output (`state_outputs`). A
+//! the state is an output (`crate::law_state`). A
 //! network's features are filled by role: the one with role sliding_velocity from
 //! `sliding_velocity`, normal_force from `normal_force`, and any further features, in
 //! the order the weights file lists them, from `extra_feature[1]` ... `extra_feature[4]`
@@ -30,7 +30,6 @@ use stickslip::scene::{Scene, SceneError};
 mod derivatives;
 mod memory;
 mod model;
-mod state_outputs;
 mod variables;
 
 /// How many features beyond velocity and normal force a network may have.

@@ -6,13 +6,12 @@
 use super::StickSlipBeam;
 use crate::declare::{
     choice_parameter, count_parameter, non_negative, real_input, real_output, real_parameter,
-    weights_parameter,
+    weights_parameter, with_memory_law_parameters,
 };
 use crate::law_state::law_state_output;
 use crate::variables::{
     Access, Causality, Dependencies, InitialDependencies, Variability, Variable,
 };
-use stickslip::memory::parameters::StateEvolution;
 use stickslip::scene::{
     Clamp, DampingPhase, FidelityLevel, FrictionLawKind, HoldingForce, Inference, InitialState,
     ModalBasis, Scheme, SlidingVelocity, TipVelocity,
@@ -43,7 +42,10 @@ const BEAM_OUTPUT: Dependencies = Dependencies {
     initial: InitialDependencies::AllParametersAnd(&[BELT_SPEED, NORMAL_FORCE]),
 };
 
-pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &[
+pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &with_memory_law_parameters!(
+    "friction.law",
+    |m: StickSlipBeam| m.settings.scene.friction.lugre, m.settings.scene.friction.rate_and_state;
+    [
     real_parameter!(
         1,
         "geometry.length",
@@ -302,69 +304,8 @@ pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &[
         "Moreau-Jean theta",
         |m: StickSlipBeam| m.settings.scene.integrator.theta
     ),
-    real_parameter!(
-        70,
-        "friction.lugre.bristle_stiffness",
-        Some("N/m"),
-        "LuGre bristle stiffness sigma0 (friction.law = lugre)",
-        |m: StickSlipBeam| m.settings.scene.friction.lugre.bristle_stiffness
-    ),
-    real_parameter!(
-        71,
-        "friction.lugre.bristle_damping",
-        Some("N.s/m"),
-        "LuGre bristle damping sigma1",
-        |m: StickSlipBeam| m.settings.scene.friction.lugre.bristle_damping
-    ),
-    real_parameter!(
-        72,
-        "friction.lugre.viscous_damping",
-        Some("N.s/m"),
-        "LuGre viscous damping sigma2",
-        |m: StickSlipBeam| m.settings.scene.friction.lugre.viscous_damping
-    ),
-    real_parameter!(
-        80,
-        "friction.rate_and_state.direct_effect",
-        None,
-        "Rate-and-state direct effect a (friction.law = rate-and-state)",
-        |m: StickSlipBeam| m.settings.scene.friction.rate_and_state.direct_effect
-    ),
-    real_parameter!(
-        81,
-        "friction.rate_and_state.evolution_effect",
-        None,
-        "Rate-and-state evolution effect b",
-        |m: StickSlipBeam| m.settings.scene.friction.rate_and_state.evolution_effect
-    ),
-    real_parameter!(
-        82,
-        "friction.rate_and_state.characteristic_slip",
-        Some("m"),
-        "Rate-and-state characteristic slip D_c",
-        |m: StickSlipBeam| m.settings.scene.friction.rate_and_state.characteristic_slip
-    ),
-    real_parameter!(
-        83,
-        "friction.rate_and_state.reference_velocity",
-        Some("m/s"),
-        "Rate-and-state reference velocity V_0",
-        |m: StickSlipBeam| m.settings.scene.friction.rate_and_state.reference_velocity
-    ),
-    real_parameter!(
-        84,
-        "friction.rate_and_state.reference_coefficient",
-        None,
-        "Rate-and-state steady coefficient mu_0 at V_0",
-        |m: StickSlipBeam| m.settings.scene.friction.rate_and_state.reference_coefficient
-    ),
-    choice_parameter!(
-        85,
-        "friction.rate_and_state.state_evolution",
-        StateEvolution,
-        "Rate-and-state evolution law of theta",
-        |m: StickSlipBeam| m.settings.scene.friction.rate_and_state.state_evolution
-    ),
+    ]
+    [
     // Any finite belt speed (either direction) is a valid input.
     real_input!(
         100,
@@ -502,4 +443,5 @@ pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &[
         .output(|s| s.law_state[1])),
     law_state_output!(212, 2, BEAM_OUTPUT, |m: StickSlipBeam| m
         .output(|s| s.law_state[2])),
-];
+    ]
+);

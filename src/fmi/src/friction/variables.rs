@@ -2,12 +2,12 @@
 //! declaration shared with StickSlipBeam, those of the laws with state), the inputs,
 //! the law's outputs and the state outputs, with what each output depends on.
 
-use super::state_outputs::{self, STATE_OUTPUT};
 use super::*;
 use crate::declare::{
     choice_parameter, non_negative, real_input, real_output, real_parameter, weights_parameter,
     with_memory_law_parameters, LUGRE_PARAMETERS, RATE_STATE_PARAMETERS,
 };
+use crate::law_state::law_state_output;
 use crate::variables::{
     ArrayVariable, Dependencies, DependencyKind, InitialDependencies, Variable,
 };
@@ -70,6 +70,9 @@ const STATIC_LIMIT: Dependencies = Dependencies {
 /// reaches them directly. In Initialization Mode they hold the initial state: z = 0
 /// and psi = 0 whatever the parameters, theta = D_c / V_0 with `law = rate-and-state`
 /// (and 0 with any other law).
+/// The state outputs' value references, in the order of `STATE_VARIABLES`.
+pub(super) const STATE_OUTPUT: [u32; STATE_VARIABLES.len()] = [30, 31, 32];
+
 const STATE_OUTPUT_DEPENDS_ON: [Dependencies; STATE_VARIABLES.len()] = [
     Dependencies {
         inputs: &[],
@@ -221,29 +224,14 @@ pub(super) static VARIABLES: &[Variable<NeuralFriction>] = &with_memory_law_para
         EVALUATED_VELOCITY,
         |m: NeuralFriction| m.outputs.velocity
     ),
-    real_output!(
-        STATE_OUTPUT[0],
-        STATE_VARIABLES[0].name,
-        state_outputs::unit(&STATE_VARIABLES[0]),
-        state_outputs::DESCRIPTION[0],
-        STATE_OUTPUT_DEPENDS_ON[0],
-        |m: NeuralFriction| m.outputs.state[0]
-    ),
-    real_output!(
-        STATE_OUTPUT[1],
-        STATE_VARIABLES[1].name,
-        state_outputs::unit(&STATE_VARIABLES[1]),
-        state_outputs::DESCRIPTION[1],
-        STATE_OUTPUT_DEPENDS_ON[1],
-        |m: NeuralFriction| m.outputs.state[1]
-    ),
-    real_output!(
-        STATE_OUTPUT[2],
-        STATE_VARIABLES[2].name,
-        state_outputs::unit(&STATE_VARIABLES[2]),
-        state_outputs::DESCRIPTION[2],
-        STATE_OUTPUT_DEPENDS_ON[2],
-        |m: NeuralFriction| m.outputs.state[2]
-    ),
+    law_state_output!(STATE_OUTPUT[0], 0, STATE_OUTPUT_DEPENDS_ON[0], |m: NeuralFriction| m
+        .outputs
+        .state[0]),
+    law_state_output!(STATE_OUTPUT[1], 1, STATE_OUTPUT_DEPENDS_ON[1], |m: NeuralFriction| m
+        .outputs
+        .state[1]),
+    law_state_output!(STATE_OUTPUT[2], 2, STATE_OUTPUT_DEPENDS_ON[2], |m: NeuralFriction| m
+        .outputs
+        .state[2]),
     ]
 );
