@@ -4,11 +4,12 @@ Nehalem model), each driven by the small C importer `fmu-build/cross-driver/fmi_
 cross-compiled for its platform, and compared bit for bit with the x86_64 Linux binary
 run natively by the same driver (docs/cross-platform.md).
 
-Cases: platform x FMI version x (StickSlipBeam at each structural fidelity with the
-analytical and the neural law over the paper scene's breakaway and first slip;
-NeuralFriction with either law over a grid of inputs). The driver prints every output
-after every communication step as the hex bits of its value, so "identical" means every
-bit of every output at every step.
+Cases (stickslip_checks.cross_cases): platform x FMI version x (StickSlipBeam at each
+structural fidelity with each law over the paper scene's breakaway and first slip;
+NeuralFriction with either memoryless law over a grid of inputs, and with each law with
+state over a stepped velocity history). The driver prints every output after every
+communication step as the hex bits of its value, so "identical" means every bit of every
+output at every step.
 
 `python -m stickslip_checks.cross_platform` prints the table and writes it to
 <target>/cross-platform.md; python-checks/tests/test_cross_platform.py fails on every
@@ -19,7 +20,6 @@ from __future__ import annotations
 
 import os
 import shutil
-import struct
 import subprocess
 import sys
 import tempfile
@@ -29,17 +29,10 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .artifacts import BEAM, FRICTION, REPO, Model, fidelities, fmu3_paths, fmu_paths, fmu_root
+from .artifacts import BEAM, FRICTION, REPO, Model, fmu3_paths, fmu_paths, fmu_root
+from .cross_cases import Case, cases, write_slip_weights
 
 DRIVER_SOURCES = REPO / "fmu-build" / "cross-driver"
-# The paper scene's breakaway (about 0.4 s) and first slip, at the communication step of
-# the other FMU tests; Wine and qemu are slow, so no longer (docs/cross-platform.md).
-STOP = 0.7
-STEP = 1e-3
-# NeuralFriction: sliding velocities through zero and past the network's training range,
-# at three normal forces.
-VELOCITIES = tuple(v * 1e-3 for v in range(-120, 121, 8)) + (1e-9, -1e-9)
-NORMAL_FORCES = (50.0, 100.0, 150.0)
 SYSROOT_AARCH64 = "/usr/aarch64-linux-gnu"
 
 
@@ -129,80 +122,6 @@ def prepare_wine_prefix(env: dict[str, str]) -> None:
     subprocess.run(["/usr/lib/wine/wineserver", "--wait"], env=env, check=True, timeout=600)
 
 
-def bits(value: float) -> str:
-    return "0x%016x" % struct.unpack("<Q", struct.pack("<d", value))[0]
-
-
-@dataclass(frozen=True)
-class Case:
-    """One model at one setting, and its driver plan."""
-
-    model: str
-    setting: str
-    plan: str
-
-
-def _setter(model: Model, name: str, value) -> str:
-    vr, kind = model.vr[name], model.kind(name)
-    if name in model.choices:
-        return f"int {vr} {model.code(name, value)}"
-    if kind == "Real":
-        return f"real {vr} {bits(float(value))}"
-    if kind == "Integer":
-        return f"int {vr} {int(value)}"
-    if kind == "Boolean":
-        return f"bool {vr} {int(bool(value))}"
-    return f"string {vr} {value}"
-
-
-def _outputs(model: Model) -> list[str]:
-    kinds = {"Real": "real", "Integer": "int", "Boolean": "bool"}
-    return [
-        f"output {kinds[model.kind(v.name)]} {v.valueReference}"
-        for v in model.description.modelVariables
-        if v.causality == "output"
-    ]
-
-
-# StickSlipBeam's laws: (label, friction.law, friction.weights or None for the default).
-BEAM_LAWS = (
-    ("analytical", "exponential", None),
-    ("neural", "neural", None),
-    ("lugre", "lugre", None),
-    ("rate-and-state", "rate-and-state", None),
-    ("learned with memory", "neural", "rate-and-state-learned.json"),
-)
-
-
-def cases(beam: Model, friction: Model) -> list[Case]:
-    """StickSlipBeam at each fidelity with each law (the analytical law is the
-    exponential one; the neural law reads the packaged default weights; the laws with
-    state, LuGre, rate-and-state and the learned one, carry their state through the
-    step), and NeuralFriction with either memoryless law over the input grid."""
-    out = []
-    for fidelity in fidelities(beam):
-        for law, code, weights in BEAM_LAWS:
-            lines = [
-                _setter(beam, "fidelity.level", fidelity),
-                _setter(beam, "friction.law", code),
-            ]
-            if weights is not None:
-                lines.append(_setter(beam, "friction.weights", weights))
-            lines += _outputs(beam)
-            lines += [f"init {bits(0.0)} {bits(STOP)}", f"step {bits(STEP)} {round(STOP / STEP)}"]
-            out.append(Case(BEAM, f"{fidelity}, {law}", "\n".join(lines) + "\n"))
-    for law, code in (("analytical", "exponential"), ("neural", "neural")):
-        lines = [_setter(friction, "law", code), *_outputs(friction)]
-        lines.append(f"init {bits(0.0)} {bits(1.0)}")
-        for force in NORMAL_FORCES:
-            for velocity in VELOCITIES:
-                lines.append(_setter(friction, "sliding_velocity", velocity))
-                lines.append(_setter(friction, "normal_force", force))
-                lines.append(f"step {bits(1e-3)} 1")
-        out.append(Case(FRICTION, f"input grid, {law}", "\n".join(lines) + "\n"))
-    return out
-
-
 @dataclass
 class Result:
     platform: str
@@ -212,6 +131,7 @@ class Result:
     detail: str
     seconds: float = 0.0
     lines: int = 0
+    first_line: str = ""
     last_line: str = ""
 
 
@@ -262,6 +182,8 @@ def run_all(platforms=FOREIGN, out: Path | None = None) -> Run:
             for name, archive in fmus.items():
                 folder = unzip_root / version / name
                 zipfile.ZipFile(archive).extractall(folder)
+                if name == FRICTION:
+                    write_slip_weights(folder / "resources")
                 token = Model.read(archive).guid
                 for case in (c for c in cases(beam, friction) if c.model == name):
                     jobs.append((version, folder, token, case))
@@ -291,7 +213,7 @@ def run_all(platforms=FOREIGN, out: Path | None = None) -> Run:
             same, detail = _compare(reference, output)
             rows = output.splitlines()
             return Result(platform.name, version, case, same, detail, seconds, len(rows),
-                          rows[-1] if rows else "")
+                          rows[0] if rows else "", rows[-1] if rows else "")
 
         with ThreadPoolExecutor(max_workers=2) as pool:
             natives = list(pool.map(native, jobs))

@@ -1,7 +1,10 @@
 """The FMUs' Windows and aarch64 Linux binaries, and the x86_64 one on a CPU without AVX2
 and FMA, give the x86_64 Linux outputs bit for bit (stickslip_checks.cross_platform):
 every output at every communication step of the paper scene's breakaway and first slip,
-each fidelity, both laws, FMI 2.0 and 3.0, and NeuralFriction over an input grid.
+each fidelity, each law (the law state's outputs among them), FMI 2.0 and 3.0;
+NeuralFriction over an input grid with either memoryless law, and over a stepped velocity
+history with each law with state (LuGre, rate-and-state and the learned law, aging and
+slip evolution).
 
 Bit for bit, not within a tolerance: the FMUs promise reproducible results, and the
 physics and the network use one implementation of every transcendental and one
@@ -19,7 +22,7 @@ import zipfile
 
 import pytest
 
-from stickslip_checks import cross_platform
+from stickslip_checks import cross_cases, cross_platform
 from stickslip_checks.artifacts import BEAM, FRICTION, Model, fidelities, fmu3_paths, fmu_paths
 
 
@@ -37,10 +40,11 @@ def run():
 
 def test_every_case_ran_on_every_platform(run):
     beam, friction = (Model.read(fmu_paths()[name]) for name in (BEAM, FRICTION))
-    expected = len(cross_platform.cases(beam, friction))
-    # 3 fidelities x 5 laws of the beam + 2 laws of NeuralFriction.
-    assert expected == len(cross_platform.BEAM_LAWS) * len(fidelities(beam)) + 2
-    assert len(cross_platform.BEAM_LAWS) == 5
+    expected = len(cross_cases.cases(beam, friction))
+    # 3 fidelities x 5 laws of the beam + NeuralFriction's 2 memoryless laws on the grid
+    # and its 5 laws with state on the history.
+    assert len(cross_cases.BEAM_LAWS) == 5 and len(cross_cases.HISTORY_LAWS) == 5
+    assert expected == len(cross_cases.BEAM_LAWS) * len(fidelities(beam)) + 2 + 5
     for platform in cross_platform.FOREIGN:
         for version in ("2.0", "3.0"):
             ran = [r for r in run.results if r.platform == platform.name and r.version == version]
@@ -57,14 +61,39 @@ def test_foreign_binaries_give_the_x86_64_linux_bits(run):
 
 
 def test_the_runs_cover_stick_and_slip(run):
-    """The compared horizon holds the breakaway: the beam's transitions output (its last
-    output, an Integer) is nonzero at the end of every run, else the comparison never saw
-    slip; and every run has all its steps."""
+    """The compared horizon holds the breakaway: the beam's transitions output is nonzero
+    at the end of every run, else the comparison never saw slip; and every run has all
+    its steps."""
     beam_runs = [r for r in run.results if r.case.model == BEAM and r.lines]
     assert beam_runs
     for r in beam_runs:
-        assert r.lines == round(cross_platform.STOP / cross_platform.STEP), r
-        assert int(r.last_line.split()[-1]) > 0, r
+        assert r.lines == round(cross_cases.STOP / cross_cases.STEP), r
+        assert int(r.case.column(r.last_line, "transitions")) > 0, r
+
+
+# The state output each law with state writes (the others stay 0).
+STATE_OUTPUT = {"lugre": "bristle_deflection", "rate-and-state": "state_theta",
+                "learned with memory": "state_psi"}
+
+
+def _state_output(setting: str) -> str:
+    return next(name for law, name in STATE_OUTPUT.items() if f", {law}" in setting)
+
+
+def test_the_compared_law_states_move(run):
+    """The state outputs are among the compared columns and are not constant: the law's
+    own state output at the last step differs from the first step's, so their bits were
+    compared through an evolving state, in the beam's runs and in NeuralFriction's
+    histories; and every history run has all its steps."""
+    stateful = [r for r in run.results if r.lines and any(
+        f", {law}" in r.case.setting for law in STATE_OUTPUT)]
+    # 3 fidelities x 3 laws with state of the beam + 5 histories, per platform and version.
+    assert len(stateful) == len(cross_platform.FOREIGN) * 2 * (3 * 3 + 5)
+    for r in stateful:
+        name = _state_output(r.case.setting)
+        assert r.case.column(r.last_line, name) != r.case.column(r.first_line, name), (name, r)
+        if r.case.model == FRICTION:
+            assert r.lines == cross_cases.history_steps(), r
 
 
 @pytest.mark.parametrize("version", ["2.0", "3.0"])
