@@ -16,6 +16,9 @@
  *   output real|int|bool VR                                  print this after each step
  *   init START STOP                                          initialisation, stop time
  *   step H N                                                 N steps of H, print each
+ * Lines after init set inputs for the steps that follow: a plan with set lines between
+ * its step lines drives a history (NeuralFriction's laws with state integrate their state
+ * over each step with the inputs held, python-checks' cross_cases.HISTORY).
  * Each step prints: "t=<bits of the time after the step> <output>..." with a real as
  * its 16 hex digits and an int or bool as a decimal.
  *
