@@ -293,16 +293,11 @@ pub fn coupled() -> System {
 /// NeuralFriction integrates over each communication step): the coupled system with a
 /// law that has state, for the masters (issue 24).
 pub fn coupled_with_memory() -> System {
-    let mut system = coupled();
-    system.name = "StickSlipCoupledMemory";
-    system.description = "StickSlipBeam (friction.law = external, external.coupling = signed) coupled to NeuralFriction running the shipped learned law with memory (rate-and-state-learned.json)";
-    let friction = system
-        .components
-        .iter_mut()
-        .find(|c| c.fmu == FmuKind::NeuralFriction)
-        .expect("the coupled system has a NeuralFriction");
-    friction.set = vec![("weights", Setting::String("rate-and-state-learned.json"))];
-    system
+    with_friction(
+        "StickSlipCoupledMemory",
+        "StickSlipBeam (friction.law = external, external.coupling = signed) coupled to NeuralFriction running the shipped learned law with memory (rate-and-state-learned.json)",
+        ("weights", Setting::String("rate-and-state-learned.json")),
+    )
 }
 
 /// [`coupled`] with NeuralFriction running `law = rate-and-state` at its default
@@ -330,6 +325,16 @@ pub fn coupled_lugre() -> System {
 /// [`coupled`] under `name`, with NeuralFriction's `law` choice set to `law` (the other
 /// parameters at their defaults).
 fn with_law(name: &'static str, description: &'static str, law: &'static str) -> System {
+    with_friction(name, description, ("law", Setting::Choice(law)))
+}
+
+/// [`coupled`] under `name`, with one parameter of NeuralFriction set (the others at
+/// their defaults).
+fn with_friction(
+    name: &'static str,
+    description: &'static str,
+    setting: (&'static str, Setting),
+) -> System {
     let mut system = coupled();
     system.name = name;
     system.description = description;
@@ -338,7 +343,7 @@ fn with_law(name: &'static str, description: &'static str, law: &'static str) ->
         .iter_mut()
         .find(|c| c.fmu == FmuKind::NeuralFriction)
         .expect("the coupled system has a NeuralFriction");
-    friction.set = vec![("law", Setting::Choice(law))];
+    friction.set = vec![setting];
     system
 }
 

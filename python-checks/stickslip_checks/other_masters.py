@@ -344,6 +344,15 @@ def run_fmpy_fmu(
     )
 
 
+def run_container(container: Path, record: tuple[tuple[str, str], ...]) -> Series:
+    """A container of a system (build_container) run by fmpy, its outputs `record`
+    (instance, variable) under those names, as the other masters' runs give them (the
+    container names them `instance.variable`)."""
+    dotted = tuple(f"{instance}.{name}" for instance, name in record)
+    run = run_fmpy_fmu(container, dotted)
+    return Series(run.index, {o: run.values["", d] for o, d in zip(record, dotted)})
+
+
 # ----------------------------------------------------------------------------- fmpy.ssp
 
 
@@ -515,16 +524,13 @@ def compare_coupled(fmus: artifacts.Fmus, system: str = COUPLED) -> list[Compari
         "libcosim (SSP)": run_libcosim(ssp=ssp, record=outputs),
         "Ecos (SSP)": run_ecos(ssp=ssp, record=outputs),
     }
-    dotted = tuple(f"{i}.{v}" for i, v in outputs)
     with tempfile.TemporaryDirectory(prefix="stickslip-container-") as tmp:
         links = csv_path(system).read_text()
         for sequential in (False, True):
             label = "fmucontainer -sequential" if sequential else "fmucontainer"
             folder = Path(tmp) / ("sequential" if sequential else "parallel")
             container, _ = build_container(links, folder, system, sequential=sequential)
-            run = run_fmpy_fmu(container, dotted)
-            # Under the names the other masters use.
-            series[label] = Series(run.index, {o: run.values["", d] for o, d in zip(outputs, dotted)})
+            series[label] = run_container(container, outputs)
     series["fmpy.ssp"] = run_fmpy_ssp(ssp, parameters=ssd_parameter_set(ssp), record=outputs)
     rows = []
     for output in outputs:

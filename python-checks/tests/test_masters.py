@@ -344,14 +344,11 @@ def test_the_coupled_system_with_each_state_law_equals_our_masters(built, tmp_pa
         "Ecos": (other_masters.run_ecos(ssp=ssp, record=outputs), jacobi),
     }
     csv = other_masters.csv_path(system).read_text()
-    dotted = tuple(f"{i}.{v}" for i, v in outputs)
     containers = (("parallel", False, jacobi), ("sequential", True, gauss_seidel))
     for label, sequential, expected in containers:
         # The label names the container too: no leading "-" (fmucontainer's arguments).
         container, _ = other_masters.build_container(csv, tmp_path / label, label, sequential=sequential)
-        run = other_masters.run_fmpy_fmu(container, dotted)
-        values = {o: run.values["", d] for o, d in zip(outputs, dotted)}
-        runs[label] = (other_masters.Series(run.index, values), expected)
+        runs[label] = (other_masters.run_container(container, outputs), expected)
     for label, (series, expected) in runs.items():
         for output in outputs:
             assert_bit_identical(series, output, expected[output], f"{system} {label} {output[1]}")
