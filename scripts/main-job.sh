@@ -71,7 +71,7 @@ echo
 echo "== FMI 3.0 events: early return at stick/slip switches and Event Mode, coupling error against FMI 2.0 Gauss-Seidel"
 "$python" -m stickslip_checks.cosim_events "$out"
 echo
-echo "== The coupled system's SSP file in other masters: libcosim, Ecos, fmucontainer, fmpy.ssp"
+echo "== The coupled systems' SSP files in other masters (the network, the learned law, rate-and-state, LuGre): libcosim, Ecos, fmucontainer, fmpy.ssp"
 "$python" -m stickslip_checks.masters "$out"
 echo
 echo "== Stick-slip map: Dask sweep of StickSlipBeam.fmu over belt speed (LocalCluster, 2 workers)"

@@ -293,15 +293,57 @@ pub fn coupled() -> System {
 /// NeuralFriction integrates over each communication step): the coupled system with a
 /// law that has state, for the masters (issue 24).
 pub fn coupled_with_memory() -> System {
+    with_friction(
+        "StickSlipCoupledMemory",
+        "StickSlipBeam (friction.law = external, external.coupling = signed) coupled to NeuralFriction running the shipped learned law with memory (rate-and-state-learned.json)",
+        ("weights", Setting::String("rate-and-state-learned.json")),
+    )
+}
+
+/// [`coupled`] with NeuralFriction running `law = rate-and-state` at its default
+/// parameters (the scene's: aging law, b > a, stick-slip on the paper's beam): the
+/// coupled system with a state-variable law whose state output `state_theta` the
+/// masters can record.
+pub fn coupled_rate_and_state() -> System {
+    with_law(
+        "StickSlipCoupledRateState",
+        "StickSlipBeam (friction.law = external, external.coupling = signed) coupled to NeuralFriction running law = rate-and-state (default parameters)",
+        "rate-and-state",
+    )
+}
+
+/// [`coupled`] with NeuralFriction running `law = lugre` at its default parameters
+/// (bristle state `bristle_deflection`, g(v) NeuralFriction's exponential law).
+pub fn coupled_lugre() -> System {
+    with_law(
+        "StickSlipCoupledLuGre",
+        "StickSlipBeam (friction.law = external, external.coupling = signed) coupled to NeuralFriction running law = lugre (default parameters)",
+        "lugre",
+    )
+}
+
+/// [`coupled`] under `name`, with NeuralFriction's `law` choice set to `law` (the other
+/// parameters at their defaults).
+fn with_law(name: &'static str, description: &'static str, law: &'static str) -> System {
+    with_friction(name, description, ("law", Setting::Choice(law)))
+}
+
+/// [`coupled`] under `name`, with one parameter of NeuralFriction set (the others at
+/// their defaults).
+fn with_friction(
+    name: &'static str,
+    description: &'static str,
+    setting: (&'static str, Setting),
+) -> System {
     let mut system = coupled();
-    system.name = "StickSlipCoupledMemory";
-    system.description = "StickSlipBeam (friction.law = external, external.coupling = signed) coupled to NeuralFriction running the shipped learned law with memory (rate-and-state-learned.json)";
+    system.name = name;
+    system.description = description;
     let friction = system
         .components
         .iter_mut()
         .find(|c| c.fmu == FmuKind::NeuralFriction)
         .expect("the coupled system has a NeuralFriction");
-    friction.set = vec![("weights", Setting::String("rate-and-state-learned.json"))];
+    friction.set = vec![setting];
     system
 }
 
@@ -322,7 +364,13 @@ pub fn monolithic() -> System {
 
 /// Every system fmu-build writes.
 pub fn systems() -> Vec<System> {
-    vec![coupled(), coupled_with_memory(), monolithic()]
+    vec![
+        coupled(),
+        coupled_with_memory(),
+        coupled_rate_and_state(),
+        coupled_lugre(),
+        monolithic(),
+    ]
 }
 
 /// The variables of an FMU's table as ports.

@@ -45,8 +45,21 @@ T_END = 0.7
 COUPLED = "StickSlipCoupled"
 # COUPLED with NeuralFriction running the shipped learned law with memory (issue 24).
 COUPLED_MEMORY = "StickSlipCoupledMemory"
-# What each coupled system sets on NeuralFriction (fmu_build::ssp::coupled_with_memory).
-FRICTION_SETTINGS = {COUPLED: {}, COUPLED_MEMORY: {"weights": "rate-and-state-learned.json"}}
+# COUPLED with NeuralFriction running law = rate-and-state and law = lugre at their
+# default parameters (fmu_build::ssp::coupled_rate_and_state, coupled_lugre).
+COUPLED_RATE_STATE = "StickSlipCoupledRateState"
+COUPLED_LUGRE = "StickSlipCoupledLuGre"
+# What each coupled system sets on NeuralFriction (fmu_build::ssp::coupled_with_memory,
+# coupled_rate_and_state, coupled_lugre).
+FRICTION_SETTINGS = {
+    COUPLED: {},
+    COUPLED_MEMORY: {"weights": "rate-and-state-learned.json"},
+    COUPLED_RATE_STATE: {"law": "rate-and-state"},
+    COUPLED_LUGRE: {"law": "lugre"},
+}
+# The law's state output each coupled system is compared on besides the tip deflection
+# (NeuralFriction's STATE_VARIABLES outputs; the others keep them at 0).
+STATE_OF = {COUPLED_RATE_STATE: ("friction", "state_theta"), COUPLED_LUGRE: ("friction", "bristle_deflection")}
 MONOLITHIC = "StickSlipMonolithic"
 PARAMETER_SET = "initialValues"
 # Instance names of the components in those systems.
@@ -331,6 +344,15 @@ def run_fmpy_fmu(
     )
 
 
+def run_container(container: Path, record: tuple[tuple[str, str], ...]) -> Series:
+    """A container of a system (build_container) run by fmpy, its outputs `record`
+    (instance, variable) under those names, as the other masters' runs give them (the
+    container names them `instance.variable`)."""
+    dotted = tuple(f"{instance}.{name}" for instance, name in record)
+    run = run_fmpy_fmu(container, dotted)
+    return Series(run.index, {o: run.values["", d] for o, d in zip(record, dotted)})
+
+
 # ----------------------------------------------------------------------------- fmpy.ssp
 
 
@@ -396,21 +418,40 @@ def reference_coupled(
     clock: str = "float",
 ) -> np.ndarray:
     """Our master (master.run_coupled) on the coupled system `system` as its SSP file
-    sets it up (signed coupling; the shipped plain network, or the learned law with
-    memory), counting time as `clock` says (master.CLOCKS): the beam's tip deflection at
+    sets it up (signed coupling; NeuralFriction with the system's FRICTION_SETTINGS),
+    counting time as `clock` says (master.CLOCKS): the beam's tip deflection at
     0, h, ..., t_end."""
+    tip = ("beam", "tip_deflection")
+    return reference_outputs(fmus, scheme, (tip,), h=h, t_end=t_end, system=system, clock=clock)[tip]
+
+
+def reference_outputs(
+    fmus,
+    scheme: str,
+    outputs: tuple[tuple[str, str], ...],
+    *,
+    h: float = H,
+    t_end: float = T_END,
+    system: str = COUPLED,
+    clock: str = "float",
+) -> dict[tuple[str, str], np.ndarray]:
+    """As reference_coupled, for the `outputs` (instance, variable) of either FMU."""
+    fmu_of = {instance: fmu for fmu, instance in INSTANCES.items()}
+    record: dict[str, list[str]] = {}
+    for instance, name in outputs:
+        record.setdefault(fmu_of[instance], []).append(name)
     trace = master.run_coupled(
         fmus,
         h,
         t_end,
         beam={},
         friction=FRICTION_SETTINGS[system],
-        record={BEAM: ["tip_deflection"]},
+        record=record,
         scheme=scheme,
         coupling="signed",
         clock=clock,
     )
-    return trace[BEAM, "tip_deflection"]
+    return {(instance, name): trace[fmu_of[instance], name] for instance, name in outputs}
 
 
 def reference_beam(fmus, parameters: dict, *, h: float = H, t_end: float = T_END) -> np.ndarray:
@@ -452,32 +493,36 @@ CLOCK_OF = {"libcosim (SSP)": "nanoseconds"}
 
 @dataclass
 class Comparison:
-    """One master on the coupled system: the largest |tip deflection - ours| (m) against
-    our Jacobi and Gauss-Seidel masters, the scheme it runs (None: neither) and whether
-    it produced a NaN after the start."""
+    """One master on the coupled system, one output (the beam's tip deflection, or the
+    law's state): the largest |output - ours| against our Jacobi and Gauss-Seidel
+    masters, the scheme it runs (None: neither) and whether it produced a NaN after the
+    start."""
 
     label: str
     scheme: str | None
     jacobi: float
     gauss_seidel: float
     nan: bool
+    output: str = "beam.tip_deflection"
 
 
 def compare_coupled(fmus: artifacts.Fmus, system: str = COUPLED) -> list[Comparison]:
-    """The coupled system `system` (COUPLED or COUPLED_MEMORY) in libcosim, Ecos,
-    fmucontainer (parallel and sequential) and fmpy.ssp, each against our masters."""
-    name = ("beam", "tip_deflection")
+    """The coupled system `system` (COUPLED, COUPLED_MEMORY, COUPLED_RATE_STATE or
+    COUPLED_LUGRE) in libcosim, Ecos, fmucontainer (parallel and sequential) and
+    fmpy.ssp, each against our masters: one row per master for the tip deflection, and
+    one per master for the law's state output (STATE_OF) where the system has one."""
+    outputs = (("beam", "tip_deflection"), *((STATE_OF[system],) if system in STATE_OF else ()))
     n = round(T_END / H)
     clocks = {"float", *CLOCK_OF.values()}
     reference = {
-        (s, c): reference_coupled(fmus, s, system=system, clock=c)
+        (s, c): reference_outputs(fmus, s, outputs, system=system, clock=c)
         for s in master.SCHEMES
         for c in clocks
     }
     ssp = ssp_path(system)
-    runs = {
-        "libcosim (SSP)": run_libcosim(ssp=ssp).at_grid(name, n),
-        "Ecos (SSP)": run_ecos(ssp=ssp).at_grid(name, n),
+    series = {
+        "libcosim (SSP)": run_libcosim(ssp=ssp, record=outputs),
+        "Ecos (SSP)": run_ecos(ssp=ssp, record=outputs),
     }
     with tempfile.TemporaryDirectory(prefix="stickslip-container-") as tmp:
         links = csv_path(system).read_text()
@@ -485,40 +530,45 @@ def compare_coupled(fmus: artifacts.Fmus, system: str = COUPLED) -> list[Compari
             label = "fmucontainer -sequential" if sequential else "fmucontainer"
             folder = Path(tmp) / ("sequential" if sequential else "parallel")
             container, _ = build_container(links, folder, system, sequential=sequential)
-            series = run_fmpy_fmu(container, ("beam.tip_deflection",))
-            runs[label] = series.at_grid(("", "beam.tip_deflection"), n)
-    runs["fmpy.ssp"] = run_fmpy_ssp(ssp, parameters=ssd_parameter_set(ssp)).at_grid(name, n)
-    return [
-        Comparison(
-            label,
-            SCHEME_OF[label],
-            deviation(x, reference[master.JACOBI, CLOCK_OF.get(label, "float")]),
-            deviation(x, reference[master.GAUSS_SEIDEL, CLOCK_OF.get(label, "float")]),
-            bool(np.isnan(x[1:]).any()),
-        )
-        for label, x in runs.items()
-    ]
+            series[label] = run_container(container, outputs)
+    series["fmpy.ssp"] = run_fmpy_ssp(ssp, parameters=ssd_parameter_set(ssp), record=outputs)
+    rows = []
+    for output in outputs:
+        for label, run in series.items():
+            x = run.at_grid(output, n)
+            clock = CLOCK_OF.get(label, "float")
+            rows.append(
+                Comparison(
+                    label,
+                    SCHEME_OF[label],
+                    deviation(x, reference[master.JACOBI, clock][output]),
+                    deviation(x, reference[master.GAUSS_SEIDEL, clock][output]),
+                    bool(np.isnan(x[1:]).any()),
+                    ".".join(output),
+                )
+            )
+    return rows
 
 
-HEADERS = ["master", "scheme", "max_dev_from_jacobi_m", "max_dev_from_gauss_seidel_m"]
+HEADERS = ["master", "scheme", "output", "max_dev_from_jacobi", "max_dev_from_gauss_seidel"]
 
 
 def table(rows: list[Comparison]) -> str:
-    """max |tip deflection - our master's| (m), one line per master."""
+    """max |output - our master's| (in the output's unit), one line per master and output."""
     cells = [
-        [r.label, r.scheme or "neither", f"{r.jacobi:.4g}", f"{r.gauss_seidel:.4g}"]
+        [r.label, r.scheme or "neither", r.output, f"{r.jacobi:.4g}", f"{r.gauss_seidel:.4g}"]
         for r in rows
     ]
-    return format_table(["master", "runs", "Jacobi", "Gauss-Seidel"], cells)
+    return format_table(["master", "runs", "output", "Jacobi", "Gauss-Seidel"], cells)
 
 
 def csv_rows(rows: list[Comparison]) -> list[list[str]]:
-    return [[r.label, r.scheme or "", repr(r.jacobi), repr(r.gauss_seidel)] for r in rows]
+    return [[r.label, r.scheme or "", r.output, repr(r.jacobi), repr(r.gauss_seidel)] for r in rows]
 
 
 def to_frame(rows: list[Comparison]) -> pd.DataFrame:
     """The rows of masters_coupled.csv as a DataFrame."""
-    return frame(HEADERS, csv_rows(rows)).astype({h: float for h in HEADERS[2:]})
+    return frame(HEADERS, csv_rows(rows)).astype({h: float for h in HEADERS[3:]})
 
 
 def write_outputs(rows: list[Comparison], out: Path, name: str = "masters_coupled.csv") -> Path:

@@ -7,8 +7,9 @@ users drive it (stickslip_checks.other_masters). For each master:
 - StickSlipBeam with no parameter given equals our master (fmpy) bit for bit;
 - parameters set through the master (non-default choices) give what fmpy gives with
   the same settings, bit for bit, and differ from the defaults;
-- the coupled system (StickSlipCoupled) equals our Jacobi or Gauss-Seidel master bit
-  for bit, whichever scheme the master runs;
+- the coupled systems (StickSlipCoupled, and NeuralFriction with the learned law with
+  memory, rate-and-state and LuGre) equal our Jacobi or Gauss-Seidel master bit for bit,
+  whichever scheme the master runs, in the tip deflection and the law's state;
 - an FMU error at initialisation (a negative Young's modulus) reaches the user, or we
   record exactly what the user sees (docs/cosimulation.md, "Masters tested").
 
@@ -34,7 +35,16 @@ from fmpy.validation import validate_fmu
 from stickslip_checks import other_masters
 from stickslip_checks.artifacts import BEAM, FRICTION, fmu_paths
 from stickslip_checks.master import COUPLINGS, GAUSS_SEIDEL, JACOBI, run_coupled
-from stickslip_checks.other_masters import COUPLED, COUPLED_MEMORY, MONOLITHIC, H, T_END
+from stickslip_checks.other_masters import (
+    COUPLED,
+    COUPLED_LUGRE,
+    COUPLED_MEMORY,
+    COUPLED_RATE_STATE,
+    MONOLITHIC,
+    STATE_OF,
+    H,
+    T_END,
+)
 
 N = round(T_END / H)
 TIP = ("beam", "tip_deflection")
@@ -61,6 +71,25 @@ def reference(fmus, key):
     return _references[key]
 
 
+def state_law_reference(fmus, system: str, scheme: str, clock: str = "float") -> dict:
+    """Our master's tip deflection and law state (STATE_OF) on the coupled system
+    `system`, cached per module run."""
+    key = (system, scheme, clock)
+    if key not in _references:
+        outputs = (TIP, STATE_OF[system])
+        _references[key] = other_masters.reference_outputs(
+            fmus, scheme, outputs, system=system, clock=clock
+        )
+    return _references[key]
+
+
+def first_drop(tip: np.ndarray, level: float) -> float:
+    """The first time (s) `tip` (on the grid k H) falls through `level` (m), linearly
+    interpolated."""
+    k = np.nonzero((tip[:-1] >= level) & (tip[1:] < level))[0][0]
+    return float((k + (tip[k] - level) / (tip[k] - tip[k + 1])) * H)
+
+
 def codes(fmus, values: dict) -> dict:
     """`values` with choices as their integer codes (as masters other than ours take them)."""
     model = fmus.models[BEAM]
@@ -78,7 +107,7 @@ def assert_bit_identical(series: other_masters.Series, name, expected: np.ndarra
     same = got[recorded] == expected[recorded]
     assert same.all(), (
         f"{what}: differs from our master from t = {np.argmin(same) * H:.3f} s on, by up to "
-        f"{other_masters.deviation(got, expected):.3g} m"
+        f"{other_masters.deviation(got, expected):.3g} (SI units)"
     )
 
 
@@ -282,6 +311,77 @@ def test_the_coupled_system_with_a_law_with_state_equals_our_masters(built, tmp_
     assert_bit_identical(parallel, ("", "beam.tip_deflection"), jacobi, "fmucontainer")
     sequential = container_run(csv, tmp_path, "memory-sequential", sequential=True)
     assert_bit_identical(sequential, ("", "beam.tip_deflection"), gauss_seidel, "-sequential")
+
+
+@pytest.mark.parametrize("system", [COUPLED_RATE_STATE, COUPLED_LUGRE])
+def test_the_coupled_system_with_each_state_law_equals_our_masters(built, tmp_path, system):
+    """StickSlipCoupledRateState.ssp and StickSlipCoupledLuGre.ssp: NeuralFriction runs
+    law = rate-and-state or law = lugre (set in the SSD's parameter set), integrating
+    the law's state over each communication step. The tip deflection and the law's
+    state output (state_theta, bristle_deflection) equal our masters bit for bit:
+    libcosim our Jacobi master counting time in nanoseconds as it does, Ecos and a
+    parallel container our Jacobi master, a sequential container our Gauss-Seidel
+    master. The run is not the plain network's (the parameter set reached
+    NeuralFriction) and the state moves (so comparing it is not comparing constants).
+    fmpy's SSP runner runs the law too, equal to neither scheme (its first step)."""
+    fmus = need(built)
+    state = STATE_OF[system]
+    outputs = (TIP, state)
+    jacobi, gauss_seidel, jacobi_ns = (
+        state_law_reference(fmus, system, scheme, clock)
+        for scheme, clock in ((JACOBI, "float"), (GAUSS_SEIDEL, "float"), (JACOBI, "nanoseconds"))
+    )
+    # Measured over 0.7 s: 2.4 mm (rate-and-state) and 1.2 mm (LuGre) from the plain
+    # network's run; 1e-4 m is far above any rounding and far below either.
+    assert other_masters.deviation(jacobi[TIP], reference(fmus, JACOBI)) > 1e-4
+    assert np.ptp(jacobi[state]) > 0, f"{state[1]} never moves"
+    # libcosim's clock moves the bits (measured 9.5e-6 m and 2.3e-5 m of tip by 0.7 s):
+    # matching the nanosecond run is not matching the float one.
+    assert other_masters.deviation(jacobi[TIP], jacobi_ns[TIP]) > 0, "the clock changes nothing"
+    assert other_masters.deviation(jacobi[TIP], gauss_seidel[TIP]) > 0
+    ssp = other_masters.ssp_path(system)
+    runs = {
+        "libcosim": (other_masters.run_libcosim(ssp=ssp, record=outputs), jacobi_ns),
+        "Ecos": (other_masters.run_ecos(ssp=ssp, record=outputs), jacobi),
+    }
+    csv = other_masters.csv_path(system).read_text()
+    containers = (("parallel", False, jacobi), ("sequential", True, gauss_seidel))
+    for label, sequential, expected in containers:
+        # The label names the container too: no leading "-" (fmucontainer's arguments).
+        container, _ = other_masters.build_container(csv, tmp_path / label, label, sequential=sequential)
+        runs[label] = (other_masters.run_container(container, outputs), expected)
+    for label, (series, expected) in runs.items():
+        for output in outputs:
+            assert_bit_identical(series, output, expected[output], f"{system} {label} {output[1]}")
+    # fmpy's SSP runner goes as far as its first step allows (note 5 of
+    # docs/cosimulation.md: every connected input starts at 0, so it equals neither
+    # scheme): it sets `law` from the SSD's values (an Integer, which it can set), so
+    # the law's state moves in its run, and nothing turns NaN.
+    fmpy_ssp = other_masters.run_fmpy_ssp(ssp, parameters=other_masters.ssd_parameter_set(ssp), record=outputs)
+    theirs = fmpy_ssp.at_grid(state, N)[1:]
+    assert np.isfinite(theirs).all() and np.ptp(theirs) > 0, f"fmpy.ssp: {state[1]} never moves"
+
+
+def test_the_coupled_rate_and_state_system_follows_the_embedded_law(built):
+    """The physics of StickSlipCoupledRateState at its step h = 1e-3 s: the tip leaves
+    stick where StickSlipBeam with friction.law = rate-and-state embedded does.
+    Measured to 1.2 s (docs/cosimulation.md, "Laws with state"), first drop through the
+    embedded run's mid-corridor (7.70 mm) 0.44 ms late in Gauss-Seidel and 2.6 ms late in
+    Jacobi, the coupling's error (the force held as a tangent at the committed state
+    over a step, first order in h); asserted here within twice those over the masters'
+    0.7 s. (The periods, 5.3 % and 22 % long at this h, need 1.2 s: measured, not
+    asserted here.)"""
+    fmus = need(built)
+    embedded = other_masters.reference_beam(fmus, {"friction.law": "rate-and-state"})
+    # The embedded run's corridor over 0.35 to 0.7 s: stick at the top, first slip.
+    late = embedded[len(embedded) // 2 :]
+    level = 0.5 * (late.min() + late.max())
+    t_embedded = first_drop(embedded, level)
+    tolerance = {GAUSS_SEIDEL: 2 * 0.44e-3, JACOBI: 2 * 2.6e-3}
+    for scheme, allowed in tolerance.items():
+        tip = state_law_reference(fmus, COUPLED_RATE_STATE, scheme)[TIP]
+        t = first_drop(tip, level)
+        assert 0 <= t - t_embedded < allowed, f"{scheme}: first drop {t} s, embedded {t_embedded} s"
 
 
 def test_fmpy_ssp_starts_the_connected_inputs_at_zero(built):

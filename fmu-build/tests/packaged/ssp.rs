@@ -173,6 +173,26 @@ fn parameters_are_the_defaults_except_what_the_system_sets() {
     // The friction FMU's default law is the network: the coupled system runs the same
     // plain network as the monolithic one embeds.
     assert!(friction_starts.contains(&("law".into(), LawChoice::Neural.code().to_string())));
+    // The systems with a law with state differ from the coupled one in NeuralFriction's
+    // law only: same beam, same links, the law's code in the parameter set.
+    for (system, law) in [
+        (ssp::coupled_rate_and_state(), LawChoice::RateAndState),
+        (ssp::coupled_lugre(), LawChoice::Lugre),
+    ] {
+        let system = checked(system);
+        let ssd = system.ssd();
+        assert_eq!(
+            ssd_parameters(&ssd, "beam"),
+            ssd_parameters(&coupled, "beam")
+        );
+        assert_eq!(
+            ssd_parameters(&ssd, "friction"),
+            with(&friction_starts, "law", law.code()),
+            "{}",
+            system.name
+        );
+        assert_eq!(system.connections, checked(ssp::coupled()).connections);
+    }
     for ssd in [&coupled, &monolithic] {
         assert_eq!(
             ssd.matches(&format!(
