@@ -161,10 +161,10 @@ fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
 /// mu_s F_n the beam's stick froze the bristles and the coupled run converged to
 /// another model: first drop 2.8 ms early, period 3.9 % short at h = 1e-5 and 2e-6 s).
 /// Measured, modal fidelity, 1.2 s, largest tip difference: 0.085 mm at h = 1e-4 s,
-/// 1.3 um at 1e-5 s (first drop 0.48249 s against 0.48247 s, period 0.27151 s against
+/// 1.1 um at 1e-5 s (first drop 0.48249 s against 0.48247 s, period 0.27151 s against
 /// 0.27179 s at 1e-4). Asserted: at 1e-4 the first drop within 0.5 ms and the period
 /// within 1 % (as for rate-and-state), and the difference falls by at least 10 from
-/// 1e-4 to 1e-5 s (a coupling error of first order in h falls by 10; measured 65) and
+/// 1e-4 to 1e-5 s (a coupling error of first order in h falls by 10; measured 75) and
 /// stays below 0.34 mm at 1e-4 (4 times the measured). Below 1e-5 s it does not keep
 /// falling (21 um at 2e-6 s): the signed coupling's direction rule flips the tangent
 /// where the bristle force points against v_rel, which LuGre's presliding does at
