@@ -189,6 +189,7 @@ impl NeuralFriction {
 
     fn evaluate(&mut self) -> Result<Outputs, EvaluateError> {
         let s = self.settings.clone();
+        let static_limit = memory::static_limit_coefficient(&s) * s.normal_force;
         let mut state = [0.0; STATE_VARIABLES.len()];
         let (force, slope) = match s.law {
             LawChoice::Exponential => {
@@ -233,7 +234,7 @@ impl NeuralFriction {
             } else {
                 0.0
             },
-            static_limit: s.static_coefficient * s.normal_force,
+            static_limit,
             state,
         };
         if ![

@@ -7,7 +7,7 @@
 //! - friction_force_magnitude |F|: sign(F) dF (0 at F = 0, where |F| has its kink);
 //! - friction_coefficient c = |F| / F_n: sign(F) dF / F_n - |F| / F_n^2 dF_n (0 at
 //!   F_n = 0, where c is defined as 0);
-//! - static_limit mu_s F_n: mu_s along F_n; evaluated_velocity v: 1 along v.
+//! - static_limit mu_s F_n (0 for lugre): mu_s (0) along F_n; evaluated_velocity v: 1 along v.
 
 use super::*;
 use stickslip::friction::signum_or_zero;
@@ -105,7 +105,11 @@ impl NeuralFriction {
             }
             partials.set(FRICTION_COEFFICIENT, input, coefficient);
         }
-        partials.set(STATIC_LIMIT_OUTPUT, NORMAL_FORCE, s.static_coefficient);
+        partials.set(
+            STATIC_LIMIT_OUTPUT,
+            NORMAL_FORCE,
+            super::memory::static_limit_coefficient(s),
+        );
         partials.set(EVALUATED_VELOCITY_OUTPUT, SLIDING_VELOCITY, 1.0);
         if let Some((output, input, value)) = partials.non_finite() {
             return Err(EvaluateError::NonFiniteDerivative {

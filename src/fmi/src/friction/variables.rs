@@ -60,10 +60,11 @@ const EVALUATED_VELOCITY: Dependencies = Dependencies {
     initial: InitialDependencies::InputsAnd(&[]),
 };
 
-/// The static limit mu_s F_n: the normal force times a fixed parameter.
+/// The static limit mu F_n: the normal force times a fixed parameter, mu = mu_s but 0
+/// with `law = lugre` (`memory::static_limit_coefficient`).
 const STATIC_LIMIT: Dependencies = Dependencies {
     inputs: &[(NORMAL_FORCE, DependencyKind::Fixed)],
-    initial: InitialDependencies::InputsAnd(&[STATIC_COEFFICIENT]),
+    initial: InitialDependencies::InputsAnd(&[LAW, STATIC_COEFFICIENT]),
 };
 
 /// What the state outputs depend on. The state moves only in a step, so no input
@@ -204,7 +205,7 @@ pub(super) static VARIABLES: &[Variable<NeuralFriction>] = &with_memory_law_para
         STATIC_LIMIT_OUTPUT,
         "static_limit",
         Some("N"),
-        "Static limit mu_s F_n",
+        "Static limit mu_s F_n (0 with law = lugre: no set-valued stick, the bristles hold)",
         STATIC_LIMIT,
         |m: NeuralFriction| m.outputs.static_limit
     ),
