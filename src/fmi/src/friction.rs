@@ -189,7 +189,7 @@ impl NeuralFriction {
 
     fn evaluate(&mut self) -> Result<Outputs, EvaluateError> {
         let s = self.settings.clone();
-        let static_limit = memory::static_limit_coefficient(&s) * s.normal_force;
+        let static_limit = s.static_limit_coefficient() * s.normal_force;
         let mut state = [0.0; STATE_VARIABLES.len()];
         let (force, slope) = match s.law {
             LawChoice::Exponential => {

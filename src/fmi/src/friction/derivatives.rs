@@ -108,7 +108,7 @@ impl NeuralFriction {
         partials.set(
             STATIC_LIMIT_OUTPUT,
             NORMAL_FORCE,
-            super::memory::static_limit_coefficient(s),
+            s.static_limit_coefficient(),
         );
         partials.set(EVALUATED_VELOCITY_OUTPUT, SLIDING_VELOCITY, 1.0);
         if let Some((output, input, value)) = partials.non_finite() {

@@ -55,20 +55,22 @@ fn same_law(a: &Settings, b: &Settings) -> bool {
         && a.weights == b.weights
 }
 
-/// The coefficient of `static_limit` = mu F_n (the static limit handed to a set-valued
-/// stick, `external.static_limit`): mu_s, except 0 for `law = lugre`. LuGre has no
-/// set-valued stick: its bristles hold the tip (presliding, F = sigma0 z) and let it
-/// creep, and its state moves only while v_rel does. Under the beam's set-valued stick
-/// v_rel is 0, z stays where stick began (0 at the start), the creep is lost and
-/// breakaway drops the force from mu_s F_n to sigma0 z ~ 0 for the bristles' rise
-/// time; the coupled run then converged (h = 1e-5, 2e-6 s) to a first drop 2.8 ms
-/// early and a period 4 % short of the embedded law's. With 0 the beam never sticks,
-/// every step is a slip solve under the law's tangent, as the embedded contact's
-/// (docs/friction-with-memory.md).
-pub(super) fn static_limit_coefficient(s: &Settings) -> f64 {
-    match s.law {
-        LawChoice::Lugre => 0.0,
-        _ => s.static_coefficient,
+impl Settings {
+    /// The coefficient of `static_limit` = mu F_n (the static limit handed to a set-valued
+    /// stick, `external.static_limit`): mu_s, except 0 for `law = lugre`. LuGre has no
+    /// set-valued stick: its bristles hold the tip (presliding, F = sigma0 z) and let it
+    /// creep, and its state moves only while v_rel does. Under the beam's set-valued stick
+    /// v_rel is 0, z stays where stick began (0 at the start), the creep is lost and
+    /// breakaway drops the force from mu_s F_n to sigma0 z ~ 0 for the bristles' rise
+    /// time; the coupled run then converged (h = 1e-5, 2e-6 s) to a first drop 2.8 ms
+    /// early and a period 4 % short of the embedded law's. With 0 the beam never sticks,
+    /// every step is a slip solve under the law's tangent, as the embedded contact's
+    /// (docs/friction-with-memory.md).
+    pub(super) fn static_limit_coefficient(&self) -> f64 {
+        match self.law {
+            LawChoice::Lugre => 0.0,
+            _ => self.static_coefficient,
+        }
     }
 }
 

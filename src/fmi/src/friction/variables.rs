@@ -61,7 +61,7 @@ const EVALUATED_VELOCITY: Dependencies = Dependencies {
 };
 
 /// The static limit mu F_n: the normal force times a fixed parameter, mu = mu_s but 0
-/// with `law = lugre` (`memory::static_limit_coefficient`).
+/// with `law = lugre` (`Settings::static_limit_coefficient`, in `memory`).
 const STATIC_LIMIT: Dependencies = Dependencies {
     inputs: &[(NORMAL_FORCE, DependencyKind::Fixed)],
     initial: InitialDependencies::InputsAnd(&[LAW, STATIC_COEFFICIENT]),
