@@ -297,6 +297,8 @@ pub struct BandPairProduct {
     x: Vec<f64>,
     z: Vec<f64>,
     /// Whether the CPU runs the AVX2 build of the kernel (same results, twice the width).
+    /// Only x86_64 has that build; elsewhere the field would be dead.
+    #[cfg(target_arch = "x86_64")]
     wide: bool,
 }
 
@@ -317,10 +319,6 @@ impl BandPairProduct {
             }
             d
         };
-        #[cfg(target_arch = "x86_64")]
-        let wide = std::arch::is_x86_feature_detected!("avx2");
-        #[cfg(not(target_arch = "x86_64"))]
-        let wide = false;
         Self {
             n,
             half_bandwidth: hb,
@@ -329,7 +327,8 @@ impl BandPairProduct {
             b: diagonals(b),
             x: vec![0.0; stride + hb],
             z: vec![0.0; stride + hb],
-            wide,
+            #[cfg(target_arch = "x86_64")]
+            wide: std::arch::is_x86_feature_detected!("avx2"),
         }
     }
 
