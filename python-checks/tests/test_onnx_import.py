@@ -15,17 +15,16 @@ range
       from a column of onnxruntime's predictions) and the weights JSON it writes,
       evaluated by the FMU again, which must give the bits of (b).
 
-PyTorch is not installable here (its CPU-only build is not on the package registry this
-environment uses, the default build pulls gigabytes of CUDA libraries), so the graph
-`torch.onnx.export` writes for an nn.Sequential of Linear/Tanh layers (Gemm with
-transB = 1, the weights as [out, in]) is written with `onnx.helper` from the same
-trained weights, in float32 and float64, and compared with onnxruntime the same way.
-TensorFlow is not installed either (it is far larger than the check), so the graph
-tf2onnx writes for a Keras Sequential of Dense layers (input `dense_input`, MatMul with
-the kernel as [in, out], Add of the bias, Tanh, an Identity naming the output, opset
-15, IR 8) is written the same way; Keras has no scaler in that model, so the
-standardisation is folded into the first layer's kernel and bias (a user who standardises
-in Keras does the same with a Normalization layer, which tf2onnx writes as Sub/Div).
+PyTorch is not installable here (PyPI's Linux torch wheels are CUDA builds that do not
+import without the nvidia-* libraries, and the CPU-only build is not on PyPI; see
+test_onnx_exporters.py), so the graph `torch.onnx.export` writes for an nn.Sequential of
+Linear/Tanh layers (Gemm with transB = 1, the weights as [out, in]) is written with
+`onnx.helper` from the same trained weights, in float32 and float64, and compared with
+onnxruntime the same way. The Keras form (MatMul with the kernel as [in, out], Add of the
+bias, Tanh, an Identity naming the output, opset 15, IR 8; the standardisation folded into
+the first layer) is written the same way here, as a check that needs no TensorFlow; the
+real Keras 3 exporters (SavedModel + tf2onnx, `model.export(format="onnx")`) run in
+test_onnx_exporters.py.
 NeuralFriction.fmu FMI 3.0 takes the .onnx file as its `weights` parameter and gives
 the FMI 2.0 FMU's forces bit for bit (the same library behind both interfaces).
 
@@ -329,3 +328,25 @@ def test_fmi3_takes_the_onnx_file_with_the_bits_of_fmi2(built, trained, tmp_path
     three = fmi3_forces(fmu3_paths()[FRICTION], str(path.resolve()), points)
     np.testing.assert_array_equal(three, two)
     assert relative(three, onnxruntime_forces(model, points, dtype)) <= TOLERANCE[dtype]
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64], ids=["float32", "float64"])
+def test_what_onnx_writes_by_default_is_read(built, trained, tmp_path, dtype):
+    """`onnx.helper.make_model` without a version writes the pinned onnx's newest IR and
+    opset (onnx 1.23: IR 14, opset 28); our reader takes it, judging the Gemm and Tanh
+    nodes by their versions (unchanged since 13), and gives onnxruntime's forces within
+    the dtype's tolerance (onnxruntime 1.32 runs IR 14)."""
+    fmus = need(built)
+    _, _, points = trained
+    points = points[:1000]
+    written = torch_form_onnx(trained, dtype)
+    fresh = helper.make_model(written.graph, producer_name="onnx.helper")
+    fresh.metadata_props.extend(written.metadata_props)
+    # The pins' defaults: a bump of onnx that writes newer versions must revisit the
+    # reader's checked opsets (src/physics/src/neural/onnx/convert/opset.rs).
+    assert (fresh.ir_version, fresh.opset_import[0].version) == (14, 28)
+    onnx.checker.check_model(fresh)
+    path = tmp_path / "default.onnx"
+    onnx.save(fresh, path)
+    forces = fmi2_forces(fmus, str(path.resolve()), points)
+    assert relative(forces, onnxruntime_forces(fresh, points, dtype)) <= TOLERANCE[dtype]
