@@ -33,14 +33,15 @@ through 0 at v = 0, so a pointwise relative difference has no meaning there):
 - float64: onnxruntime and we compute in f64 from the same f64 numbers and differ only
   in summation order and in tanh's last bits, a few ulps (1e-16) times the network's
   condition; 1e-12 leaves room for a condition of 1e3, a lost bit of any weight in the
-  import would show far above it. Measured (the tests print it): 1.5e-15 through the
-  FMU, 1.7e-15 through import-network's batch evaluation, for the skl2onnx and PyTorch
-  forms; 2.3e-15 and 3.1e-15 for the Keras form (its folded first layer).
+  import would show far above it. Measured with onnxruntime 1.32 (the tests print it):
+  9.7e-16 through the FMU, 1.7e-15 through import-network's batch evaluation, for the
+  skl2onnx and PyTorch forms; 2.7e-15 and 2.5e-15 for the Keras form (its folded first
+  layer).
 - float32: onnxruntime evaluates every operation in f32 (rounding 6e-8 per operation,
   accumulated over 20-term sums in three layers, and its own f32 tanh), while we evaluate
   the same f32 weights in f64, so the difference is onnxruntime's f32 rounding: a few f32
-  ulps of the accumulated sums. 1e-5 allows ~100 f32 ulps; measured 4.5e-7 (skl2onnx),
-  4.6e-7 (PyTorch form) and 5.4e-7 (Keras form), i.e. about 4e-5 N on forces up to 73 N. The points are
+  ulps of the accumulated sums. 1e-5 allows ~100 f32 ulps; measured 4.7e-7 (skl2onnx),
+  3.9e-7 (PyTorch form) and 5.7e-7 (Keras form), i.e. about 4e-5 N on forces up to 73 N. The points are
   rounded to f32 first, so both sides see the same inputs.
 """
 
