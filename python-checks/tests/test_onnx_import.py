@@ -65,7 +65,7 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 from skl2onnx import to_onnx
 
-from stickslip_checks.artifacts import BEAM, FRICTION, find_binary, fmu3_paths
+from stickslip_checks.artifacts import BEAM, FRICTION, REPO, find_binary, fmu3_paths
 from stickslip_checks.friction_points import fmi2_forces, fmi3_forces, relative
 
 POINTS = 10_000
@@ -351,3 +351,36 @@ def test_what_onnx_writes_by_default_is_read(built, trained, tmp_path, dtype):
     onnx.save(fresh, path)
     forces = fmi2_forces(fmus, str(path.resolve()), points)
     assert relative(forces, onnxruntime_forces(fresh, points, dtype)) <= TOLERANCE[dtype]
+
+
+def test_reader_operator_table_is_the_pinned_onnx_schema_history():
+    """The reader's per-operator versions (OPERATORS in src/physics/src/neural/onnx/convert/
+    opset.rs) are the since-versions of the pinned onnx's schema history, the source of
+    truth for what each operator version is, and its checked opsets and newest IR version
+    are that onnx's: a bump of onnx that adds an operator version makes this fail, so that
+    the new version is judged before files using it are accepted."""
+    from onnx import defs
+
+    source = (REPO / "src/physics/src/neural/onnx/convert/opset.rs").read_text()
+    table = {
+        (name, ml == "true"): [int(v) for v in since.split(",")]
+        for name, ml, since in re.findall(
+            r'op_type: "(\w+)",\s*ml: (true|false),\s*since: &\[([\d, ]+)\]', source)
+    }
+    assert len(table) == 15, sorted(table)
+    opsets = re.search(r"CheckedOpsets \{\s*default: (\d+),\s*ml: (\d+)", source)
+    checked = {False: int(opsets.group(1)), True: int(opsets.group(2))}
+    # onnx's release table: (release, IR version, ai.onnx opset, ai.onnx.ml opset, ...).
+    _, newest_ir, newest_default, newest_ml, *_ = helper.VERSION_TABLE[-1]
+    assert (checked[False], checked[True]) == (newest_default, newest_ml)
+    assert newest_default == defs.onnx_opset_version()
+    reader_ir = int(re.search(r"IR_VERSIONS: \(i64, i64\) = \(3, (\d+)\)", source).group(1))
+    assert reader_ir == newest_ir == onnx.IR_VERSION
+    history: dict[tuple[str, bool], set[int]] = {}
+    for schema in defs.get_all_schemas_with_history():
+        ml = schema.domain == "ai.onnx.ml"
+        if schema.domain in ("", "ai.onnx.ml") and (schema.name, ml) in table \
+                and schema.since_version <= checked[ml]:
+            history.setdefault((schema.name, ml), set()).add(schema.since_version)
+    for key, since in table.items():
+        assert since == sorted(history[key]), (key, since, sorted(history[key]))
