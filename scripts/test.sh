@@ -28,10 +28,15 @@ bash scripts/valgrind.sh
 
 echo "== python-checks (pytest)"
 python="$(bash scripts/python-env.sh)"
+# The real ONNX exporters (TensorFlow, Keras 3, tf2onnx) in .venv-exporters, which
+# python-checks/tests/test_onnx_exporters.py runs; created here so that the test never
+# skips in the full run.
+bash scripts/exporters-env.sh >/dev/null
 # --workspace: the same feature set as fmu-build's builds, so nothing is rebuilt.
 cargo build --release --workspace --bins
 export STICKSLIP_BIN="$root/target/release/stickslip"
-rm -f target/cross-platform.md  # written afresh by test_cross_platform.py
+# Written afresh by test_cross_platform.py and test_onnx_exporters.py.
+rm -f target/cross-platform.md target/onnx-exporters.md
 set +e
 "$python" -m pytest -q python-checks
 status=$?
@@ -39,6 +44,10 @@ set -e
 # The foreign-binary table test_cross_platform.py wrote (pytest -q does not show it).
 if [ -f target/cross-platform.md ]; then
   cat target/cross-platform.md
+fi
+# The exporter table test_onnx_exporters.py wrote.
+if [ -f target/onnx-exporters.md ]; then
+  cat target/onnx-exporters.md
 fi
 # pytest exits 5 when it collects no test; that is not a failure of this project.
 if [ "$status" -ne 0 ] && [ "$status" -ne 5 ]; then

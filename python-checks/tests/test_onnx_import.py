@@ -15,17 +15,16 @@ range
       from a column of onnxruntime's predictions) and the weights JSON it writes,
       evaluated by the FMU again, which must give the bits of (b).
 
-PyTorch is not installable here (its CPU-only build is not on the package registry this
-environment uses, the default build pulls gigabytes of CUDA libraries), so the graph
-`torch.onnx.export` writes for an nn.Sequential of Linear/Tanh layers (Gemm with
-transB = 1, the weights as [out, in]) is written with `onnx.helper` from the same
-trained weights, in float32 and float64, and compared with onnxruntime the same way.
-TensorFlow is not installed either (it is far larger than the check), so the graph
-tf2onnx writes for a Keras Sequential of Dense layers (input `dense_input`, MatMul with
-the kernel as [in, out], Add of the bias, Tanh, an Identity naming the output, opset
-15, IR 8) is written the same way; Keras has no scaler in that model, so the
-standardisation is folded into the first layer's kernel and bias (a user who standardises
-in Keras does the same with a Normalization layer, which tf2onnx writes as Sub/Div).
+PyTorch is not installable here (PyPI's Linux torch wheels are CUDA builds that do not
+import without the nvidia-* libraries, and the CPU-only build is not on PyPI; see
+test_onnx_exporters.py), so the graph `torch.onnx.export` writes for an nn.Sequential of
+Linear/Tanh layers (Gemm with transB = 1, the weights as [out, in]) is written with
+`onnx.helper` from the same trained weights, in float32 and float64, and compared with
+onnxruntime the same way. The Keras form (MatMul with the kernel as [in, out], Add of the
+bias, Tanh, an Identity naming the output, opset 15, IR 8; the standardisation folded into
+the first layer) is written the same way here, as a check that needs no TensorFlow; the
+real Keras 3 exporters (SavedModel + tf2onnx, `model.export(format="onnx")`) run in
+test_onnx_exporters.py.
 NeuralFriction.fmu FMI 3.0 takes the .onnx file as its `weights` parameter and gives
 the FMI 2.0 FMU's forces bit for bit (the same library behind both interfaces).
 
@@ -34,14 +33,15 @@ through 0 at v = 0, so a pointwise relative difference has no meaning there):
 - float64: onnxruntime and we compute in f64 from the same f64 numbers and differ only
   in summation order and in tanh's last bits, a few ulps (1e-16) times the network's
   condition; 1e-12 leaves room for a condition of 1e3, a lost bit of any weight in the
-  import would show far above it. Measured (the tests print it): 1.5e-15 through the
-  FMU, 1.7e-15 through import-network's batch evaluation, for the skl2onnx and PyTorch
-  forms; 2.3e-15 and 3.1e-15 for the Keras form (its folded first layer).
+  import would show far above it. Measured with onnxruntime 1.32 (the tests print it):
+  9.7e-16 through the FMU, 1.7e-15 through import-network's batch evaluation, for the
+  skl2onnx and PyTorch forms; 2.7e-15 and 2.5e-15 for the Keras form (its folded first
+  layer).
 - float32: onnxruntime evaluates every operation in f32 (rounding 6e-8 per operation,
   accumulated over 20-term sums in three layers, and its own f32 tanh), while we evaluate
   the same f32 weights in f64, so the difference is onnxruntime's f32 rounding: a few f32
-  ulps of the accumulated sums. 1e-5 allows ~100 f32 ulps; measured 4.5e-7 (skl2onnx),
-  4.6e-7 (PyTorch form) and 5.4e-7 (Keras form), i.e. about 4e-5 N on forces up to 73 N. The points are
+  ulps of the accumulated sums. 1e-5 allows ~100 f32 ulps; measured 4.7e-7 (skl2onnx),
+  3.9e-7 (PyTorch form) and 5.7e-7 (Keras form), i.e. about 4e-5 N on forces up to 73 N. The points are
   rounded to f32 first, so both sides see the same inputs.
 """
 
@@ -65,7 +65,7 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 from skl2onnx import to_onnx
 
-from stickslip_checks.artifacts import BEAM, FRICTION, find_binary, fmu3_paths
+from stickslip_checks.artifacts import BEAM, FRICTION, REPO, find_binary, fmu3_paths
 from stickslip_checks.friction_points import fmi2_forces, fmi3_forces, relative
 
 POINTS = 10_000
@@ -329,3 +329,58 @@ def test_fmi3_takes_the_onnx_file_with_the_bits_of_fmi2(built, trained, tmp_path
     three = fmi3_forces(fmu3_paths()[FRICTION], str(path.resolve()), points)
     np.testing.assert_array_equal(three, two)
     assert relative(three, onnxruntime_forces(model, points, dtype)) <= TOLERANCE[dtype]
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64], ids=["float32", "float64"])
+def test_what_onnx_writes_by_default_is_read(built, trained, tmp_path, dtype):
+    """`onnx.helper.make_model` without a version writes the pinned onnx's newest IR and
+    opset (onnx 1.23: IR 14, opset 28); our reader takes it, judging the Gemm and Tanh
+    nodes by their versions (unchanged since 13), and gives onnxruntime's forces within
+    the dtype's tolerance (onnxruntime 1.32 runs IR 14)."""
+    fmus = need(built)
+    _, _, points = trained
+    points = points[:1000]
+    written = torch_form_onnx(trained, dtype)
+    fresh = helper.make_model(written.graph, producer_name="onnx.helper")
+    fresh.metadata_props.extend(written.metadata_props)
+    # The pins' defaults: a bump of onnx that writes newer versions must revisit the
+    # reader's checked opsets (src/physics/src/neural/onnx/convert/opset.rs).
+    assert (fresh.ir_version, fresh.opset_import[0].version) == (14, 28)
+    onnx.checker.check_model(fresh)
+    path = tmp_path / "default.onnx"
+    onnx.save(fresh, path)
+    forces = fmi2_forces(fmus, str(path.resolve()), points)
+    assert relative(forces, onnxruntime_forces(fresh, points, dtype)) <= TOLERANCE[dtype]
+
+
+def test_reader_operator_table_is_the_pinned_onnx_schema_history():
+    """The reader's per-operator versions (OPERATORS in src/physics/src/neural/onnx/convert/
+    opset.rs) are the since-versions of the pinned onnx's schema history, the source of
+    truth for what each operator version is, and its checked opsets and newest IR version
+    are that onnx's: a bump of onnx that adds an operator version makes this fail, so that
+    the new version is judged before files using it are accepted."""
+    from onnx import defs
+
+    source = (REPO / "src/physics/src/neural/onnx/convert/opset.rs").read_text()
+    table = {
+        (name, ml == "true"): [int(v) for v in since.split(",")]
+        for name, ml, since in re.findall(
+            r'op_type: "(\w+)",\s*ml: (true|false),\s*since: &\[([\d, ]+)\]', source)
+    }
+    assert len(table) == 15, sorted(table)
+    opsets = re.search(r"CheckedOpsets \{\s*default: (\d+),\s*ml: (\d+)", source)
+    checked = {False: int(opsets.group(1)), True: int(opsets.group(2))}
+    # onnx's release table: (release, IR version, ai.onnx opset, ai.onnx.ml opset, ...).
+    _, newest_ir, newest_default, newest_ml, *_ = helper.VERSION_TABLE[-1]
+    assert (checked[False], checked[True]) == (newest_default, newest_ml)
+    assert newest_default == defs.onnx_opset_version()
+    reader_ir = int(re.search(r"IR_VERSIONS: \(i64, i64\) = \(3, (\d+)\)", source).group(1))
+    assert reader_ir == newest_ir == onnx.IR_VERSION
+    history: dict[tuple[str, bool], set[int]] = {}
+    for schema in defs.get_all_schemas_with_history():
+        ml = schema.domain == "ai.onnx.ml"
+        if schema.domain in ("", "ai.onnx.ml") and (schema.name, ml) in table \
+                and schema.since_version <= checked[ml]:
+            history.setdefault((schema.name, ml), set()).add(schema.since_version)
+    for key, since in table.items():
+        assert since == sorted(history[key]), (key, since, sorted(history[key]))

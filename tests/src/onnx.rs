@@ -131,6 +131,7 @@ pub enum Attribute {
     Int(String, i64),
     Floats(String, Vec<f32>),
     Tensor(String, Tensor),
+    Str(String, String),
 }
 
 impl Attribute {
@@ -141,6 +142,7 @@ impl Attribute {
             Attribute::Int(name, i) => m.string(1, name).int(3, *i).int(20, 2),
             Attribute::Floats(name, v) => m.string(1, name).packed_floats(7, v).int(20, 6),
             Attribute::Tensor(name, t) => m.string(1, name).message(5, &t.encode()).int(20, 4),
+            Attribute::Str(name, v) => m.string(1, name).string(4, v).int(20, 3),
         };
         m
     }

@@ -17,7 +17,7 @@ pub enum OnnxError {
     },
 
     /// The IR version is outside what this reader understands.
-    #[error("{source_name}: ONNX IR version {found} is not supported (accepted: {min} to {max}; IR 3 introduced opset imports, which the operator semantics depend on)")]
+    #[error("{source_name}: ONNX IR version {found} is not supported (accepted: {min} to {max}; IR 3 introduced opset imports, which the operator semantics depend on; IR 12 to 14 only added data types)")]
     IrVersion {
         source_name: String,
         found: i64,
@@ -32,6 +32,18 @@ pub enum OnnxError {
         source_name: String,
         problem: String,
         accepted: String,
+    },
+
+    /// An operator whose version, under the opset the model imports, means something
+    /// other than what the converter reads (an old definition, or one newer than the
+    /// definitions checked).
+    #[error("{source_name}: node {node} under {domain} opset {opset}: {reason}")]
+    OperatorVersion {
+        source_name: String,
+        node: String,
+        domain: &'static str,
+        opset: i64,
+        reason: String,
     },
 
     /// The file has no graph, or not exactly one input (besides initializers) or one

@@ -12,10 +12,11 @@
 //! transB = 1), as Keras via tf2onnx (MatMul + Add) and as skl2onnx (`Scaler` in f32 or
 //! `Sub`/`Div` in f64, MatMul + Add, an activation), in FLOAT or DOUBLE: one graph input
 //! [batch, features], one output [batch, 1], and between them one chain of nodes (see
-//! `convert` for the operators and their order). IR versions 3 to 11, `ai.onnx` opset
-//! 7 to 23, `ai.onnx.ml` 1 to 5 (`convert::IR_VERSIONS` and the opset constants say
-//! why). Everything else is refused with an [`OnnxError`] naming the node (name and
-//! operator type), attribute, tensor, data type, shapes or opset at fault.
+//! `convert` for the operators and their order). IR versions 3 to 14; each operator is
+//! judged by the version the model's opset gives it (`convert::OPERATORS`: Add, Sub, Mul,
+//! Div and Gemm from version 7, where they broadcast like numpy; opsets up to `ai.onnx` 28
+//! and `ai.onnx.ml` 5, onnx 1.23, checked; `convert::opset` says why). Everything else is refused with an [`OnnxError`] naming the node (name and
+//! operator type), attribute, tensor, data type, shapes, or operator version and opset at fault.
 //!
 //! # Metadata keys
 //! ONNX holds the computation but not what the inputs are nor the range they were

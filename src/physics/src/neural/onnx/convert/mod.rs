@@ -26,7 +26,7 @@
 //! moved into the adjacent layer's weights by negation, which is exact.
 //!
 //! # Parts
-//! `opset` checks the IR and opset versions, `chain` follows the graph from input to
+//! `opset` checks the IR version and each operator's version under the model's opsets, `chain` follows the graph from input to
 //! output node by node, `node` reads each operator, `tensors` reads the constants,
 //! `layers` assembles dense layers and collects the scalings, `fold` folds the
 //! scalings into the normalisation and checks the result (`network`).
@@ -40,7 +40,7 @@ pub mod opset;
 mod tensors;
 
 pub use network::{OnnxNetwork, Precision};
-pub use opset::{DEFAULT_OPSETS, IR_VERSIONS, ML_OPSETS};
+pub use opset::{CheckedOpsets, OperatorHistory, CHECKED_OPSETS, IR_VERSIONS, OPERATORS};
 
 use super::error::OnnxError;
 use super::model::ModelProto;

@@ -84,7 +84,9 @@ impl Converter<'_> {
                     &name,
                     &[
                         ("to", attribute_type::INT),
+                        // Both act on float8 targets only, which the type check refuses.
                         ("saturate", attribute_type::INT),
+                        ("round_mode", attribute_type::STRING),
                     ],
                 )?;
                 let to = a.get("to").map(|a| a.i).ok_or_else(|| {
