@@ -17,5 +17,6 @@ mod law_state_outputs;
 mod long_run;
 mod memory_laws;
 mod model_description;
+mod old_states;
 mod threads_resources;
 mod values3;
