@@ -2,12 +2,14 @@
 //! the fixtures in `tests/fmu/fixtures/states/` are version-4 states of both FMUs, FMI 2.0
 //! and 3.0, with the outputs the same run gave after the save. A fresh instance restores
 //! each and must give those outputs, bit for bit.
+//!
+//! The fixtures were written by the test `write_version_4_fixtures` with the code of
+//! state version 4 (commit 52e85fb, where it still is): StickSlipBeam at beam fidelity
+//! with LuGre and rate-and-state saved at t = 0.45 s in slip, NeuralFriction with
+//! LuGre, rate-and-state and the learned law with memory after 30 steps of 1 ms.
 
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
-use stickslip::choice::Choice;
-use stickslip::friction::LawChoice;
-use stickslip::scene::{FidelityLevel, FrictionLawKind};
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::instance::{FmiVersion, Instance};
@@ -136,111 +138,4 @@ fn version_4_states_restore_bit_for_bit() {
         assert!(fixture.state.contains("\"version\":4"), "{name}");
         assert_eq!(restored_outputs(fixture), fixture.values, "{name}");
     }
-}
-
-/// Writes the fixtures. Run once with the code of state version 4 (commit 3f22e47):
-/// `cargo test --release -p stickslip-tests --test fmu write_version_4_fixtures -- --ignored`.
-#[test]
-#[ignore]
-fn write_version_4_fixtures() {
-    std::fs::create_dir_all(fixtures_dir()).unwrap();
-    for (tag, version) in [("fmi2", FmiVersion::V2), ("fmi3", FmiVersion::V3)] {
-        for law in [FrictionLawKind::Lugre, FrictionLawKind::RateAndState] {
-            let mut b = quiet::<StickSlipBeam>(version);
-            b.setup_experiment(0.0, Some(1.2)).unwrap();
-            b.set_integer(
-                &[
-                    vr::<StickSlipBeam>("fidelity.level"),
-                    vr::<StickSlipBeam>("friction.law"),
-                ],
-                &[FidelityLevel::Beam.code(), law.code()],
-            )
-            .unwrap();
-            b.enter_initialization_mode().unwrap();
-            b.exit_initialization_mode().unwrap();
-            let h = 1e-2;
-            for k in 0..45 {
-                step(&mut b, version, k as f64 * h, h);
-            }
-            let mut stick = [true];
-            b.get_boolean(&[vr::<StickSlipBeam>("stick")], &mut stick)
-                .unwrap();
-            assert!(!stick[0], "{law:?} {version:?}: saved in stick");
-            let law_output = match law {
-                FrictionLawKind::Lugre => "bristle_deflection",
-                _ => "state_theta",
-            };
-            let outputs = [
-                "tip_deflection",
-                "tip_velocity",
-                "friction_force",
-                "holding_force",
-                law_output,
-            ];
-            let name = format!("beam-{}-{tag}.json", law.name());
-            write(&mut b, version, &name, 0.45, 2e-3, 50, &[], &outputs);
-        }
-        let lugre = (LawChoice::Lugre, None, "bristle_deflection");
-        let rate = (LawChoice::RateAndState, None, "state_theta");
-        let learned = (
-            LawChoice::Neural,
-            Some("rate-and-state-learned.json"),
-            "state_psi",
-        );
-        for (law, weights, law_output) in [lugre, rate, learned] {
-            let mut f = quiet::<NeuralFriction>(version);
-            f.set_integer(&[vr::<NeuralFriction>("law")], &[law.code()])
-                .unwrap();
-            if let Some(w) = weights {
-                f.set_string(&[vr::<NeuralFriction>("weights")], &[w])
-                    .unwrap();
-            }
-            f.setup_experiment(0.0, None).unwrap();
-            f.enter_initialization_mode().unwrap();
-            f.exit_initialization_mode().unwrap();
-            let h = 1e-3;
-            for k in 0..30 {
-                let v = 0.03 - 2e-3 * k as f64;
-                f.set_real(&[vr::<NeuralFriction>("sliding_velocity")], &[v])
-                    .unwrap();
-                step(&mut f, version, k as f64 * h, h);
-            }
-            let velocities: Vec<f64> = (0..20).map(|k| -0.03 + 4e-3 * k as f64).collect();
-            let outputs = ["friction_force", "friction_force_slope", law_output];
-            let name = format!("friction-{}-{tag}.json", law_output.replace('_', "-"));
-            write(&mut f, version, &name, 0.03, h, 20, &velocities, &outputs);
-        }
-    }
-}
-
-#[allow(clippy::too_many_arguments)]
-fn write<M: Model>(
-    instance: &mut Instance<M>,
-    version: FmiVersion,
-    name: &str,
-    time: f64,
-    step: f64,
-    steps: usize,
-    velocities: &[f64],
-    outputs: &[&str],
-) {
-    let saved = instance.get_state().unwrap();
-    let bytes = instance.serialize_state(&saved).unwrap();
-    let mut fixture = Fixture {
-        fmu: M::INFO.model_identifier.into(),
-        fmi: match version {
-            FmiVersion::V2 => "2.0".into(),
-            FmiVersion::V3 => "3.0".into(),
-        },
-        state: String::from_utf8(bytes).unwrap(),
-        time,
-        step,
-        steps,
-        velocities: velocities.to_vec(),
-        outputs: outputs.iter().map(|s| s.to_string()).collect(),
-        values: Vec::new(),
-    };
-    fixture.values = replay(instance, version, &fixture);
-    let text = serde_json::to_string_pretty(&fixture).unwrap();
-    std::fs::write(fixtures_dir().join(name), text + "\n").unwrap();
 }
