@@ -292,7 +292,8 @@ fn a_version_4_state_from_before_these_laws_still_restores() {
         set_velocity(&mut f, 3e-3);
         let t = steps(&mut f, version, 0.0, 1e-3, 5);
         let mut old: SavedState = f.get_state().unwrap();
-        assert_eq!(old.version, 4);
+        // The JSON of version 4 is that of today's version 5; version 4 has no checksum.
+        old.version = 4;
         let settings = old.model["settings"].as_object_mut().unwrap();
         assert!(settings.remove("lugre").is_some());
         assert!(settings.remove("rate_and_state").is_some());

@@ -300,13 +300,26 @@ fn malformed_state_bytes_are_refused() {
         (bytes[..bytes.len() / 2].to_vec(), "malformed"),
         (b"\xff\x00garbage".to_vec(), "malformed"),
         (
-            text.replace(&format!("\"version\":{STATE_VERSION}"), "\"version\":99")
-                .into_bytes(),
+            // Rewritten with a valid checksum, so that the version is what is refused.
+            SavedState {
+                version: 99,
+                ..saved.clone()
+            }
+            .to_bytes(),
             "version 99",
         ),
         (
-            text.replace("stickslip-fmu-state", "other").into_bytes(),
+            SavedState {
+                format: "other".into(),
+                ..saved.clone()
+            }
+            .to_bytes(),
             "format",
+        ),
+        (
+            text.replace(&format!("\"version\":{STATE_VERSION}"), "\"version\":99")
+                .into_bytes(),
+            "checksum mismatch",
         ),
     ];
     for (bad, needle) in cases {
@@ -341,7 +354,7 @@ fn malformed_state_bytes_are_refused() {
 fn state_errors_are_typed_and_say_what_is_wrong() {
     use stickslip_fmi::instance::StateError;
     let e = SavedState::from_bytes(b"\xff").unwrap_err();
-    assert!(matches!(e, StateError::Malformed(_)), "{e:?}");
+    assert!(matches!(e, StateError::Malformed { .. }), "{e:?}");
     assert!(e
         .to_string()
         .starts_with("serialized FMU state is malformed: "));
@@ -358,7 +371,7 @@ fn state_errors_are_typed_and_say_what_is_wrong() {
         ),
         (
             state("stickslip-fmu-state", 99, "step-complete", 0.5),
-            "serialized FMU state has version 99, this FMU reads versions 1 to 4",
+            "serialized FMU state has version 99, this FMU reads versions 1 to 5",
         ),
         (
             state("stickslip-fmu-state", 1, "step-complete", 2.0),

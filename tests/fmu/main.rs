@@ -17,5 +17,8 @@ mod law_state_outputs;
 mod long_run;
 mod memory_laws;
 mod model_description;
+mod old_states;
+mod state_corruption;
+mod state_tampering;
 mod threads_resources;
 mod values3;

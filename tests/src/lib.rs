@@ -55,6 +55,17 @@ pub fn six_feature_weights(tag: &str) -> PathBuf {
     path
 }
 
+/// The JSON text of serialized FMU state bytes: without the checksum that ends them from
+/// state version 5 on (`stickslip_fmi::instance::CHECKSUM_MARK`).
+pub fn state_json(bytes: &[u8]) -> &[u8] {
+    use stickslip_fmi::instance::CHECKSUM_MARK;
+    let trailer = CHECKSUM_MARK.len() + 8;
+    match bytes.len().checked_sub(trailer) {
+        Some(split) if bytes[split..].starts_with(CHECKSUM_MARK) => &bytes[..split],
+        _ => bytes,
+    }
+}
+
 /// The value reference of `M`'s variable `name`, read from its variable table (which the
 /// modelDescription.xml is generated from), so that tests name variables instead of
 /// retyping their numbers.

@@ -81,7 +81,8 @@ macro_rules! count_parameter {
             $crate::variables::Access::Integer {
                 min: 1,
                 max: $max,
-                get: |$m: &$model| $place as i32,
+                // Saturating: a count beyond i32 (from a saved state) reads as out of range.
+                get: |$m: &$model| i32::try_from($place).unwrap_or(i32::MAX),
                 set: Some(|$m: &mut $model, v: i32| {
                     $place = v as usize;
                     Ok(())

@@ -173,7 +173,27 @@ pub struct NeuralFriction {
     time: f64,
 }
 
+/// Why initialisation refuses the parameters (fmi2ExitInitializationMode), and a saved
+/// initialised state with them.
+#[derive(Debug, thiserror::Error)]
+enum InitialiseError {
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error(transparent)]
+    Evaluate(#[from] EvaluateError),
+}
+
 impl NeuralFriction {
+    /// What fmi2ExitInitializationMode checks, in the law state in place (the initial
+    /// one at initialisation, a saved one when a state is restored): the parameters by
+    /// the scene's rules, then the law evaluated (its weights read, the law state
+    /// set), which gives the outputs.
+    fn initialise_outputs(&mut self) -> Result<(), InitialiseError> {
+        self.check()?;
+        self.outputs = self.evaluate()?;
+        Ok(())
+    }
+
     /// Checks the analytical parameters with the scene's rules and messages.
     fn check(&self) -> Result<(), SceneError> {
         let mut scene = Scene::default();

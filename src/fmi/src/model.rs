@@ -57,6 +57,22 @@ impl PartialDerivatives {
     }
 }
 
+/// Where a saved state puts the instance, for the model's checks of its own part.
+#[derive(Clone, Copy, Debug)]
+pub struct Restoring {
+    /// The state's format version (`instance::STATE_VERSION` or an older one that
+    /// `instance::SavedState::from_bytes` still reads).
+    pub version: u32,
+    /// The instance's time (s). A model with a clock of its own refuses a state whose
+    /// clock disagrees: the next fmi2DoStep would otherwise have to bridge the gap.
+    pub time: f64,
+    /// The experiment's start time (s).
+    pub start_time: f64,
+    /// The state's mode is past fmi2ExitInitializationMode: its parameters were
+    /// checked by initialisation, so the model's part must pass those checks too.
+    pub initialized: bool,
+}
+
 /// A model behind an FMU. Plain Rust: no C types. The `instance` module drives it
 /// through the FMI state machine.
 ///
@@ -124,13 +140,16 @@ pub trait Model: Send + Sized + 'static {
     /// Everything that `restore` needs, as plain data.
     fn save(&self) -> serde_json::Value;
 
+    /// Checks what `save` wrote (or bytes that claim to be it) as `restore` would,
+    /// without changing what the model computes: every value as its setter and
+    /// initialisation check it. fmi2DeSerializeFMUstate calls it, so that a state it
+    /// hands out is one `restore` accepts, but for the checks that need the built model
+    /// (the simulation's vector lengths), which `restore` alone makes.
+    fn check_saved(&mut self, saved: &serde_json::Value, at: &Restoring) -> Result<(), String>;
+
     /// Restores what `save` wrote; refuses data that does not fit, leaving the model as
-    /// it was. `version` is the state's format version (`instance::STATE_VERSION` or an
-    /// older one that `instance::SavedState::from_bytes` still reads). `time` is the
-    /// instance's time in the same saved state (s): a model with a clock of its own
-    /// refuses a state whose clock disagrees, because the next fmi2DoStep would
-    /// otherwise have to bridge the gap.
-    fn restore(&mut self, saved: serde_json::Value, version: u32, time: f64) -> Result<(), String>;
+    /// it was. Every check of `check_saved` is made.
+    fn restore(&mut self, saved: serde_json::Value, at: &Restoring) -> Result<(), String>;
 
     /// The outputs' partial derivatives with respect to the inputs at the current
     /// inputs (fmi2GetDirectionalDerivative, fmi3GetDirectionalDerivative). Only called

@@ -544,3 +544,27 @@ impl<M> Variable<M> {
         }
     }
 }
+
+/// Writes every settable variable of `from` into `into` through its setter, so that each
+/// value meets the checks an importer's fmi2Set* call meets (a saved state's values,
+/// checked as if set one by one). The first refusal names the variable.
+pub fn set_all<M>(
+    table: &'static [Variable<M>],
+    from: &M,
+    into: &mut M,
+) -> Result<(), AccessError> {
+    for v in table {
+        if v.causality == Causality::Output || !v.access.is_settable() {
+            continue;
+        }
+        match &v.access {
+            Access::Real { get, .. } => v.set_real(into, get(from))?,
+            Access::Integer { get, .. } | Access::Choice { get, .. } => {
+                v.set_integer(into, get(from))?
+            }
+            Access::Boolean { get, .. } => v.set_boolean(into, get(from))?,
+            Access::String { get, .. } => v.set_string(into, &get(from))?,
+        }
+    }
+    Ok(())
+}

@@ -138,6 +138,27 @@ pub enum ExternalKinetic {
 #[error("saved state does not fit this model: {0}")]
 pub struct StateMismatch(pub String);
 
+/// Puts `law` in the saved state `law_state` if it fits: a law with state checks its
+/// length and domain (`MemoryLaw::set_state`), a memoryless law takes only an empty one.
+/// The law is unchanged on refusal. What [`Simulator::restore`] does with a state's
+/// law state, for a caller that checks a saved state before building a simulation.
+pub fn set_law_state(law: &mut dyn FrictionLaw, law_state: &[f64]) -> Result<(), StateMismatch> {
+    if let Some(memory) = law.as_memory_mut() {
+        return memory
+            .set_state(law_state)
+            .map_err(|e| StateMismatch(e.to_string()));
+    }
+    if law_state.is_empty() {
+        Ok(())
+    } else {
+        Err(StateMismatch(format!(
+            "law_state has {} values, the law {} has no state",
+            law_state.len(),
+            law.name()
+        )))
+    }
+}
+
 /// The stick-slip simulation of one scene.
 pub struct Simulator {
     scene: CheckedScene,
@@ -317,19 +338,7 @@ impl Simulator {
                 return Err(StateMismatch(format!("{name} = {count} is above 2^53")));
             }
         }
-        match self.law.as_memory_mut() {
-            Some(memory) => memory
-                .set_state(&state.law_state)
-                .map_err(|e| StateMismatch(e.to_string()))?,
-            None if !state.law_state.is_empty() => {
-                return Err(StateMismatch(format!(
-                    "law_state has {} values, the law {} has no state",
-                    state.law_state.len(),
-                    self.law.name()
-                )))
-            }
-            None => {}
-        }
+        set_law_state(self.law.as_mut(), &state.law_state)?;
         self.state = state;
         self.transitions.clear();
         Ok(())

@@ -2,7 +2,7 @@
 //! auto` resolved), its friction law (`LawSource`, the loaded network shared) and the
 //! simulator.
 
-use super::{Running, StickSlipBeam};
+use super::{Running, Settings, StickSlipBeam};
 use crate::networks::NetworkError;
 use stickslip::auto::{AutoError, Horizon};
 use stickslip::law_source::{LawSource, NetworkOrigin};
@@ -29,6 +29,18 @@ pub(super) enum BuildError {
     Simulation(#[from] SimulationError),
 }
 
+/// The scene `settings` run over the experiment from `start_time` to `stop_time`: the
+/// inputs that are scene fields in place, and the end at the stop time.
+fn scene_of(settings: &Settings, start_time: f64, stop_time: Option<f64>) -> Scene {
+    let mut scene = settings.scene.clone();
+    scene.loading.belt_speed = settings.inputs.belt_speed;
+    scene.loading.normal_force = settings.inputs.normal_force;
+    if let Some(stop) = stop_time {
+        scene.time.end = (stop - start_time).max(scene.time.step);
+    }
+    scene
+}
+
 impl StickSlipBeam {
     /// The scene of the current settings, checked, and the law it runs. The scene is
     /// checked before the law is resolved, so that a bad parameter is reported as such
@@ -39,16 +51,11 @@ impl StickSlipBeam {
         start_time: f64,
         stop_time: Option<f64>,
     ) -> Result<(CheckedScene, LawSource), BuildError> {
-        let mut scene = self.settings.scene.clone();
-        let inputs = &self.settings.inputs;
-        scene.loading.belt_speed = inputs.belt_speed;
-        scene.loading.normal_force = inputs.normal_force;
-        if let Some(stop) = stop_time {
-            scene.time.end = (stop - start_time).max(scene.time.step);
-        }
+        let scene = scene_of(&self.settings, start_time, stop_time);
+        let weights = self.settings.weights.clone();
         if scene.fidelity.level == FidelityLevel::Auto {
             scene.clone().check()?;
-            let law = self.law_source(&scene)?;
+            let law = self.law_source(&scene, &weights)?;
             // The bound holds over the experiment: to its stop time when one is defined,
             // else the horizon is open (the scene's time.end is no end the user set).
             let horizon = match stop_time {
@@ -65,21 +72,35 @@ impl StickSlipBeam {
             return Ok((scene, law));
         }
         let scene = scene.check()?;
-        let law = self.law_source(&scene)?;
+        let law = self.law_source(&scene, &weights)?;
         Ok((scene, law))
     }
 
-    /// The law of `scene`'s friction settings, with the network of friction.weights (read
+    /// The checks `checked_scene` makes of `settings` before any simulation runs: the
+    /// scene's rules and the law (the network read, and fitting the scene), which it
+    /// returns. `auto`'s choice is not made: its request passes the same scene check
+    /// first.
+    pub(super) fn check_buildable(
+        &mut self,
+        settings: &Settings,
+        start_time: f64,
+        stop_time: Option<f64>,
+    ) -> Result<LawSource, BuildError> {
+        let scene = scene_of(settings, start_time, stop_time);
+        scene.clone().check()?;
+        self.law_source(&scene, &settings.weights)
+    }
+
+    /// The law of `scene`'s friction settings, with the network of weights `name` (read
     /// once per name by `networks`, then shared) for the neural law.
-    fn law_source(&mut self, scene: &Scene) -> Result<LawSource, BuildError> {
-        let name = &self.settings.weights;
+    fn law_source(&mut self, scene: &Scene, name: &str) -> Result<LawSource, BuildError> {
         let networks = &mut self.networks;
         // A learned law with state (`stickslip::neural::memory`), told by its file.
         if scene.friction.law == FrictionLawKind::Neural {
             if let Some(law) = networks.state_law(name)? {
                 if let Some(reason) = stickslip::neural::memory::source::refusal(scene) {
                     return Err(BuildError::NotAFrictionLaw(SceneLawError::Weights {
-                        path: name.clone(),
+                        path: name.to_owned(),
                         source: stickslip::neural::NeuralError::NotAFrictionLaw(reason),
                     }));
                 }
@@ -88,7 +109,7 @@ impl StickSlipBeam {
         }
         let law = LawSource::with_network(&scene.friction, scene.loading.normal_force, || {
             let network = networks.get(name)?.clone();
-            Ok::<_, NetworkError>((network, NetworkOrigin::Weights(name.clone())))
+            Ok::<_, NetworkError>((network, NetworkOrigin::Weights(name.to_owned())))
         })?;
         Ok(law)
     }

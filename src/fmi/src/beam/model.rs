@@ -3,7 +3,7 @@
 
 use super::variables::VARIABLES;
 use super::{Settings, StickSlipBeam};
-use crate::model::{Model, ModelInfo};
+use crate::model::{Model, ModelInfo, Restoring};
 use crate::networks::{Networks, WEIGHTS_RESOURCES};
 use crate::variables::Variable;
 use std::path::Path;
@@ -86,7 +86,11 @@ impl Model for StickSlipBeam {
         self.saved()
     }
 
-    fn restore(&mut self, saved: serde_json::Value, version: u32, time: f64) -> Result<(), String> {
-        self.restore_saved(saved, version, time)
+    fn check_saved(&mut self, saved: &serde_json::Value, at: &Restoring) -> Result<(), String> {
+        self.check_saved_state(saved, at)
+    }
+
+    fn restore(&mut self, saved: serde_json::Value, at: &Restoring) -> Result<(), String> {
+        self.restore_saved(saved, at)
     }
 }

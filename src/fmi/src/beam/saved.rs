@@ -2,9 +2,11 @@
 //! versions 1 and 2, migrated to the current form (version 3) when read.
 
 use super::{BeamInputs, Settings, StickSlipBeam, DEFAULT_FIDELITY_TOLERANCE};
+use crate::instance::{check_as_set, parse_saved};
+use crate::model::{Model, Restoring};
 use serde::{Deserialize, Serialize};
 use stickslip::scene::{FidelityLevel, FrictionLawKind, Scene};
-use stickslip::simulation::{ExternalCoupling, SimulationState};
+use stickslip::simulation::{set_law_state, ExternalCoupling, SimulationState};
 
 /// Saved form (FMU state). Its size does not grow with simulated time: the
 /// simulation's state is a fixed number of values for a given model, and the
@@ -171,34 +173,104 @@ impl StickSlipBeam {
         serde_json::to_value(saved).unwrap_or(serde_json::Value::Null)
     }
 
-    /// [`crate::model::Model::restore`]: a state of any version (1 to 3, migrated to the
-    /// current form), with the simulation rebuilt (or kept) and its state loaded.
-    pub(super) fn restore_saved(
-        &mut self,
-        saved: serde_json::Value,
-        version: u32,
-        time: f64,
-    ) -> Result<(), String> {
-        let malformed =
-            |e: serde_json::Error| format!("saved StickSlipBeam state is malformed: {e}");
-        let saved: Saved = match version {
-            1 => Saved::try_from(serde_json::from_value::<SavedV1>(saved).map_err(malformed)?)?,
-            2 => Saved::try_from(serde_json::from_value::<SavedV2>(saved).map_err(malformed)?)?,
-            _ => serde_json::from_value(saved).map_err(malformed)?,
+    /// The saved form of format `version`, migrated to the current one.
+    fn parse_saved_of_version(saved: serde_json::Value, version: u32) -> Result<Saved, String> {
+        Ok(match version {
+            1 => Saved::try_from(parse_saved::<SavedV1>(saved)?)?,
+            2 => Saved::try_from(parse_saved::<SavedV2>(saved)?)?,
+            _ => parse_saved(saved)?,
+        })
+    }
+
+    /// The checks of a saved state that need no simulation built: every parameter and
+    /// input as its setter checks it, the parts agreeing with each other and with the
+    /// instance's mode and clocks, and a running simulation's settings as
+    /// initialisation checks them (the scene's rules, the weights read and fitting the
+    /// scene). The reason names the part and the parameter.
+    fn check_parsed(&mut self, saved: &Saved, at: &Restoring) -> Result<(), String> {
+        let as_set = |settings: &Settings, part: &str| {
+            let mut from = StickSlipBeam::with_defaults();
+            from.settings = settings.clone();
+            check_as_set(&from, |m| &m.settings).map_err(|e| format!("{part}: {e}"))
         };
+        as_set(&saved.settings, "settings")?;
         if let Some(run) = &saved.running {
-            // fmi2DoStep lands the simulation exactly on each communication point, so the
-            // two clocks agree to rounding; half a time step separates rounding from a
-            // crafted gap that the next step would have to integrate through.
-            let simulated = run.start_time + run.state.time;
-            let half_step = 0.5 * run.built_from.scene.time.step;
-            let agree = (simulated - time).abs() <= half_step;
-            if !(simulated.is_finite() && half_step.is_finite() && agree) {
+            as_set(&run.built_from, "running.built_from")?;
+        }
+        if saved.initialized != at.initialized {
+            return Err(format!(
+                "initialized = {} disagrees with the state's mode (initialised: {})",
+                saved.initialized, at.initialized
+            ));
+        }
+        if saved.initialized {
+            // After initialisation the parameters are fixed and every input set is
+            // passed on to the simulation's settings (`apply_inputs`).
+            let Some(run) = &saved.running else {
+                return Err("initialized = true but no simulation is running".into());
+            };
+            if run.built_from != saved.settings {
+                let field = first_difference_of(&run.built_from, &saved.settings);
                 return Err(format!(
-                    "the state's simulation is at t = {simulated} s but its FMU time is {time} s; the two clocks must agree"
+                    "running.built_from differs from settings at {field}; after initialisation they are the same"
+                ));
+            }
+            if run.start_time != at.start_time {
+                return Err(format!(
+                    "running.start_time = {} s differs from the state's start time {} s",
+                    run.start_time, at.start_time
                 ));
             }
         }
+        let Some(run) = &saved.running else {
+            return Ok(());
+        };
+        // fmi2DoStep lands the simulation exactly on each communication point, so the
+        // two clocks agree to rounding; half a time step separates rounding from a
+        // crafted gap that the next step would have to integrate through.
+        let simulated = run.start_time + run.state.time;
+        let half_step = 0.5 * run.built_from.scene.time.step;
+        let agree = (simulated - at.time).abs() <= half_step;
+        if !(simulated.is_finite() && half_step.is_finite() && agree) {
+            return Err(format!(
+                "the state's simulation is at t = {simulated} s but its FMU time is {} s; the two clocks must agree",
+                at.time
+            ));
+        }
+        let stop = Some(run.start_time + run.built_from.scene.time.end);
+        let law = self
+            .check_buildable(&run.built_from, run.start_time, stop)
+            .map_err(|e| format!("running.built_from: {e}"))?;
+        // The law state must fit the law, as the simulation's restore requires.
+        let mut law = law.law().map_err(|e| e.to_string())?;
+        set_law_state(law.as_mut(), &run.state.law_state)
+            .map_err(|e| format!("running.state.law_state: {e}"))
+    }
+
+    /// [`crate::model::Model::check_saved`].
+    pub(super) fn check_saved_state(
+        &mut self,
+        saved: &serde_json::Value,
+        at: &Restoring,
+    ) -> Result<(), String> {
+        let saved = Self::parse_saved_of_version(saved.clone(), at.version)
+            .and_then(|saved| self.check_parsed(&saved, at).map(|()| saved));
+        saved
+            .map(|_| ())
+            .map_err(|e| format!("saved StickSlipBeam state: {e}"))
+    }
+
+    /// [`crate::model::Model::restore`]: a state of any version (1 to 3 migrated to the
+    /// current form), checked as `check_saved_state` does, with the simulation rebuilt
+    /// (or kept) and its state loaded (which checks its vectors against the model).
+    pub(super) fn restore_saved(
+        &mut self,
+        saved: serde_json::Value,
+        at: &Restoring,
+    ) -> Result<(), String> {
+        let saved = Self::parse_saved_of_version(saved, at.version)
+            .and_then(|saved| self.check_parsed(&saved, at).map(|()| saved))
+            .map_err(|e| format!("saved StickSlipBeam state: {e}"))?;
         let Some(run) = saved.running else {
             self.settings = saved.settings;
             self.running = None;
@@ -249,4 +321,13 @@ impl StickSlipBeam {
             }
         }
     }
+}
+
+/// The first field (dotted path) where `a` and `b` differ.
+fn first_difference_of(a: &Settings, b: &Settings) -> String {
+    let (a, b) = (
+        serde_json::to_value(a).unwrap_or_default(),
+        serde_json::to_value(b).unwrap_or_default(),
+    );
+    crate::instance::first_difference(&a, &b)
 }

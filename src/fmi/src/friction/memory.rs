@@ -21,7 +21,9 @@
 //!   written before `lugre` and `rate-and-state` came have no parameters for them: they
 //!   read with the defaults (`Settings`).
 
-use super::{EvaluateError, NeuralFriction, Settings};
+use super::{EvaluateError, InitialiseError, NeuralFriction, Outputs, Settings};
+use crate::instance::{check_as_set, parse_saved};
+use crate::model::{Model, Restoring};
 use serde::{Deserialize, Serialize};
 use stickslip::friction::{ExponentialLaw, LawChoice};
 use stickslip::jacobian::LawJacobian;
@@ -72,6 +74,13 @@ impl Settings {
             _ => self.static_coefficient,
         }
     }
+}
+
+/// What restoring a saved state replaced (`NeuralFriction::adopt_saved`).
+struct Adopted {
+    settings: Settings,
+    law_state: Vec<f64>,
+    outputs: Outputs,
 }
 
 impl NeuralFriction {
@@ -199,46 +208,115 @@ impl NeuralFriction {
         .unwrap_or(serde_json::Value::Null)
     }
 
-    /// Restores a saved NeuralFriction state of format `version`.
+    /// Puts the saved state's settings and law state in place, checked as setting them
+    /// and initialising would check them (`Model::check_saved`); on refusal the model
+    /// is left as it was and the reason names the parameter. Returns what was replaced.
+    fn adopt_saved(&mut self, saved: serde_json::Value, at: &Restoring) -> Result<Adopted, String> {
+        const WHAT: &str = "NeuralFriction";
+        let parsed = if at.version >= LAW_STATE_VERSION {
+            parse_saved::<Saved>(saved).map(|saved| (saved.settings, saved.law_state))
+        } else {
+            parse_saved::<Settings>(saved).map(|settings| (settings, Vec::new()))
+        };
+        let (settings, law_state) = parsed.map_err(|e| format!("saved {WHAT} state: {e}"))?;
+        let mut candidate = NeuralFriction::with_defaults();
+        candidate.settings = settings;
+        check_as_set(&candidate, |m| &m.settings)
+            .map_err(|e| format!("saved {WHAT} state: {e}"))?;
+        let previous = Adopted {
+            settings: std::mem::replace(&mut self.settings, candidate.settings),
+            law_state: std::mem::replace(&mut self.law_state, law_state),
+            outputs: self.outputs,
+        };
+        let checked = if at.initialized {
+            self.check_initialised_law_state(at)
+        } else if self.law_state.is_empty() {
+            Ok(())
+        } else {
+            // Initialisation starts the law at its initial state, so no state before it.
+            Err(format!(
+                "law_state = {:?}: a state saved before initialisation has no law state",
+                self.law_state
+            ))
+        };
+        match checked {
+            Ok(()) => Ok(previous),
+            Err(reason) => {
+                self.put_back(previous);
+                Err(format!("saved {WHAT} state: {reason}"))
+            }
+        }
+    }
+
+    /// An initialised state: its parameters pass initialisation's checks (the same
+    /// `initialise_outputs`), with its law state in place of the initial one, which
+    /// must fit the law.
+    fn check_initialised_law_state(&mut self, at: &Restoring) -> Result<(), String> {
+        self.initialise_outputs().map_err(|e| match e {
+            // The law refused the law state (length, finite, theta > 0).
+            InitialiseError::Evaluate(EvaluateError::Parameter(reason))
+                if !self.law_state.is_empty() =>
+            {
+                format!("law_state = {:?}: {reason}", self.law_state)
+            }
+            other => other.to_string(),
+        })?;
+        // Evaluating built the law the settings choose if it has state; a law built
+        // earlier for other settings (`built` is a cache) does not count.
+        let has_state = self
+            .built
+            .as_ref()
+            .is_some_and(|(built_for, _)| same_law(built_for, &self.settings));
+        if !has_state && !self.law_state.is_empty() {
+            return Err(format!(
+                "law_state = {:?}: the law {} has no state",
+                self.law_state,
+                stickslip::choice::Choice::name(self.settings.law)
+            ));
+        }
+        // From version 4 on the law state is saved with every step (`advance_state`);
+        // empty, the initial state, holds only before the first step.
+        if has_state
+            && self.law_state.is_empty()
+            && at.version >= LAW_STATE_VERSION
+            && at.time != at.start_time
+        {
+            return Err(format!(
+                "law_state = []: the law {} has a state, which a state saved after a step (t = {} s, start {} s) carries",
+                stickslip::choice::Choice::name(self.settings.law),
+                at.time,
+                at.start_time
+            ));
+        }
+        Ok(())
+    }
+
+    fn put_back(&mut self, previous: Adopted) {
+        self.settings = previous.settings;
+        self.law_state = previous.law_state;
+        self.outputs = previous.outputs;
+    }
+
+    /// `Model::check_saved`: as `restore_saved`, with the model put back afterwards.
+    pub(super) fn check_saved_state(
+        &mut self,
+        saved: &serde_json::Value,
+        at: &Restoring,
+    ) -> Result<(), String> {
+        let previous = self.adopt_saved(saved.clone(), at)?;
+        self.put_back(previous);
+        Ok(())
+    }
+
+    /// Restores a saved NeuralFriction state (`Model::restore`). Its outputs are
+    /// evaluated when next read.
     pub(super) fn restore_saved(
         &mut self,
         saved: serde_json::Value,
-        version: u32,
-        time: f64,
+        at: &Restoring,
     ) -> Result<(), String> {
-        let (settings, law_state) = if version >= LAW_STATE_VERSION {
-            let saved: Saved = serde_json::from_value(saved)
-                .map_err(|e| format!("saved NeuralFriction state is malformed: {e}"))?;
-            (saved.settings, saved.law_state)
-        } else {
-            let settings: Settings = serde_json::from_value(saved)
-                .map_err(|e| format!("saved NeuralFriction state is malformed: {e}"))?;
-            (settings, Vec::new())
-        };
-        // The state's own checks (length, finite, theta > 0) are the law's, made when it
-        // is next used; these are the ones that need no law.
-        if law_state.len() > 1 || law_state.iter().any(|x| !x.is_finite()) {
-            return Err(format!(
-                "saved NeuralFriction law state {law_state:?} is not one finite value"
-            ));
-        }
-        // Plain data: the outputs are evaluated when next read, so a state saved before
-        // its parameters were checked restores too. The law state, though, must fit the
-        // law (length, theta > 0): checked now, so that fmi2SetFMUstate refuses it
-        // rather than the next read; the model is unchanged on refusal.
-        let previous = (
-            std::mem::replace(&mut self.settings, settings),
-            std::mem::replace(&mut self.law_state, law_state),
-        );
-        if !self.law_state.is_empty() {
-            if let Err(e) = self.memory_law() {
-                (self.settings, self.law_state) = previous;
-                return Err(format!(
-                    "saved NeuralFriction state does not fit its law: {e}"
-                ));
-            }
-        }
-        self.time = time;
+        self.adopt_saved(saved, at)?;
+        self.time = at.time;
         Ok(())
     }
 }

@@ -3,7 +3,7 @@
 
 use super::variables::{ARRAYS, VARIABLES};
 use super::*;
-use crate::model::{Model, ModelInfo, PartialDerivatives};
+use crate::model::{Model, ModelInfo, PartialDerivatives, Restoring};
 use crate::networks::WEIGHTS_RESOURCES;
 use crate::variables::{ArrayVariable, Variable};
 use std::path::Path;
@@ -60,11 +60,10 @@ impl Model for NeuralFriction {
     }
 
     fn initialize(&mut self, start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
-        self.check().map_err(|e| e.to_string())?;
         // A law with state starts at its initial state.
-        self.time = start_time;
         self.law_state.clear();
-        self.outputs = self.evaluate().map_err(|e| e.to_string())?;
+        self.initialise_outputs().map_err(|e| e.to_string())?;
+        self.time = start_time;
         Ok(())
     }
 
@@ -78,13 +77,17 @@ impl Model for NeuralFriction {
         self.derivatives().map_err(|e| e.to_string())
     }
 
-    /// State version 4: the settings and the law state (`memory`).
+    /// State versions 4 and 5: the settings and the law state (`memory`).
     fn save(&self) -> serde_json::Value {
         self.saved()
     }
 
-    /// Versions 1 to 3 hold the settings alone, version 4 the law state besides.
-    fn restore(&mut self, saved: serde_json::Value, version: u32, time: f64) -> Result<(), String> {
-        self.restore_saved(saved, version, time)
+    fn check_saved(&mut self, saved: &serde_json::Value, at: &Restoring) -> Result<(), String> {
+        self.check_saved_state(saved, at)
+    }
+
+    /// Versions 1 to 3 hold the settings alone, versions 4 and 5 the law state besides.
+    fn restore(&mut self, saved: serde_json::Value, at: &Restoring) -> Result<(), String> {
+        self.restore_saved(saved, at)
     }
 }

@@ -42,5 +42,8 @@ pub use crate::version::FmiVersion;
 pub use base::{CallResult, Failed, Instance, Logger, Status};
 pub use machine::{Call, EventOptions, Mode};
 pub use modes::DiscreteUpdate;
-pub use state::{SavedState, StateError, OLDEST_STATE_VERSION, STATE_FORMAT, STATE_VERSION};
+pub use state::{
+    check_as_set, first_difference, parse_saved, with_checksum, SavedState, StateError,
+    CHECKSUM_MARK, CHECKSUM_VERSION, OLDEST_STATE_VERSION, STATE_FORMAT, STATE_VERSION,
+};
 pub use step::{StatusKind, StepOutcome};
