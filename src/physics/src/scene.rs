@@ -524,7 +524,7 @@ pub const MAX_STEPS: f64 = 1e9;
 fn invalid(field: &'static str, value: f64, requirement: &str) -> SceneError {
     SceneError::Invalid {
         field,
-        value: format!("{value:e}"),
+        value: crate::short::Short(value).to_string(),
         requirement: requirement.to_string(),
     }
 }
