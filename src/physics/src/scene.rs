@@ -628,8 +628,8 @@ impl Scene {
         }
 
         let problems = [f.lugre.problem(), f.rate_and_state.problem()];
-        if let Some((field, value, requirement)) = problems.into_iter().flatten().next() {
-            return Err(invalid(field, value, requirement));
+        if let Some(problem) = problems.into_iter().flatten().next() {
+            return Err(invalid(problem.field, problem.value, &problem.requirement));
         }
 
         let c = &self.contact;

@@ -26,8 +26,10 @@ pub struct RegularisedForce {
 /// Above this ln y, asinh(y) = ln(2 y) to within 1/(4 y^2) < 1e-26.
 const LOG_ASYMPTOTE: f64 = 30.0;
 /// ln E is capped here so that the slope at v = 0, F_n a E, stays finite (e^700 ~
-/// 1e304): a law that steep is a jump for any solver.
-const LOG_SCALE_CAP: f64 = 700.0;
+/// 1e304): a law that steep is a jump for any solver. The analytical law's parameter
+/// range and the weights file's check hold its initial state below the cap; only a
+/// state or a correction that moves Omega / a above it reaches the cap.
+const LOG_SCALE_CAP: f64 = crate::memory::parameters::LARGEST_LOG_SCALE;
 
 /// 1/E = 2 V_0 exp(-Omega / a), with ln E capped as in [`force`].
 pub fn inverse_scale(level: f64, direct: f64, reference_velocity: f64) -> f64 {
