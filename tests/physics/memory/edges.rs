@@ -167,6 +167,42 @@ fn a_learned_law_file_without_a_finite_slope_at_rest_is_refused_by_name() {
     );
 }
 
+/// Inside the range, the learned law's slope at rest is finite too: at ln E = 600
+/// (a = mu_0 / (600 + ln(2 V_0)) = 8.4205e-4), 1/E^2 underflows, and the plain
+/// sqrt(1/E^2 + v^2) at v = 0 was 0: slope inf, dS/dv NaN. Now the slope is F_n a E
+/// (both from the same ln E, rounding of exp: 1e-12), dS/dv = 0 at v = 0 (the slope
+/// is even in v) and dS/dF_n finite; the analytical law's slope there is the same.
+#[test]
+fn the_learned_law_has_a_finite_slope_at_rest_inside_the_range() {
+    let (mu_0, v_0) = (0.5, 1e-3);
+    let a = mu_0 / (600.0 + ln(2.0 * v_0));
+    let law = LearnedStateLaw {
+        parameters: StateLawParameters {
+            reference_coefficient: mu_0,
+            reference_velocity: v_0,
+            direct_effect: a,
+            evolution_effect: 0.015,
+            characteristic_slip: 1e-5,
+            state_evolution: StateEvolution::Aging,
+        },
+        correction: None,
+    };
+    let at = law.jacobian(0.0, 0.0, NORMAL);
+    let expected = NORMAL * a * exp(mu_0 / a - ln(2.0 * v_0));
+    assert!((at.slope - expected).abs() <= 1e-12 * expected, "{at:?}");
+    assert_eq!(at.slope_gradient[0], 0.0);
+    assert!(at.slope_gradient[1].is_finite(), "{at:?}");
+    let analytical = RateStateLaw::new(RateStateParameters {
+        direct_effect: a,
+        ..RateStateParameters::default()
+    });
+    let rest = analytical.force_at_state(0.0, NORMAL);
+    assert!(
+        (rest.slope - expected).abs() <= 1e-12 * expected,
+        "{rest:?}"
+    );
+}
+
 /// One law of each kind with state, both evolution laws for the rate-and-state ones,
 /// and the learned slip law with V_0 = 10 m/s (where V / V_0 underflows at the
 /// smallest speeds), each in a state away from its initial one.
