@@ -250,6 +250,13 @@ fn error_lines_are_the_documented_ones() {
     std::fs::create_dir_all(&dir).unwrap();
     let negative_modulus = dir.join("negative.toml");
     std::fs::write(&negative_modulus, "[material]\nyoungs_modulus = -1\n").unwrap();
+    // E = exp(mu_0 / a) / (2 V_0) overflows: the law has no finite slope at rest.
+    let steep_rate_and_state = dir.join("steep.toml");
+    std::fs::write(
+        &steep_rate_and_state,
+        "[friction]\nlaw = \"rate-and-state\"\n[friction.rate_and_state]\ndirect_effect = 1e-6\n",
+    )
+    .unwrap();
     let broken_csv = dir.join("broken.csv");
     std::fs::write(&broken_csv, "v,Fn,F\n0.1,100,20\n0.2,100\n").unwrap();
     let weights = dir.join("w.json");
@@ -262,6 +269,10 @@ fn error_lines_are_the_documented_ones() {
         (
             &["simulate", "--scene", negative_modulus.to_str().unwrap()],
             "invalid scene: material.youngs_modulus = -1e0; it must be finite and > 0 (Pa)".into(),
+        ),
+        (
+            &["simulate", "--scene", steep_rate_and_state.to_str().unwrap()],
+            "invalid scene: friction.rate_and_state.direct_effect = 1e-6; it must be >= 7.206847e-4 (1) with mu_0 = 5e-1 and V_0 = 1e-3 m/s: below it the slope at v = 0, F_n a exp(mu_0 / a) / (2 V_0), exceeds 1e304 a F_n and overflows".into(),
         ),
         (
             &["simulate", "--tolerance", "1e-4"],

@@ -350,6 +350,12 @@ fn bad_parameters_are_refused_with_the_reason() {
             "friction.rate_and_state.evolution_effect",
             f64::INFINITY,
         ),
+        // Finite, but E = exp(mu_0 / a) / (2 V_0) overflows: no finite slope at rest.
+        (
+            LawChoice::RateAndState,
+            "friction.rate_and_state.direct_effect",
+            1e-6,
+        ),
     ];
     for version in VERSIONS {
         for (law, name, value) in cases {
@@ -361,6 +367,100 @@ fn bad_parameters_are_refused_with_the_reason() {
                 "{version:?} {name} = {value}: {log:?}"
             );
         }
+    }
+}
+
+/// rate-and-state with a = 1e-6 (its slope at rest F_n a exp(mu_0 / a) / (2 V_0)
+/// overflows) is refused at initialisation in both versions with the words of the
+/// scene check, which the command line and StickSlipBeam give (`memory_laws`), the
+/// parameter named; before, NeuralFriction said "the outputs are not finite at
+/// sliding_velocity = 0 ... slope inf" and StickSlipBeam ran it.
+#[test]
+fn a_rate_and_state_law_without_a_finite_slope_at_rest_is_refused_as_by_the_scene() {
+    let mut scene = stickslip::scene::Scene::default();
+    scene.friction.rate_and_state.direct_effect = 1e-6;
+    let reason = scene.check().unwrap_err().to_string();
+    assert!(reason.starts_with("invalid scene: friction.rate_and_state.direct_effect = 1e-6; it must be >= 7.206847e-4"), "{reason}");
+    for version in VERSIONS {
+        let (result, log) = initialised(
+            version,
+            LawChoice::RateAndState,
+            &[],
+            &[("friction.rate_and_state.direct_effect", 1e-6)],
+        );
+        assert!(result.is_err());
+        let log = log.lock().unwrap();
+        assert!(
+            log.iter().any(|m| m.contains(&reason)),
+            "{version:?}: {log:?}"
+        );
+    }
+}
+
+/// At v = 0 LuGre's `friction_force_slope` and its directional derivatives are those of
+/// v > 0, as the other laws' (docs/fmu-reference.md): with z the committed deflection,
+/// g(0) = mu_s F_n and g'(0+) = -alpha (mu_s - mu_k) F_n, S = sigma1 (1 - sigma0 z /
+/// g(0)) + sigma2, dS/dv = 2 sigma1 sigma0 z g'(0+) / g(0)^2, dS/dF_n = sigma1 sigma0 z
+/// / (g(0) F_n), dF/dF_n = 0. The FMU evaluates the same operations in another order:
+/// 1e-12 relative. Before, S was sigma1 + sigma2 (the mean of the two sides) and dS/dv 0.
+#[test]
+fn lugre_slope_and_derivatives_at_rest_are_those_of_positive_velocity() {
+    let sigma2 = 5.0;
+    let (sigma0, sigma1, normal) = (1e7, 1e3, 100.0);
+    let g = exponential();
+    let g0 = g.static_coefficient * normal;
+    let g0_slope = -g.decay * (g.static_coefficient - g.kinetic_coefficient) * normal;
+    for version in VERSIONS {
+        let (f, _) = initialised(
+            version,
+            LawChoice::Lugre,
+            &[],
+            &[("friction.lugre.viscous_damping", sigma2)],
+        );
+        let mut f = f.unwrap();
+        set_velocity(&mut f, 0.02);
+        steps(&mut f, version, 0.0, 1e-4, 3);
+        set_velocity(&mut f, 0.0);
+        let z = real(&mut f, "bristle_deflection");
+        let expected_slope = sigma1 * (1.0 - sigma0 * z / g0) + sigma2;
+        let slope = real(&mut f, "friction_force_slope");
+        let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * y.abs();
+        assert!(
+            close(slope, expected_slope),
+            "{version:?}: {slope} vs {expected_slope}"
+        );
+        let unknowns = [
+            vr::<NeuralFriction>("friction_force"),
+            vr::<NeuralFriction>("friction_force_slope"),
+        ];
+        let derivative = |f: &mut Instance<NeuralFriction>, input: &str| {
+            let mut out = [0.0; 2];
+            f.get_directional_derivative(
+                &unknowns,
+                &[vr::<NeuralFriction>(input)],
+                &[1.0],
+                &mut out,
+            )
+            .unwrap();
+            out
+        };
+        let along_v = derivative(&mut f, "sliding_velocity");
+        let along_normal = derivative(&mut f, "normal_force");
+        assert!(
+            close(along_v[0], expected_slope),
+            "{version:?}: {along_v:?}"
+        );
+        let expected_curvature = 2.0 * sigma1 * sigma0 * z * g0_slope / (g0 * g0);
+        assert!(
+            close(along_v[1], expected_curvature),
+            "{version:?}: {along_v:?} vs {expected_curvature}"
+        );
+        assert_eq!(along_normal[0], 0.0);
+        let expected_slope_normal = sigma1 * sigma0 * z / (g0 * normal);
+        assert!(
+            close(along_normal[1], expected_slope_normal),
+            "{version:?}: {along_normal:?}"
+        );
     }
 }
 

@@ -107,7 +107,7 @@ fn too_many_modes_and_a_bad_target_are_reported_with_their_numbers() {
     let e = sim.advance_to(-1.0).unwrap_err();
     assert_eq!(
         e.to_string(),
-        "cannot advance to t = -1 s from t = 0 s: the target must be finite and not in the past"
+        "cannot advance to t = -1e0 s from t = 0e0 s: the target must be finite and not in the past"
     );
 }
 

@@ -26,6 +26,7 @@ use stickslip::memory::parameters::{LuGreParameters, RateStateParameters};
 use stickslip::memory::{MemoryLaw, STATE_VARIABLES};
 use stickslip::neural::{FeatureRole, NeuralError, NeuralModel};
 use stickslip::scene::{Scene, SceneError};
+use stickslip::short::Short;
 
 mod derivatives;
 mod memory;
@@ -139,13 +140,13 @@ enum EvaluateError {
         source: NeuralError,
     },
     /// A partial derivative (output, input by value reference) that is not finite.
-    #[error("the partial derivative of value reference {output} with respect to value reference {input} is {value}")]
+    #[error("the partial derivative of value reference {output} with respect to value reference {input} is {}", Short(*.value))]
     NonFiniteDerivative { output: u32, input: u32, value: f64 },
     /// A law state that a step made non-finite.
-    #[error("the friction law's state is not finite ({state}) after a step at sliding_velocity = {sliding_velocity} m/s")]
+    #[error("the friction law's state is not finite ({}) after a step at sliding_velocity = {} m/s", Short(*.state), Short(*.sliding_velocity))]
     NonFiniteState { sliding_velocity: f64, state: f64 },
     /// Inputs (m/s, N) at which the law gives a non-finite force.
-    #[error("the outputs are not finite at sliding_velocity = {sliding_velocity} m/s, normal_force = {normal_force} N (force {force}, slope {slope}, coefficient {coefficient}, static limit {static_limit})")]
+    #[error("the outputs are not finite at sliding_velocity = {} m/s, normal_force = {} N (force {}, slope {}, coefficient {}, static limit {})", Short(*.sliding_velocity), Short(*.normal_force), Short(*.force), Short(*.slope), Short(*.coefficient), Short(*.static_limit))]
     NonFiniteOutputs {
         sliding_velocity: f64,
         normal_force: f64,

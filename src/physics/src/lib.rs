@@ -16,7 +16,8 @@
 //! modes and the belt speed above which steady sliding is stable. `choice` is the
 //! `Choice` trait and `choice!` macro that every enumerated setting is declared with.
 //! `elementary` holds the transcendental functions (exp, tanh, ...), from the pure-Rust
-//! `libm` crate so that results are the same bits on every CPU and platform.
+//! `libm` crate so that results are the same bits on every CPU and platform; `short`
+//! prints numbers in messages short.
 //!
 //! The FMI adapter (`stickslip-fmi`), the command line (`stickslip-cli`) and the trainer
 //! (`stickslip-train`) depend on this crate, never the reverse.
@@ -41,6 +42,7 @@ pub mod neural;
 pub mod run;
 pub mod scene;
 pub mod scene_preset;
+pub mod short;
 pub mod simulation;
 pub mod stability;
 pub mod statics;

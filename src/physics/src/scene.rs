@@ -524,7 +524,7 @@ pub const MAX_STEPS: f64 = 1e9;
 fn invalid(field: &'static str, value: f64, requirement: &str) -> SceneError {
     SceneError::Invalid {
         field,
-        value: format!("{value:e}"),
+        value: crate::short::Short(value).to_string(),
         requirement: requirement.to_string(),
     }
 }
@@ -628,8 +628,8 @@ impl Scene {
         }
 
         let problems = [f.lugre.problem(), f.rate_and_state.problem()];
-        if let Some((field, value, requirement)) = problems.into_iter().flatten().next() {
-            return Err(invalid(field, value, requirement));
+        if let Some(problem) = problems.into_iter().flatten().next() {
+            return Err(invalid(problem.field, problem.value, &problem.requirement));
         }
 
         let c = &self.contact;

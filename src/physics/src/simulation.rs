@@ -11,6 +11,7 @@ use crate::integrator::{Coefficients, Integrator, Kinematics};
 use crate::memory::{StateVariable, STATE_VARIABLES};
 use crate::modal_slip::{SlipBasis, SlipBasisError};
 use crate::scene::{CheckedScene, DampingPhase, InitialState, TipVelocity};
+use crate::short::Short;
 use crate::structure::{singular, ModelError, StructuralModel};
 use serde::{Deserialize, Serialize};
 
@@ -80,10 +81,10 @@ pub enum SimulationError {
     #[error(transparent)]
     SlipBasis(#[from] SlipBasisError),
     /// The state became NaN or infinite.
-    #[error("{quantity} became non-finite at t = {time} s")]
+    #[error("{quantity} became non-finite at t = {} s", Short(*.time))]
     NonFinite { time: f64, quantity: &'static str },
     /// A requested end time that is not finite or lies in the past.
-    #[error("cannot advance to t = {target} s from t = {time} s: the target must be finite and not in the past")]
+    #[error("cannot advance to t = {} s from t = {} s: the target must be finite and not in the past", Short(*.target), Short(*.time))]
     InvalidTarget { time: f64, target: f64 },
 }
 

@@ -16,6 +16,7 @@ use stickslip::scene::{
     Clamp, DampingPhase, FidelityLevel, FrictionLawKind, HoldingForce, Inference, InitialState,
     ModalBasis, Scheme, SlidingVelocity, TipVelocity,
 };
+use stickslip::short::Short;
 use stickslip::simulation::ExternalCoupling;
 
 const BELT_SPEED: u32 = 100;
@@ -225,7 +226,7 @@ pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &with_memory_law_param
             get: |m: &StickSlipBeam| m.settings.scene.fidelity.tolerance.unwrap_or(f64::NAN),
             set: Some(|m: &mut StickSlipBeam, v: f64| {
                 if !(v.is_finite() && v > 0.0) {
-                    return Err(format!("{v} must be finite and > 0"));
+                    return Err(format!("{} must be finite and > 0", Short(v)));
                 }
                 m.settings.scene.fidelity.tolerance = Some(v);
                 Ok(())

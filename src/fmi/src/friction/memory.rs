@@ -28,6 +28,7 @@ use serde::{Deserialize, Serialize};
 use stickslip::friction::{ExponentialLaw, LawChoice};
 use stickslip::jacobian::LawJacobian;
 use stickslip::memory::lugre::LuGreLaw;
+use stickslip::memory::parameters::ParameterProblem;
 use stickslip::memory::rate_state::RateStateLaw;
 use stickslip::memory::{LawStep, MemoryLaw, STATE_VARIABLES};
 use stickslip::neural::memory::LearnedStateFriction;
@@ -112,9 +113,7 @@ impl NeuralFriction {
     /// constructors take checked parameters only).
     fn build_law(&mut self) -> Result<Option<Box<dyn MemoryLaw>>, EvaluateError> {
         let s = &self.settings;
-        let refuse = |(field, value, requirement): (&str, f64, &str)| {
-            EvaluateError::Parameter(format!("{field} = {value} must be {requirement}"))
-        };
+        let refuse = |problem: ParameterProblem| EvaluateError::Parameter(problem.to_string());
         Ok(match s.law {
             LawChoice::Exponential => None,
             LawChoice::Lugre => {

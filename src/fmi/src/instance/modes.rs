@@ -4,6 +4,7 @@
 use super::base::{CallResult, Instance, Status, EVENTS};
 use super::machine::{Call, Mode};
 use crate::model::Model;
+use stickslip::short::Short;
 
 /// fmi3UpdateDiscreteStates's output arguments.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -42,13 +43,20 @@ impl<M: Model> Instance<M> {
         self.check(Call::SetupExperiment)?;
         let call = self.names().setup_experiment;
         if !start_time.is_finite() {
-            return Err(self.fail(call, &format!("startTime = {start_time} is not finite")));
+            return Err(self.fail(
+                call,
+                &format!("startTime = {} is not finite", Short(start_time)),
+            ));
         }
         if let Some(stop) = stop_time {
             if !(stop.is_finite() && stop > start_time) {
                 return Err(self.fail(
                     call,
-                    &format!("stopTime = {stop} must be finite and greater than startTime = {start_time}"),
+                    &format!(
+                        "stopTime = {} must be finite and greater than startTime = {}",
+                        Short(stop),
+                        Short(start_time)
+                    ),
                 ));
             }
         }

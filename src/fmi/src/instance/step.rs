@@ -4,6 +4,7 @@
 use super::base::{CallResult, Instance, Status, EVENTS};
 use super::machine::Call;
 use crate::model::Model;
+use stickslip::short::Short;
 
 /// Status kinds of fmi2Get*Status.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -44,7 +45,7 @@ impl<M: Model> Instance<M> {
             self.check(Call::DoStep)?;
             let reason = format!(
                 "illegal call sequence: the last step ended at an event at t = {} s (eventHandlingNeeded = true); call fmi3EnterEventMode, fmi3UpdateDiscreteStates and fmi3EnterStepMode first",
-                self.time
+                Short(self.time)
             );
             return Err(self.fail("fmi3DoStep", &reason));
         }
@@ -69,15 +70,19 @@ impl<M: Model> Instance<M> {
             return Err(self.fail(
                 call,
                 &format!(
-                    "currentCommunicationPoint = {current} s does not match the FMU's time {} s",
-                    self.time
+                    "currentCommunicationPoint = {} s does not match the FMU's time {} s",
+                    Short(current),
+                    Short(self.time)
                 ),
             ));
         }
         if !(h > 0.0 && h.is_finite()) {
             return Err(self.fail(
                 call,
-                &format!("communicationStepSize = {h} s must be positive and finite"),
+                &format!(
+                    "communicationStepSize = {} s must be positive and finite",
+                    Short(h)
+                ),
             ));
         }
         let target = current + h;
@@ -85,7 +90,11 @@ impl<M: Model> Instance<M> {
             if target > stop + 1e-9 * stop.abs().max(1.0) {
                 return Err(self.fail(
                     call,
-                    &format!("the step to t = {target} s passes stopTime = {stop} s"),
+                    &format!(
+                        "the step to t = {} s passes stopTime = {} s",
+                        Short(target),
+                        Short(stop)
+                    ),
                 ));
             }
         }

@@ -12,6 +12,7 @@ use super::parameters::LuGreParameters;
 use super::relaxation::Relaxation;
 use super::{set_checked, ForceAtState, LawStep, MemoryLaw, MemoryStateError, StateVariable};
 use crate::friction::{signum_or_zero, ExponentialLaw, FrictionLaw};
+use crate::jacobian::magnitude_slope;
 
 /// This law's state variable, listed in `crate::memory::STATE_VARIABLES` (defined
 /// there, so that the list imports no law).
@@ -165,9 +166,11 @@ impl MemoryLaw for LuGreLaw {
     /// F = sigma0 z + sigma1 (v - sigma0 z h(v)) + sigma2 v with h = |v| / g(v),
     /// g = mu(|v|) F_n and z the committed deflection. With u = |v| and ' = d/du:
     /// dh/dv = sign(v) (1/g - u g'/g^2), d2h/dv2 = -2 g'/g^2 - u g''/g^2 + 2 u g'^2/g^3
-    /// (mu'' = -alpha mu' for the exponential law), dh/dF_n = -h / F_n. At v = 0 the
-    /// kink of |v| takes sign 0, as the step's slope does; where g <= 0 the bristles
-    /// carry nothing (as in the step): F = sigma2 v.
+    /// (mu'' = -alpha mu' for the exponential law), dh/dF_n = -h / F_n. At v = 0, the
+    /// kink of |v|, the v-derivatives are those of v > 0, as for every law
+    /// (`crate::jacobian`): S(0) = sigma1 (1 - sigma0 z / g(0)) + sigma2, the limit
+    /// v -> 0+ (d2h/dv2 is even, its formula at u = 0 that limit). Where g <= 0 the
+    /// bristles carry nothing (as in the step): F = sigma2 v.
     fn force_at_state(&self, sliding_velocity: f64, normal_force: f64) -> ForceAtState {
         let p = &self.parameters;
         let (sigma0, sigma1, sigma2) = (p.bristle_stiffness, p.bristle_damping, p.viscous_damping);
@@ -187,14 +190,9 @@ impl MemoryLaw for LuGreLaw {
             -self.steady.decay * mu_slope * normal_force,
         );
         let u = v.abs();
-        let sign = signum_or_zero(v);
         let h = u / g;
-        let h_v = sign * (1.0 / g - u * g1 / (g * g));
-        let h_vv = if v == 0.0 {
-            0.0
-        } else {
-            -2.0 * g1 / (g * g) - u * g2 / (g * g) + 2.0 * u * g1 * g1 / (g * g * g)
-        };
+        let h_v = magnitude_slope(v) * (1.0 / g - u * g1 / (g * g));
+        let h_vv = -2.0 * g1 / (g * g) - u * g2 / (g * g) + 2.0 * u * g1 * g1 / (g * g * g);
         // The bristle force's coefficient in the rate term: sigma1 sigma0 z.
         let damped = sigma1 * sigma0 * self.state[0];
         let slope = sigma1 * (1.0 - sigma0 * self.state[0] * h_v) + sigma2;

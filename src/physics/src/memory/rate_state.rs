@@ -60,7 +60,9 @@ impl RateStateLaw {
         &self.parameters
     }
 
-    /// The exact step of the evolution law for V = |v| held over dt:
+    /// The exact step of the evolution law for V = |v| held over dt (finite for every
+    /// finite v: at V = 5e-324 m/s the slip law's V theta / D_c underflows, so its
+    /// logarithm is taken as a sum of logarithms there, `log_of_ratio`):
     /// - aging: theta_n+1 = theta_n exp(-s) + dt P(s), s = V dt / D_c;
     /// - slip: y = ln(V theta / D_c) obeys dy/dt = -(V / D_c) y, so
     ///   ln theta_n+1 = ln theta_n + y_n (exp(-s) - 1), and at V = 0 theta stays.
@@ -79,7 +81,9 @@ impl RateStateLaw {
                 }
             }
             StateEvolution::Slip if speed > 0.0 => {
-                let y = elementary::ln(speed * theta / d_c);
+                let y = log_of_ratio(speed * theta, d_c, || {
+                    elementary::ln(speed) + elementary::ln(theta) - elementary::ln(d_c)
+                });
                 // (exp(-s) - 1) = -s P(s); d/dV [y (exp(-s) - 1)] with dy/dV = 1 / V:
                 // -s P / V - y exp(-s) dt / D_c = -(dt / D_c) (P + y exp(-s)).
                 Step {
@@ -132,6 +136,20 @@ impl RateStateLaw {
                 -mu_v * w * k / (root * root),
             )
         }
+    }
+}
+
+/// ln(numerator / denominator), from the quotient where it and the numerator are normal
+/// f64 (the same bits as before for every ordinary velocity), else from `logs`, the same
+/// logarithm as a sum of logarithms: a product or quotient that underflows to a
+/// subnormal or 0 (V = 5e-324 m/s gave ln 0 = -inf and an infinite state) or overflows
+/// has a finite logarithm. Shared with the learned law's slip step.
+pub(crate) fn log_of_ratio(numerator: f64, denominator: f64, logs: impl Fn() -> f64) -> f64 {
+    let ratio = numerator / denominator;
+    if numerator.is_normal() && ratio.is_normal() {
+        elementary::ln(ratio)
+    } else {
+        logs()
     }
 }
 

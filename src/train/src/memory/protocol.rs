@@ -114,8 +114,8 @@ impl TribometerSpec {
     /// Checks the settings, with the field at fault named.
     pub fn check(&self) -> Result<(), TrainError> {
         let bad = |m: String| Err(TrainError::InvalidInput(format!("tribometer data: {m}")));
-        if let Some((field, value, requirement)) = self.law.problem() {
-            return bad(format!("{field} = {value}: must be {requirement}"));
+        if let Some(problem) = self.law.problem() {
+            return bad(problem.to_string());
         }
         for (name, v) in [
             ("speed_min", self.speed_min),

@@ -196,6 +196,17 @@ impl StateLawFile {
                 return Err(shape(format!("law.{name} must be positive, got {v}")));
             }
         }
+        // The analytical law's range (at psi = 0, without the correction's share of
+        // Omega): a law steeper at rest would be capped (`regularised`), its force no
+        // longer the law's.
+        if let Some(problem) = crate::memory::parameters::regularisation_problem(
+            p.direct_effect,
+            p.reference_coefficient,
+            p.reference_velocity,
+            ["law.direct_effect", "law.reference_velocity"],
+        ) {
+            return Err(shape(problem.to_string()));
+        }
         for (name, [lo, hi]) in [
             ("sliding_velocity", self.ranges.sliding_velocity),
             ("normal_force", self.ranges.normal_force),

@@ -194,7 +194,21 @@ impl LearnedStateLaw {
         let inverse = regularised::inverse_scale(level, p.direct_effect, p.reference_velocity);
         let q = inverse * inverse + velocity * velocity;
         let slope = f.d_velocity;
-        let slope_level = slope * inverse * inverse / (p.direct_effect * q);
+        // v / q and 1/(E^2 q) through the root where q is not a normal f64 (ln E > 354:
+        // at v = 0 q was 0 and dS/dv NaN), the plain formulas (same bits) elsewhere.
+        let (slope_velocity, slope_level) = if q.is_normal() {
+            (
+                -slope * velocity / q,
+                slope * inverse * inverse / (p.direct_effect * q),
+            )
+        } else {
+            let root = regularised::root_sum_of_squares(inverse, velocity);
+            let (v_share, inverse_share) = (velocity / root, inverse / root);
+            (
+                -slope * v_share / root,
+                slope * inverse_share * inverse_share / p.direct_effect,
+            )
+        };
         let force_normal = if normal_force != 0.0 {
             f.force / normal_force
         } else {
@@ -209,10 +223,7 @@ impl LearnedStateLaw {
             force: f.force,
             slope,
             force_gradient: vec![slope, force_normal + f.d_level * d_level_normal],
-            slope_gradient: vec![
-                -slope * velocity / q,
-                slope_normal + slope_level * d_level_normal,
-            ],
+            slope_gradient: vec![slope_velocity, slope_normal + slope_level * d_level_normal],
         }
     }
 

@@ -26,14 +26,33 @@ pub struct RegularisedForce {
 /// Above this ln y, asinh(y) = ln(2 y) to within 1/(4 y^2) < 1e-26.
 const LOG_ASYMPTOTE: f64 = 30.0;
 /// ln E is capped here so that the slope at v = 0, F_n a E, stays finite (e^700 ~
-/// 1e304): a law that steep is a jump for any solver.
-const LOG_SCALE_CAP: f64 = 700.0;
+/// 1e304): a law that steep is a jump for any solver. The analytical law's parameter
+/// range and the weights file's check hold its initial state below the cap; only a
+/// state or a correction that moves Omega / a above it reaches the cap.
+const LOG_SCALE_CAP: f64 = crate::memory::parameters::LARGEST_LOG_SCALE;
 
 /// 1/E = 2 V_0 exp(-Omega / a), with ln E capped as in [`force`].
 pub fn inverse_scale(level: f64, direct: f64, reference_velocity: f64) -> f64 {
     crate::elementary::exp(
         -(level / direct - crate::elementary::ln(2.0 * reference_velocity)).min(LOG_SCALE_CAP),
     )
+}
+
+/// sqrt(1/E^2 + v^2) (m/s) from `inverse_scale` (1/E) and `velocity` (v): the plain sum
+/// where it is a normal f64 (the same bits as before), else scaled by the larger of the
+/// two. With ln E > 354, 1/E^2 underflows, and at v = 0 the plain root was 0: the slope
+/// at rest F_n a E was infinite (and dS/dv NaN) although it is finite up to ln E = 709.
+pub fn root_sum_of_squares(inverse_scale: f64, velocity: f64) -> f64 {
+    let sum = inverse_scale * inverse_scale + velocity * velocity;
+    if sum.is_normal() {
+        return sum.sqrt();
+    }
+    let larger = inverse_scale.abs().max(velocity.abs());
+    if larger == 0.0 {
+        return 0.0;
+    }
+    let (x, y) = (inverse_scale / larger, velocity / larger);
+    larger * (x * x + y * y).sqrt()
 }
 
 /// F and its derivatives (module formula) at sliding velocity `velocity` (m/s), normal
@@ -50,8 +69,7 @@ pub fn force(
         (level / direct - crate::elementary::ln(2.0 * reference_velocity)).min(LOG_SCALE_CAP);
     let inverse_scale = inverse_scale(level, direct, reference_velocity);
     let sign = crate::friction::signum_or_zero(velocity);
-    let d_velocity =
-        normal_force * direct / (inverse_scale * inverse_scale + velocity * velocity).sqrt();
+    let d_velocity = normal_force * direct / root_sum_of_squares(inverse_scale, velocity);
     if velocity == 0.0 {
         return RegularisedForce {
             force: 0.0,

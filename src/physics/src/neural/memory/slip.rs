@@ -37,7 +37,12 @@ pub fn step(state: f64, velocity: f64, step: f64, slip: f64, reference_velocity:
         };
     }
     let s = speed * step / slip;
-    let x = state + crate::elementary::ln(speed / reference_velocity);
+    // ln(V / V_0) as a difference of logarithms where V / V_0 underflows (V = 5e-324
+    // m/s with V_0 > 1e-2 m/s gave x = -inf and an infinite or NaN state).
+    let x = state
+        + crate::memory::rate_state::log_of_ratio(speed, reference_velocity, || {
+            crate::elementary::ln(speed) - crate::elementary::ln(reference_velocity)
+        });
     let decay = crate::elementary::exp(-s);
     // 1 - e^{-s} without cancellation for small s (a short step at low speed).
     let lost = -crate::elementary::exp_m1(-s);
