@@ -269,8 +269,9 @@ crate::choice! {
         #[default]
         Implicit = "implicit": "the law at the step's own sliding velocity, solved with the step",
         /// F_n+1 = F_law(v_rel,n): the law at the relative velocity the previous step
-        /// ended with (as `tip_velocity` gives it), held over the step. Explicit, one
-        /// step behind; the paper authors' script. Stable only while dt |dF/dv| stays
+        /// ended with (as `tip_velocity` gives it), held over the step, on every step
+        /// that starts in slip (the step that leaves stick follows `first_slip_step`,
+        /// implicit if loaded). Explicit, one step behind; the paper authors' script. Stable only while dt |dF/dv| stays
         /// below about the tip's modal mass (docs/paper-authors-scene.md).
         Lagged = "lagged": "the law at the sliding velocity the previous step ended with, held over the step (explicit)",
     }

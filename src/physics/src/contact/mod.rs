@@ -43,8 +43,10 @@
 //!   Two options follow the paper authors' script (docs/paper-authors-scene.md):
 //!   `first_slip_step = "free"` takes F = 0 over the step that leaves stick, and
 //!   `slip_force = "lagged"` takes F_n+1 = F_law(x_n), the law at the argument the
-//!   previous step ended with, instead of the implicit solve. The switch is the same:
-//!   re-stick looks at v_rel,n+1 under the force the step takes, lagged or not.
+//!   previous step ended with, instead of the implicit solve, on every step that starts
+//!   in slip (a loaded first slip step stays implicit: before it there is no slip
+//!   velocity to lag). The switch is the same: re-stick looks at v_rel,n+1 under the
+//!   force the step takes, lagged or not.
 //! - **Moreau-Jean: impulse level** (Jean, Comput. Methods Appl. Mech. Eng. 177 (1999)
 //!   235; Acary, ZAMM 96 (2016) 585). Stick holds the tip velocity at the belt's,
 //!   v_tip,n+1 = v_b, with the impulse P = F dt. Stick when the impulse stick needs lies
@@ -98,7 +100,7 @@ pub use state::{ContactState, Previous, Transition};
 pub use switch::{impulse_clamp, next_state};
 
 use crate::integrator::{Coefficients, TrialStep};
-use crate::scene::{CheckedScene, FirstSlipStep};
+use crate::scene::{CheckedScene, FirstSlipStep, SlipForce};
 use slip::SlipOptions;
 use stick::{Holding, StickReaction};
 
@@ -223,9 +225,14 @@ impl Contact {
                         (ContactState::Slip, 0.0, None)
                     }
                     ContactState::Slip => {
-                        let slip =
-                            self.slip
-                                .solve(trial, previous, belt_speed, &mut kinetic, alpha_f);
+                        // The step that leaves stick has no slip velocity before it to
+                        // lag the force behind (v_rel,n ~ 0 in stick, its sign
+                        // rounding), so a loaded first step is solved implicitly.
+                        let first = SlipOptions {
+                            force: SlipForce::Implicit,
+                            ..self.slip
+                        };
+                        let slip = first.solve(trial, previous, belt_speed, &mut kinetic, alpha_f);
                         (ContactState::Slip, slip.force, Some(slip.solve))
                     }
                 }
