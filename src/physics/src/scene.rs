@@ -271,8 +271,10 @@ crate::choice! {
         /// F_n+1 = F_law(v_rel,n): the law at the relative velocity the previous step
         /// ended with (as `tip_velocity` gives it), held over the step, on every step
         /// that starts in slip (the step that leaves stick follows `first_slip_step`,
-        /// implicit if loaded). Explicit, one step behind; the paper authors' script. Stable only while dt |dF/dv| stays
-        /// below about the tip's modal mass (docs/paper-authors-scene.md).
+        /// implicit if loaded). Explicit, one step behind; the paper authors' script.
+        /// Its loop gain |dF/dv| dv_tip/dF (dv_tip/dF about dt over the tip's modal
+        /// mass) stays below 0.80 with the paper's law at every dt
+        /// (docs/paper-authors-scene.md).
         Lagged = "lagged": "the law at the sliding velocity the previous step ended with, held over the step (explicit)",
     }
 }
