@@ -1,7 +1,8 @@
 """The paper scene under two transient algorithms, each with two friction laws (issue 26,
 second part): this project's (`stickslip simulate --preset paper`) and the paper
 authors' (`--preset paper-authors`: preload, damping beta = 1e-2 s only in slip,
-finite-difference tip velocity; docs/paper-authors-scene.md), with the analytical law
+finite-difference tip velocity, no friction force over the first slip step, the slip
+force lagged one step; docs/paper-authors-scene.md), with the analytical law
 (paper Eq. 6) and with the authors' own network (their fitrnet, converted to ONNX as
 paper_authors.convert does), at every fidelity (modal, beam, plane-stress), 0 .. 1.2 s
 as in the paper, through the command line (artifacts.find_binary: $STICKSLIP_BIN or the

@@ -497,3 +497,36 @@ fn the_paper_authors_preset_breaks_away_after_its_preload_and_excludes_a_scene_f
     assert!(!ok);
     assert!(stderr.contains("--preset"), "{stderr}");
 }
+
+#[test]
+fn the_slip_rule_flags_reach_the_scene_and_a_law_with_state_refuses_them() {
+    // Set on the default scene they change the run: the free first step and the lagged
+    // force move the first re-stick, so the summaries differ.
+    let base = ["simulate", "--fidelity", "modal", "--t-end", "0.8"];
+    let (ok, plain, stderr) = stickslip(&base);
+    assert!(ok, "{stderr}");
+    let mut with_rules = base.to_vec();
+    with_rules.extend(["--first-slip-step", "free", "--slip-force", "lagged"]);
+    let (ok, ruled, stderr) = stickslip(&with_rules);
+    assert!(ok, "{stderr}");
+    assert_ne!(plain, ruled);
+    for (flag, value, field) in [
+        ("--slip-force", "lagged", "contact.slip_force"),
+        ("--first-slip-step", "free", "contact.first_slip_step"),
+    ] {
+        let (ok, _, stderr) = stickslip(&[
+            "simulate",
+            "--friction",
+            "lugre",
+            flag,
+            value,
+            "--t-end",
+            "0.01",
+        ]);
+        assert!(!ok);
+        assert!(
+            stderr.contains(field) && stderr.contains("friction.law = lugre"),
+            "{stderr}"
+        );
+    }
+}

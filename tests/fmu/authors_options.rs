@@ -28,6 +28,8 @@ fn authors_beam(preset: &Scene) -> Instance<StickSlipBeam> {
         ("contact.holding_force", c.holding_force.code()),
         ("contact.tip_velocity", c.tip_velocity.code()),
         ("contact.damping_phase", c.damping_phase.code()),
+        ("contact.first_slip_step", c.first_slip_step.code()),
+        ("contact.slip_force", c.slip_force.code()),
     ];
     for (name, code) in choices {
         b.set_integer(&[vr::<StickSlipBeam>(name)], &[code])

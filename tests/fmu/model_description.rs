@@ -6,8 +6,8 @@ use stickslip::choice::Choice;
 use stickslip::friction::LawChoice;
 use stickslip::memory::parameters::StateEvolution;
 use stickslip::scene::{
-    Clamp, DampingPhase, FidelityLevel, FrictionLawKind, HoldingForce, Inference, InitialState,
-    ModalBasis, Scheme, SlidingVelocity, TipVelocity,
+    Clamp, DampingPhase, FidelityLevel, FirstSlipStep, FrictionLawKind, HoldingForce, Inference,
+    InitialState, ModalBasis, Scheme, SlidingVelocity, SlipForce, TipVelocity,
 };
 use stickslip::simulation::ExternalCoupling;
 use stickslip_fmi::beam::StickSlipBeam;
@@ -267,6 +267,8 @@ fn the_annotated_choices_are_the_scenes_choices() {
             declared::<InitialState>("contact.initial_state"),
             declared::<TipVelocity>("contact.tip_velocity"),
             declared::<DampingPhase>("contact.damping_phase"),
+            declared::<FirstSlipStep>("contact.first_slip_step"),
+            declared::<SlipForce>("contact.slip_force"),
             declared::<FidelityLevel>("fidelity.level"),
             declared::<ModalBasis>("fidelity.modal_basis"),
             declared::<Clamp>("fidelity.clamp"),

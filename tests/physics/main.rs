@@ -3,6 +3,7 @@
 //! validation, the choice enums, fidelity = auto, the error messages, and the layering
 //! of the crates.
 
+mod authors_rules;
 mod authors_scene;
 mod auto;
 mod auto_horizon;

@@ -4,7 +4,7 @@
 use stickslip::law_source::LawSource;
 use stickslip::modal_slip::{SlipBasis, SlipBasisError};
 use stickslip::scene::CheckedScene;
-use stickslip::scene::FidelityLevel;
+use stickslip::scene::{FidelityLevel, FirstSlipStep, SlipForce};
 use stickslip::scene_preset::ScenePreset;
 use stickslip::simulation::Simulator;
 use stickslip::structure::StructuralModel;
@@ -127,6 +127,11 @@ fn authors_on_mesh(cutoff: f64) -> Simulator {
 /// [`authors_on_mesh`] with the stiffness-proportional damping b (s) of the slip phase.
 fn authors_on_mesh_with_slip_damping(cutoff: f64, slip_damping: f64) -> Simulator {
     let mut scene = ScenePreset::PaperAuthors.scene();
+    // The slip rules of issue 33 off, as when these bounds were measured: the closed
+    // form of the projection's jump below assumes the law's load at the first slip
+    // step, and a free first step leaves the dropped modes nearly unloaded instead.
+    scene.contact.first_slip_step = FirstSlipStep::Law;
+    scene.contact.slip_force = SlipForce::Implicit;
     scene.fidelity.level = FidelityLevel::PlaneStress;
     scene.fidelity.element_size = 0.04;
     scene.contact.slip_modes_below = cutoff;

@@ -13,8 +13,8 @@ use stickslip::law_source::LawSource;
 use stickslip::memory::parameters::StateEvolution;
 use stickslip::run::RunError;
 use stickslip::scene::{
-    CheckedScene, DampingPhase, FidelityLevel, FrictionLawKind, Inference, Scene, Scheme,
-    TipVelocity,
+    CheckedScene, DampingPhase, FidelityLevel, FirstSlipStep, FrictionLawKind, Inference, Scene,
+    Scheme, SlipForce, TipVelocity,
 };
 use stickslip::scene_preset::ScenePreset;
 
@@ -48,6 +48,12 @@ pub struct SceneArgs {
     /// The tip velocity the contact evaluates.
     #[arg(long, value_parser = parser::<TipVelocity>())]
     pub tip_velocity: Option<TipVelocity>,
+    /// The tip force over the first step of each slip phase.
+    #[arg(long, value_parser = parser::<FirstSlipStep>())]
+    pub first_slip_step: Option<FirstSlipStep>,
+    /// Which sliding velocity the kinetic force of a slip step is evaluated at.
+    #[arg(long, value_parser = parser::<SlipForce>())]
+    pub slip_force: Option<SlipForce>,
     /// Slip on the plane-stress mesh's modes below this cut-off (rad/s; the paper
     /// authors' 1e4); 0: on the full model. Plane-stress fidelity only.
     #[arg(long, allow_negative_numbers = true)]
@@ -140,6 +146,12 @@ impl SceneArgs {
         }
         if let Some(v) = self.tip_velocity {
             scene.contact.tip_velocity = v;
+        }
+        if let Some(f) = self.first_slip_step {
+            scene.contact.first_slip_step = f;
+        }
+        if let Some(f) = self.slip_force {
+            scene.contact.slip_force = f;
         }
         if let Some(cutoff) = self.slip_modes_below {
             scene.contact.slip_modes_below = cutoff;

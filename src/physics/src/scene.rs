@@ -244,6 +244,41 @@ crate::choice! {
     }
 }
 
+crate::choice! {
+    /// The tip force over the first step of each slip phase (the step in which the
+    /// holding force passes mu_s F_n).
+    #[choice(name = "FirstSlipStep", description = "The tip force over the first step of each slip phase")]
+    #[derive(Default)]
+    pub enum FirstSlipStep {
+        /// The kinetic force, as in every slip step (default).
+        #[default]
+        Law = "law": "the kinetic friction force, as every slip step",
+        /// No friction force: the tip moves as the unloaded beam over that step (the
+        /// paper authors' script, `V_beam_transient_fea.m`).
+        Free = "free": "no friction force (the beam unloaded over that step)",
+    }
+}
+
+crate::choice! {
+    /// Which sliding velocity the kinetic force of a slip step is evaluated at.
+    #[choice(name = "SlipForce", description = "When the kinetic force of a slip step is evaluated")]
+    #[derive(Default)]
+    pub enum SlipForce {
+        /// F = F_law(x(F)) at the step's own sliding velocity (at generalised-alpha's
+        /// level t_n+1-alpha_f), solved with the step (default).
+        #[default]
+        Implicit = "implicit": "the law at the step's own sliding velocity, solved with the step",
+        /// F_n+1 = F_law(v_rel,n): the law at the relative velocity the previous step
+        /// ended with (as `tip_velocity` gives it), held over the step, on every step
+        /// that starts in slip (the step that leaves stick follows `first_slip_step`,
+        /// implicit if loaded). Explicit, one step behind; the paper authors' script.
+        /// Its loop gain |dF/dv| dv_tip/dF (dv_tip/dF about dt over the tip's modal
+        /// mass) stays below 0.80 with the paper's law at every dt
+        /// (docs/paper-authors-scene.md).
+        Lagged = "lagged": "the law at the sliding velocity the previous step ended with, held over the step (explicit)",
+    }
+}
+
 /// Contact options, including the ones that reproduce the paper literally.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -267,6 +302,48 @@ pub struct Contact {
     /// algorithm, 1e4 rad/s), with the state projected onto them at stick -> slip and
     /// expanded back at slip -> stick (`modal_slip`). Plane-stress fidelity only.
     pub slip_modes_below: f64,
+    /// The tip force over the first step of each slip phase.
+    pub first_slip_step: FirstSlipStep,
+    /// Which sliding velocity the kinetic force of a slip step is evaluated at.
+    pub slip_force: SlipForce,
+}
+
+impl Contact {
+    /// The first of the paper authors' slip-phase rules (`first_slip_step`,
+    /// `slip_force`) this contact sets away from its default, as (field, value).
+    pub fn phase_rule(&self) -> Option<(&'static str, &'static str)> {
+        use crate::choice::Choice;
+        if self.first_slip_step != FirstSlipStep::Law {
+            Some(("contact.first_slip_step", self.first_slip_step.name()))
+        } else if self.slip_force != SlipForce::Implicit {
+            Some(("contact.slip_force", self.slip_force.name()))
+        } else {
+            None
+        }
+    }
+
+    /// Why this contact cannot run a law with state named `law` (a `friction.law`, or
+    /// the network of `friction.weights` when it has state), if it cannot: the
+    /// slip-phase rules need a set-valued stick and a memoryless force. A law with
+    /// state has neither: every step is one slip solve whose force and state update
+    /// come from the same velocity (`contact::memory`), so it has no slip phase to
+    /// begin, and a force one step behind would leave its state a step ahead.
+    pub fn refusal_with_memory(&self, law: &str) -> Option<SceneError> {
+        let (field, value) = self.phase_rule()?;
+        let requirement = match field {
+            "contact.first_slip_step" => format!(
+                "law with friction.law = {law}: a law with state has no set-valued stick, so there is no first step of a slip phase to leave free (its stick is |v_rel| < eps inside the one slip solve of every step)"
+            ),
+            _ => format!(
+                "implicit with friction.law = {law}: a law with state advances its state with the force it gives at the same velocity; a force lagged one step would leave its state a step ahead"
+            ),
+        };
+        Some(SceneError::Invalid {
+            field,
+            value: value.into(),
+            requirement,
+        })
+    }
 }
 
 impl Default for Contact {
@@ -279,6 +356,8 @@ impl Default for Contact {
             tip_velocity: TipVelocity::Integrator,
             damping_phase: DampingPhase::Always,
             slip_modes_below: 0.0,
+            first_slip_step: FirstSlipStep::Law,
+            slip_force: SlipForce::Implicit,
         }
     }
 }
@@ -667,6 +746,20 @@ impl Scene {
                         "modal, beam or plane-stress with friction.law = {}: auto's measured front and partner chain are for the memoryless laws only, none was measured for a law with state as auto walks it (their own study fronts: `stickslip study --laws`, docs/speed-accuracy.md, \"Friction laws with memory\")",
                         crate::choice::Choice::name(f.law)
                     ),
+                });
+            }
+        }
+        if f.law.has_memory() {
+            if let Some(error) = c.refusal_with_memory(crate::choice::Choice::name(f.law)) {
+                return Err(error);
+            }
+        }
+        if let Some((field, value)) = c.phase_rule() {
+            if self.integrator.scheme == Scheme::MoreauJean {
+                return Err(SceneError::Invalid {
+                    field,
+                    value: value.into(),
+                    requirement: "its default with integrator.scheme = moreau-jean (Moreau-Jean decides stick or slip afresh from each step's impulse; the rule belongs to the phases of generalised-alpha's switch)".into(),
                 });
             }
         }

@@ -5,7 +5,8 @@
 //! models express it (docs/paper-authors-scene.md says where they cannot, and why).
 
 use crate::scene::{
-    Damping, DampingPhase, HoldingForce, InitialState, Scene, SlidingVelocity, TipVelocity,
+    Damping, DampingPhase, FirstSlipStep, HoldingForce, InitialState, Scene, SlidingVelocity,
+    SlipForce, TipVelocity,
 };
 
 crate::choice! {
@@ -42,6 +43,10 @@ impl ScenePreset {
             c.sliding_velocity = SlidingVelocity::Relative;
             c.tip_velocity = TipVelocity::FiniteDifference;
             c.damping_phase = DampingPhase::Slip;
+            // Their slip step takes the force of the law at the difference velocity
+            // the previous step ended with, and none on the first step of a slip.
+            c.first_slip_step = FirstSlipStep::Free;
+            c.slip_force = SlipForce::Lagged;
             scene.damping = Damping {
                 stiffness_proportional: AUTHORS_SLIP_DAMPING,
                 ..Damping::none()

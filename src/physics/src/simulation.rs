@@ -77,6 +77,10 @@ pub type LawStateValues = [f64; STATE_VARIABLES.len()];
 pub enum SimulationError {
     #[error(transparent)]
     Model(#[from] ModelError),
+    /// A scene option the run's law cannot honour (a slip-phase rule with a network
+    /// that has state, known only once its weights are read).
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
     /// The modes of `contact.slip_modes_below` could not be found.
     #[error(transparent)]
     SlipBasis(#[from] SlipBasisError),
@@ -221,6 +225,18 @@ impl Simulator {
         model: StructuralModel,
         mut law: Box<dyn FrictionLaw>,
     ) -> Result<Self, SimulationError> {
+        if law.as_memory().is_some() {
+            // The scene check refuses the laws it knows to have state; a network's
+            // state shows only in its weights.
+            let named = format!(
+                "{} (its law {} has state)",
+                crate::choice::Choice::name(scene.friction.law),
+                law.name()
+            );
+            if let Some(error) = scene.contact.refusal_with_memory(&named) {
+                return Err(error.into());
+            }
+        }
         let (a, b) = phase_damping(&scene, ContactState::Slip);
         let integrator = Integrator::new(
             &model,

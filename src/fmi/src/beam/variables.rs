@@ -13,8 +13,8 @@ use crate::variables::{
     Access, Causality, Dependencies, InitialDependencies, Variability, Variable,
 };
 use stickslip::scene::{
-    Clamp, DampingPhase, FidelityLevel, FrictionLawKind, HoldingForce, Inference, InitialState,
-    ModalBasis, Scheme, SlidingVelocity, TipVelocity,
+    Clamp, DampingPhase, FidelityLevel, FirstSlipStep, FrictionLawKind, HoldingForce, Inference,
+    InitialState, ModalBasis, Scheme, SlidingVelocity, SlipForce, TipVelocity,
 };
 use stickslip::short::Short;
 use stickslip::simulation::ExternalCoupling;
@@ -185,6 +185,20 @@ pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &with_memory_law_param
         DampingPhase,
         "Contact phases in which the Rayleigh damping acts",
         |m: StickSlipBeam| m.settings.scene.contact.damping_phase
+    ),
+    choice_parameter!(
+        26,
+        "contact.first_slip_step",
+        FirstSlipStep,
+        "Tip force over the first step of each slip phase",
+        |m: StickSlipBeam| m.settings.scene.contact.first_slip_step
+    ),
+    choice_parameter!(
+        27,
+        "contact.slip_force",
+        SlipForce,
+        "Sliding velocity the kinetic force of a slip step is evaluated at",
+        |m: StickSlipBeam| m.settings.scene.contact.slip_force
     ),
     real_parameter!(
         30,

@@ -24,6 +24,18 @@ impl SlipArgument {
         self.belt_speed - (self.free_tip_velocity + force * self.velocity_per_force)
     }
 
+    /// The law's argument at t_n, as the previous step left it (m/s): v_rel,n, or with
+    /// `sliding_velocity = "tip"` |v_tip,n| in the direction of v_rel,n. What the
+    /// lagged slip force evaluates the law at.
+    pub(super) fn at_start(&self) -> f64 {
+        match self.sliding_velocity {
+            SlidingVelocity::Relative => self.previous_relative_velocity,
+            SlidingVelocity::Tip => {
+                signum_or_zero(self.previous_relative_velocity) * self.start_tip_velocity.abs()
+            }
+        }
+    }
+
     /// The law's argument under `force` (N).
     pub(super) fn at(&self, force: f64) -> Point {
         let alpha_f = self.alpha_f;

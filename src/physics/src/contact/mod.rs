@@ -40,6 +40,13 @@
 //!   acts. Stick -> slip when |F_hold| > mu_s F_n. Slip -> stick when (|v_rel| < eps or
 //!   v_rel changed sign) and |F_hold| <= mu_s F_n, with v_rel at t_{n+1} as the slip
 //!   solution of this step gives it.
+//!   Two options follow the paper authors' script (docs/paper-authors-scene.md):
+//!   `first_slip_step = "free"` takes F = 0 over the step that leaves stick, and
+//!   `slip_force = "lagged"` takes F_n+1 = F_law(x_n), the law at the argument the
+//!   previous step ended with, instead of the implicit solve, on every step that starts
+//!   in slip (a loaded first slip step stays implicit: before it there is no slip
+//!   velocity to lag). The switch is the same: re-stick looks at v_rel,n+1 under the
+//!   force the step takes, lagged or not.
 //! - **Moreau-Jean: impulse level** (Jean, Comput. Methods Appl. Mech. Eng. 177 (1999)
 //!   235; Acary, ZAMM 96 (2016) 585). Stick holds the tip velocity at the belt's,
 //!   v_tip,n+1 = v_b, with the impulse P = F dt. Stick when the impulse stick needs lies
@@ -93,7 +100,7 @@ pub use state::{ContactState, Previous, Transition};
 pub use switch::{impulse_clamp, next_state};
 
 use crate::integrator::{Coefficients, TrialStep};
-use crate::scene::CheckedScene;
+use crate::scene::{CheckedScene, FirstSlipStep, SlipForce};
 use slip::SlipOptions;
 use stick::{Holding, StickReaction};
 
@@ -127,6 +134,8 @@ pub struct Contact {
     formulation: Formulation,
     holding: Holding,
     slip: SlipOptions,
+    /// The tip force over the step that leaves stick.
+    first_slip_step: FirstSlipStep,
     /// eps (m/s).
     stick_threshold: f64,
 }
@@ -150,7 +159,9 @@ impl Contact {
             slip: SlipOptions {
                 sliding_velocity: scene.contact.sliding_velocity,
                 solver: SlipSolver::default(),
+                force: scene.contact.slip_force,
             },
+            first_slip_step: scene.contact.first_slip_step,
             stick_threshold: scene.friction.stick_threshold,
         }
     }
@@ -210,10 +221,18 @@ impl Contact {
                     0.0,
                 ) {
                     ContactState::Stick => (ContactState::Stick, stick.force, None),
+                    ContactState::Slip if self.first_slip_step == FirstSlipStep::Free => {
+                        (ContactState::Slip, 0.0, None)
+                    }
                     ContactState::Slip => {
-                        let slip =
-                            self.slip
-                                .solve(trial, previous, belt_speed, &mut kinetic, alpha_f);
+                        // The step that leaves stick has no slip velocity before it to
+                        // lag the force behind (v_rel,n ~ 0 in stick, its sign
+                        // rounding), so a loaded first step is solved implicitly.
+                        let first = SlipOptions {
+                            force: SlipForce::Implicit,
+                            ..self.slip
+                        };
+                        let slip = first.solve(trial, previous, belt_speed, &mut kinetic, alpha_f);
                         (ContactState::Slip, slip.force, Some(slip.solve))
                     }
                 }

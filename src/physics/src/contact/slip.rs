@@ -8,7 +8,7 @@ use super::newton::newton;
 use super::state::Previous;
 use super::tangent::{tangent_newton, Tangent};
 use crate::integrator::TrialStep;
-use crate::scene::SlidingVelocity;
+use crate::scene::{SlidingVelocity, SlipForce};
 
 /// How the slip force F = F_law(x(F)) is solved (see the module notes).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -37,11 +37,14 @@ pub struct SlipSolve {
 pub(super) struct SlipOptions {
     pub(super) sliding_velocity: SlidingVelocity,
     pub(super) solver: SlipSolver,
+    /// Implicit (solved with the step) or lagged one step (explicit).
+    pub(super) force: SlipForce,
 }
 
 impl SlipOptions {
     /// The slip force F = F_law(x(F)), solved from the last step's force, and v_rel at
-    /// t_{n+1} under it.
+    /// t_{n+1} under it; with `force = lagged`, F = F_law(x_n) instead, the law at the
+    /// argument the previous step ended with.
     ///
     /// The law sees v_rel at t_{n+1-alpha_f}, (1 - alpha_f) v_rel,n+1 + alpha_f v_rel,n;
     /// with `sliding_velocity = "tip"` it sees |v_tip| at that level instead, in the
@@ -67,6 +70,25 @@ impl SlipOptions {
             kinetic,
             evaluations: 0,
         };
+        if self.force == SlipForce::Lagged {
+            // F_n+1 = F_law(x_n): known before the step, so nothing to solve; v_rel,n+1
+            // follows from it linearly.
+            let x = argument.at_start();
+            let mut force = law.force(x);
+            if matches!(law.kinetic, Kinetic::ExternalSigned { .. }) && force * x < 0.0 {
+                // A coupled tangent pointing against the sliding velocity acts along
+                // it, as in the implicit solve (`tangent`).
+                force = -force;
+            }
+            return Slip {
+                force,
+                relative_velocity: argument.relative_velocity(force),
+                solve: SlipSolve {
+                    evaluations: law.evaluations,
+                    solved: true,
+                },
+            };
+        }
         let (force, solved) = match (&*law.kinetic, self.solver) {
             (
                 Kinetic::ExternalSigned {
