@@ -36,11 +36,12 @@ def gamma(k: int) -> float:
 
 
 def mean_square_bound(residual: np.ndarray) -> float:
-    """Bound on |computed - exact| of mean(residual**2) in float64, in any summation order:
-    each square rounds once (u), the n - 1 additions of nonnegative terms give at most
-    gamma_(n-1) of the sum, the division by n once more, so gamma_(n+1) of the mean."""
+    """Bound on |computed - exact| of mean((a - b)**2) in float64, in any summation order,
+    given the computed residual a - b: the subtraction and the square round once each
+    (u), the n - 1 additions of nonnegative terms give at most gamma_(n-1) of the sum,
+    the division by n once more, so gamma_(n+3) of the mean."""
     r = np.asarray(residual, dtype=float)
-    return gamma(r.size + 1) * float(np.mean(r * r))
+    return gamma(r.size + 3) * float(np.mean(r * r))
 
 
 def dense_forward_bound(
