@@ -49,7 +49,18 @@ fi
 if [ -f target/onnx-exporters.md ]; then
   cat target/onnx-exporters.md
 fi
+
+echo "== python-checks on a second CPU model (scripts/second-cpu.sh masked)"
+# numpy, OpenBLAS and glibc without AVX, AVX2 and FMA, on the two files that compare
+# numbers recorded on one CPU (the paper authors' metrics, the retrained weights); the
+# whole suite and the qemu run: docs/python-harness.md, "On any CPU".
+set +e
+SECOND_CPU_ALLOW_SAME=1 bash scripts/second-cpu.sh masked python-checks/tests/test_paper_authors_network.py \
+  python-checks/tests/test_training.py
+second=$?
+set -e
 # pytest exits 5 when it collects no test; that is not a failure of this project.
 if [ "$status" -ne 0 ] && [ "$status" -ne 5 ]; then
   exit "$status"
 fi
+exit "$second"

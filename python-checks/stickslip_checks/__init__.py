@@ -13,6 +13,8 @@ Library modules:
 - slip_metrics: breakaway, major slips, period, phase shift of a sampled run
 - cli_plots, study, plots: the figures
 - tables: the one table writer (text, CSV, DataFrame); runner: what entry points share
+- rounding, cpu_kernels: rounding bounds for numbers computed by CPU-dependent kernels,
+  and those kernels' fingerprints (scripts/second-cpu.sh)
 Entry points (python -m stickslip_checks.<name>, or the console scripts of
 pyproject.toml; each only parses its arguments, calls the library and prints):
 fmu_scene, cosim_convergence, cosim_events, fmi_versions, masters, sweep, training,
