@@ -126,6 +126,14 @@ const SLOTS: [Slot; 6] = [
 /// `error: {prefix} {input}: {reason}`, the path in it once, and that no output (nor a
 /// temporary file) was left.
 fn assert_refused(slot: &Slot, dir: &Path, input: &Path, reason: &str) {
+    let line = refusal(slot, dir, input);
+    let expected = format!("error: {} {}: {reason}", slot.prefix, input.display());
+    assert_eq!(line, expected, "{}", slot.name);
+}
+
+/// Runs `slot` on `input`, checks that it failed naming the path once and left nothing;
+/// returns the last line of stderr.
+fn refusal(slot: &Slot, dir: &Path, input: &Path) -> String {
     let out = dir.join("out.file");
     let input_text = input.display().to_string();
     let before = listing(dir);
@@ -136,13 +144,6 @@ fn assert_refused(slot: &Slot, dir: &Path, input: &Path, reason: &str) {
             .collect::<Vec<_>>(),
     );
     assert!(!ok, "{}: {input_text} accepted", slot.name);
-    let expected = format!("error: {} {input_text}: {reason}", slot.prefix);
-    assert_eq!(
-        stderr.lines().last(),
-        Some(expected.as_str()),
-        "{}",
-        slot.name
-    );
     assert_eq!(
         stderr.matches(&input_text).count(),
         1,
@@ -151,6 +152,22 @@ fn assert_refused(slot: &Slot, dir: &Path, input: &Path, reason: &str) {
     );
     assert!(!out.exists(), "{}: wrote {}", slot.name, out.display());
     assert_eq!(listing(dir), before, "{}: left files behind", slot.name);
+    stderr.lines().last().unwrap_or_default().to_string()
+}
+
+/// The binary run as user and group nobody (65534) through util-linux's setpriv, for
+/// a permission that root would not feel.
+fn as_nobody(args: &[String]) -> std::io::Result<std::process::Output> {
+    std::process::Command::new("setpriv")
+        .args(["--reuid=65534", "--regid=65534", "--clear-groups"])
+        .arg(env!("CARGO_BIN_EXE_stickslip"))
+        .args(args)
+        .output()
+}
+
+/// Whether [`as_nobody`] works here (setpriv installed, the binary reachable by nobody).
+fn nobody_can_run() -> bool {
+    as_nobody(&["--version".to_string()]).is_ok_and(|out| out.status.success())
 }
 
 /// Missing, a directory, a device, a FIFO, empty, not UTF-8 where text is read, and
@@ -220,19 +237,49 @@ fn every_bad_input_file_has_its_own_message_naming_the_path_once() {
             std::fs::remove_file(&latin1).unwrap();
         }
 
+        // A regular file whose read fails at any privilege: /proc/self/mem at offset 0
+        // (address 0 is never mapped), with the system's words for the error.
+        let mem = named("mem");
+        std::os::unix::fs::symlink("/proc/self/mem", &mem).unwrap();
+        let line = refusal(slot, &dir, &mem);
+        let expected = format!("error: {} {}: cannot be read: ", slot.prefix, mem.display());
+        assert!(line.starts_with(&expected), "{}: {line}", slot.name);
+        std::fs::remove_file(&mem).unwrap();
+
         let locked = named("locked");
         std::fs::write(&locked, b"x").unwrap();
         std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o000)).unwrap();
-        // Root reads it anyway: the case is then not one this machine can make.
         if std::fs::read(&locked).is_err() {
             assert_refused(slot, &dir, &locked, "cannot be read: permission denied");
+            unreadable_checked = true;
+        } else if nobody_can_run() {
+            // Root reads it anyway: the command runs as nobody instead.
+            let out = as_nobody(&(slot.args)(
+                &locked.display().to_string(),
+                &dir.join("out.file").display().to_string(),
+            ))
+            .unwrap();
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert!(!out.status.success(), "{}", slot.name);
+            let expected = format!(
+                "error: {} {}: cannot be read: permission denied",
+                slot.prefix,
+                locked.display()
+            );
+            assert_eq!(
+                stderr.lines().last(),
+                Some(expected.as_str()),
+                "{}",
+                slot.name
+            );
             unreadable_checked = true;
         }
         std::fs::remove_file(&locked).unwrap();
     }
     if !unreadable_checked {
         println!(
-            "note: skipped the unreadable-file case: chmod 000 does not deny (running as root)"
+            "note: skipped the unreadable-file case: chmod 000 does not deny (root) and \
+             setpriv cannot run the binary as nobody"
         );
     }
     std::fs::remove_dir_all(&dir).unwrap();
