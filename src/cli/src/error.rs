@@ -114,3 +114,23 @@ pub enum CliError {
     #[error(transparent)]
     Train(#[from] TrainError),
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Files kept on purpose are listed after the reason, so that no one takes them for
+    /// a failed run's leftovers (`study --verify-auto`).
+    #[test]
+    fn a_failure_after_writing_lists_what_was_written() {
+        let error = CliError::AfterWritten {
+            written: vec!["out/study.csv".into(), "out/front.json".into()],
+            source: Box::new(CliError::EmptyGrid),
+        };
+        assert_eq!(
+            error.to_string(),
+            "the grid is empty: give at least one resolution and one time step \
+             (written before it failed, complete: out/study.csv, out/front.json)"
+        );
+    }
+}
