@@ -2,8 +2,7 @@
 //! entries in the order given, every one dated zip's earliest time (1980-01-01 00:00,
 //! `DateTime::default()`), so that the same contents give the same bytes.
 
-use crate::{io, BuildError};
-use std::fs;
+use crate::BuildError;
 use std::io::Write as _;
 use std::path::Path;
 use zip::write::SimpleFileOptions;
@@ -33,10 +32,10 @@ impl Entry {
     }
 }
 
-/// Writes `entries`, in order, as the zip archive `path` (replacing it).
+/// Writes `entries`, in order, as the zip archive `path` (replacing it whole, or leaving
+/// the older archive untouched when anything fails: `stickslip::files`).
 pub fn write_zip(path: &Path, entries: Vec<Entry>) -> Result<(), BuildError> {
-    let file = fs::File::create(path).map_err(io(path))?;
-    let mut zip = ZipWriter::new(file);
+    let mut zip = ZipWriter::new(std::io::Cursor::new(Vec::new()));
     let options = SimpleFileOptions::default().last_modified_time(DateTime::default());
     for entry in entries {
         let options = options
@@ -55,10 +54,11 @@ pub fn write_zip(path: &Path, entries: Vec<Entry>) -> Result<(), BuildError> {
                 source,
             })?;
     }
-    zip.finish().map_err(|source| BuildError::Zip {
+    let archive = zip.finish().map_err(|source| BuildError::Zip {
         path: path.to_path_buf(),
         entry: None,
         source,
     })?;
+    stickslip::files::write_atomically(path, archive.into_inner())?;
     Ok(())
 }

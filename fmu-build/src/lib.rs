@@ -98,6 +98,10 @@ pub enum BuildError {
         path: PathBuf,
         problems: Vec<String>,
     },
+    /// An output file (an FMU, an SSP file, a model description) that could not be
+    /// written; nothing was put in its place.
+    #[error(transparent)]
+    Output(#[from] stickslip::files::OutputFileError),
     /// Reading or writing a file or folder.
     #[error("{}: {source}", .path.display())]
     Io {
@@ -382,7 +386,7 @@ pub fn update_descriptions() -> Result<(), BuildError> {
         if let Some(dir) = path.parent() {
             fs::create_dir_all(dir).map_err(io(dir))?;
         }
-        fs::write(&path, text).map_err(io(&path))?;
+        stickslip::files::write_atomically(&path, text)?;
         println!("wrote {}", path.display());
     }
     Ok(())

@@ -841,6 +841,6 @@ pub fn write_ssp(
 pub fn write_container_csv(system: &CheckedSystem, out_dir: &Path) -> Result<PathBuf, BuildError> {
     let path = out_dir.join(format!("{}.csv", system.name));
     fs::create_dir_all(out_dir).map_err(io(out_dir))?;
-    fs::write(&path, system.container_csv()).map_err(io(&path))?;
+    stickslip::files::write_atomically(&path, system.container_csv())?;
     Ok(path)
 }

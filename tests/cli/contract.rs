@@ -318,7 +318,7 @@ fn error_lines_are_the_documented_ones() {
         ),
         (
             &["train", "--out", "/nonexistent/dir/w.json"],
-            "cannot write '/nonexistent/dir/w.json': its directory does not exist".into(),
+            "cannot write /nonexistent/dir/w.json: its directory does not exist".into(),
         ),
         (
             &["train", "--samples", "5", "--out", weights.to_str().unwrap()],
@@ -332,7 +332,7 @@ fn error_lines_are_the_documented_ones() {
         let expected = format!("error: {line}");
         assert_eq!(stderr.lines().last(), Some(expected.as_str()), "{args:?}");
     }
-    // I/O errors carry the path (the OS's wording follows it).
+    // File errors name the path once, with the reason.
     for (args, prefix) in [
         (
             &[
@@ -342,7 +342,7 @@ fn error_lines_are_the_documented_ones() {
                 "--weights",
                 "/nonexistent",
             ][..],
-            "error: friction.weights = /nonexistent: cannot read '/nonexistent': ",
+            "error: friction.weights: weights file /nonexistent: no such file",
         ),
         (
             &[
@@ -352,7 +352,7 @@ fn error_lines_are_the_documented_ones() {
                 "--out",
                 "/nonexistent/dir/x.csv",
             ],
-            "error: /nonexistent/dir/x.csv: ",
+            "error: cannot write /nonexistent/dir/x.csv: its directory does not exist",
         ),
         (
             &[
@@ -366,7 +366,7 @@ fn error_lines_are_the_documented_ones() {
                 "--out",
                 "w.json",
             ],
-            "error: cannot read '/nonexistent/m.csv': ",
+            "error: data file /nonexistent/m.csv: no such file",
         ),
     ] {
         let (ok, _, stderr) = stickslip(args);

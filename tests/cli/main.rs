@@ -1,6 +1,7 @@
 //! The `stickslip` command line contract, and `import-network`.
 
 mod contract;
+mod files;
 mod import;
 mod study_laws;
 mod train_memory;

@@ -145,9 +145,70 @@ fn percent_signs_reach_the_logger_verbatim() {
     assert!(all.iter().all(|(format, _)| format == "%s"));
     assert!(
         all.iter()
-            .any(|(_, m)| m.contains("%s%n%d%%.json is missing")),
+            .any(|(_, m)| m.contains("%s%n%d%%.json: no such file")),
         "{all:?}"
     );
+}
+
+/// StickSlipBeam's `friction.weights` naming what is not a readable file: refused at
+/// fmi2ExitInitializationMode with the reader's reason, the path once in the message
+/// (the log used to repeat it: "weights file X: X: ..."); /dev/zero and a FIFO are
+/// refused by their type, never read.
+#[test]
+fn a_weights_parameter_that_is_no_file_is_named_once_in_the_log() {
+    let dir = std::env::temp_dir().join(format!("stickslip-ffi-weights-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let empty = dir.join("empty.json");
+    std::fs::write(&empty, b"").unwrap();
+    let folder = dir.join("folder.onnx");
+    std::fs::create_dir_all(&folder).unwrap();
+    let fifo = dir.join("fifo.json");
+    let mut cases = vec![
+        (dir.join("missing.json"), "no such file"),
+        (folder, "is a directory, not a file"),
+        (
+            std::path::PathBuf::from("/dev/zero"),
+            "is a character device, not a regular file",
+        ),
+        (empty, "the file is empty"),
+    ];
+    if std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success())
+    {
+        cases.push((fifo, "is a FIFO (named pipe), not a regular file"));
+    } else {
+        println!("note: skipped the FIFO case: mkfifo is not available");
+    }
+    for (path, reason) in cases {
+        let messages = Messages::default();
+        let functions = callbacks(&messages);
+        let c = instantiate("b", &FmuKind::StickSlipBeam.guid(), 1, &functions);
+        assert!(!c.is_null());
+        let name = path.display().to_string();
+        let weights = CString::new(name.as_str()).unwrap();
+        unsafe {
+            // friction.law = neural (code 3), friction.weights (value reference 15).
+            assert_eq!(fmi2SetInteger(c, [10u32].as_ptr(), 1, [3].as_ptr()), OK);
+            assert_eq!(
+                fmi2SetString(c, [15u32].as_ptr(), 1, [weights.as_ptr()].as_ptr()),
+                OK
+            );
+            assert_eq!(fmi2EnterInitializationMode(c), OK);
+            assert_eq!(fmi2ExitInitializationMode(c), ERROR);
+            fmi2FreeInstance(c);
+        }
+        let all = messages.lock().unwrap();
+        let expected = format!("weights file {name}: {reason}");
+        let message = all
+            .iter()
+            .map(|(_, m)| m)
+            .find(|m| m.contains(&expected))
+            .unwrap_or_else(|| panic!("no message with {expected:?}: {all:?}"));
+        assert_eq!(message.matches(&name).count(), 1, "{message}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

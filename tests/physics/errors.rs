@@ -138,9 +138,9 @@ fn a_failed_study_run_names_its_configuration_and_keeps_the_reason_as_source() {
 /// A calibration run of `fidelity = auto` that fails (a configuration whose law the
 /// network cannot serve): the message says which run failed and why. Weights that cannot
 /// be read fail before any calibration run, when the law is resolved (once, for every
-/// run), and the chain reaches the I/O error.
+/// run), and the chain reaches the file's error.
 #[test]
-fn a_failed_auto_calibration_leads_down_to_the_io_error() {
+fn a_failed_auto_calibration_leads_down_to_the_file_error() {
     let mut scene = Scene::default();
     scene.time.end = 0.01;
     scene.friction.law = FrictionLawKind::Neural;
@@ -159,7 +159,7 @@ fn a_failed_auto_calibration_leads_down_to_the_io_error() {
     let message = e.to_string();
     assert!(
         message.starts_with(&format!(
-            "fidelity = auto, running {}: friction.weights = three.json: ",
+            "fidelity = auto, running {}: friction.weights: weights file three.json: ",
             front[0].configuration
         )),
         "{message}"
@@ -167,18 +167,19 @@ fn a_failed_auto_calibration_leads_down_to_the_io_error() {
 
     scene.friction.weights = Some("/nonexistent/w.json".into());
     let e = LawSource::resolve(&scene.check().unwrap()).unwrap_err();
-    let message = e.to_string();
-    assert!(
-        message.starts_with(
-            "friction.weights = /nonexistent/w.json: cannot read '/nonexistent/w.json': "
-        ),
-        "{message}"
+    assert_eq!(
+        e.to_string(),
+        "friction.weights: weights file /nonexistent/w.json: no such file"
     );
-    let io = chain(&e)
+    let neural = chain(&e)
         .into_iter()
-        .find_map(|s| s.downcast_ref::<std::io::Error>())
-        .expect("the chain ends in the I/O error");
-    assert_eq!(io.kind(), std::io::ErrorKind::NotFound);
+        .find_map(|s| s.downcast_ref::<stickslip::neural::NeuralError>())
+        .expect("the chain reaches the reader's error");
+    assert!(
+        matches!(neural, stickslip::neural::NeuralError::File(f)
+            if f.problem == stickslip::files::InputProblem::Missing),
+        "{neural:?}"
+    );
 }
 
 #[test]

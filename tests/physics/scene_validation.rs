@@ -194,5 +194,9 @@ fn malformed_files_give_parse_errors_not_panics() {
         Err(SceneError::Parse(_))
     ));
     let missing = Scene::load(std::path::Path::new("/nonexistent/scene.toml"));
-    assert!(matches!(missing, Err(SceneError::Parse(m)) if m.contains("/nonexistent/scene.toml")));
+    assert!(matches!(
+        missing,
+        Err(SceneError::File(f)) if f.problem == stickslip::files::InputProblem::Missing
+            && f.path == std::path::Path::new("/nonexistent/scene.toml")
+    ));
 }

@@ -4,6 +4,7 @@
 
 use std::path::PathBuf;
 use stickslip::auto::AutoError;
+use stickslip::files::{InputFileError, OutputFileError};
 use stickslip::neural::NeuralError;
 use stickslip::run::RunError;
 use stickslip::scene::SceneError;
@@ -41,23 +42,27 @@ pub enum CliError {
     #[error("--data needs --features A,B,... (the input columns)")]
     DataWithoutFeatures,
 
-    /// An output file or folder of `simulate`, `static` or `study`.
-    #[error("{path}: {source}")]
-    Output {
+    /// An output file: nothing was put in its place (`stickslip::files`). Checked before
+    /// training too, so that minutes of training are not lost at the end.
+    #[error(transparent)]
+    Output(#[from] OutputFileError),
+    /// An output folder of `study` or `train --export-data` that could not be created.
+    #[error("cannot create the folder {}: {source}", path.display())]
+    Folder {
         path: PathBuf,
         source: std::io::Error,
     },
-    /// An output file or folder of `train` or `search`, worded as the trainer words the
-    /// files it reads and writes itself.
-    #[error("{action} '{path}': {source}")]
-    TrainOutput {
-        action: &'static str,
-        path: PathBuf,
-        source: std::io::Error,
+    /// An input file (`stickslip::files` names the path and the reason).
+    #[error(transparent)]
+    File(#[from] InputFileError),
+    /// A step after some outputs were written, complete, on purpose (`study`'s table and
+    /// fronts before `--verify-auto`): says which, so that no one takes them for a
+    /// failed run's leftovers.
+    #[error("{source} (written before it failed, complete: {})", .written.join(", "))]
+    AfterWritten {
+        written: Vec<String>,
+        source: Box<CliError>,
     },
-    /// Checked before training, so that minutes of training are not lost at the end.
-    #[error("cannot write '{path}': its directory does not exist")]
-    MissingDirectory { path: PathBuf },
     /// A summary, report or table that could not be put into JSON.
     #[error("{path}: {source}")]
     Json {
@@ -108,4 +113,24 @@ pub enum CliError {
     Neural(#[from] NeuralError),
     #[error(transparent)]
     Train(#[from] TrainError),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Files kept on purpose are listed after the reason, so that no one takes them for
+    /// a failed run's leftovers (`study --verify-auto`).
+    #[test]
+    fn a_failure_after_writing_lists_what_was_written() {
+        let error = CliError::AfterWritten {
+            written: vec!["out/study.csv".into(), "out/front.json".into()],
+            source: Box::new(CliError::EmptyGrid),
+        };
+        assert_eq!(
+            error.to_string(),
+            "the grid is empty: give at least one resolution and one time step \
+             (written before it failed, complete: out/study.csv, out/front.json)"
+        );
+    }
 }

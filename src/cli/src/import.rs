@@ -16,6 +16,7 @@ use nalgebra::DMatrix;
 
 use crate::error::CliError;
 use stickslip::choice::Choice;
+use stickslip::files::WEIGHTS_FILE;
 use stickslip::neural::file_kind::WeightsFileKind;
 use stickslip::neural::onnx::{
     describe, read_onnx, FeatureInfo, OnnxImport, OnnxNetwork, Precision, TargetInfo,
@@ -150,18 +151,21 @@ pub struct Agreement {
     pub max_rel: f64,
 }
 
-/// Runs `import-network`: imports, writes `--out`, checks `--check-data`, prints a
-/// summary.
+/// Runs `import-network`: imports, checks `--check-data`, then writes `--out` (so that
+/// a network that fails its check leaves no weights file), prints a summary.
 pub fn run_import(args: &ImportArgs) -> Result<ImportReport, CliError> {
-    if WeightsFileKind::of(&args.source) == WeightsFileKind::Matlab {
-        return Err(CliError::MatFile {
-            path: args.source.clone(),
-            out: args.out.clone(),
-        });
+    let mat_file = || CliError::MatFile {
+        path: args.source.clone(),
+        out: args.out.clone(),
+    };
+    if WeightsFileKind::by_extension(&args.source) == Some(WeightsFileKind::Matlab) {
+        return Err(mat_file());
+    }
+    let bytes = WEIGHTS_FILE.read(&args.source)?;
+    if WeightsFileKind::of(&args.source, &bytes) == WeightsFileKind::Matlab {
+        return Err(mat_file());
     }
     let source_name = args.source.display().to_string();
-    let bytes =
-        std::fs::read(&args.source).map_err(|e| NeuralError::io("cannot read", &args.source, e))?;
     let options = OnnxImport {
         source_name: source_name.clone(),
         features: (!args.features.is_empty()).then(|| args.features.clone()),
@@ -172,12 +176,12 @@ pub fn run_import(args: &ImportArgs) -> Result<ImportReport, CliError> {
     let model = describe::neural_model(&network, &options).map_err(NeuralError::from)?;
     // The law's own checks (roles a beam can use are not required: a network may be
     // imported for NeuralFriction or for study).
-    let law = NeuralLaw::new(model.clone())?;
-    model.save(&args.out)?;
+    let law = NeuralLaw::new(model.clone()).map_err(|e| e.in_file(&args.source))?;
     let check = match &args.check_data {
         Some(path) => Some(check_data(&law, path, args.prediction_column.as_deref())?),
         None => None,
     };
+    model.save(&args.out)?;
     let report = ImportReport {
         model,
         precision: network.precision,

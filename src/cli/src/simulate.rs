@@ -19,6 +19,7 @@ use crate::scene_args::SceneArgs;
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
+use stickslip::files::{write_atomically, Outputs};
 use stickslip::memory::STATE_VARIABLES;
 use stickslip::run::run_scene;
 use stickslip::simulation::Sample;
@@ -47,39 +48,28 @@ pub struct SimulateArgs {
 /// variables `law_state` (indices in `STATE_VARIABLES` and `Sample::law_state`, as
 /// `run::Run::law_state_slots` gives them; none for a memoryless law, whose file is
 /// then the five columns it always was).
-pub fn write_csv(path: &PathBuf, samples: &[Sample], law_state: &[usize]) -> Result<(), CliError> {
-    let io = |source: std::io::Error| CliError::Output {
-        path: path.clone(),
-        source,
-    };
-    let file = std::fs::File::create(path).map_err(io)?;
-    let mut w = std::io::BufWriter::new(file);
-    write!(w, "t,tip_deflection,tip_velocity,friction_force,stick").map_err(io)?;
+pub fn write_csv(
+    w: &mut dyn Write,
+    samples: &[Sample],
+    law_state: &[usize],
+) -> std::io::Result<()> {
+    write!(w, "t,tip_deflection,tip_velocity,friction_force,stick")?;
     for &k in law_state {
-        write!(w, ",{}", STATE_VARIABLES[k].name).map_err(io)?;
+        write!(w, ",{}", STATE_VARIABLES[k].name)?;
     }
-    writeln!(w).map_err(io)?;
+    writeln!(w)?;
     for s in samples {
         write!(
             w,
             "{:.10e},{:.10e},{:.10e},{:.10e},{}",
             s.time, s.tip_deflection, s.tip_velocity, s.friction_force, s.stick as u8
-        )
-        .map_err(io)?;
+        )?;
         for &k in law_state {
-            write!(w, ",{:.10e}", s.law_state[k]).map_err(io)?;
+            write!(w, ",{:.10e}", s.law_state[k])?;
         }
-        writeln!(w).map_err(io)?;
+        writeln!(w)?;
     }
-    w.flush().map_err(io)
-}
-
-/// Writes an output file of `simulate`, `static` or `study`.
-pub(crate) fn write(path: &std::path::Path, contents: impl AsRef<[u8]>) -> Result<(), CliError> {
-    std::fs::write(path, contents).map_err(|source| CliError::Output {
-        path: path.to_path_buf(),
-        source,
-    })
+    Ok(())
 }
 
 /// `stickslip simulate`.
@@ -88,18 +78,21 @@ pub fn simulate(args: &SimulateArgs) -> Result<(), CliError> {
     let end = scene.time.end;
     // The summary is computed on every step; decimation applies to the CSV only.
     let run = run_scene(scene, &law, 1)?;
+    // Both files or neither: a summary without its samples would be taken for a run.
+    let mut outputs = Outputs::new();
     if let Some(path) = &args.out {
         let every = args.every.max(1);
         let kept: Vec<Sample> = run.samples.iter().step_by(every).copied().collect();
-        write_csv(path, &kept, &run.law_state_slots)?;
+        outputs.add_with(path, |w| write_csv(w, &kept, &run.law_state_slots))?;
     }
     if let Some(path) = &args.summary_json {
         let text = serde_json::to_string_pretty(&run.summary).map_err(|source| CliError::Json {
             path: path.clone(),
             source,
         })?;
-        write(path, text)?;
+        outputs.add(path, text)?;
     }
+    outputs.commit()?;
     println!("{}", run.label);
     print!("{}", run.summary.report());
     println!(
@@ -173,7 +166,7 @@ pub fn static_check(args: &StaticArgs) -> Result<(), CliError> {
                     r.error_timoshenko
                 );
             }
-            write(path, text)?;
+            write_atomically(path, text)?;
         }
         return Ok(());
     }

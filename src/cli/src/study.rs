@@ -4,9 +4,9 @@
 
 use crate::choice::parser;
 use crate::error::CliError;
-use crate::simulate::write;
 use clap::Args;
 use std::path::PathBuf;
+use stickslip::files::{write_atomically, Outputs};
 use stickslip::scene::{Inference, Scene, Scheme};
 use stickslip::study::{front_of, front_points, Law, Progress, Study, StudyError};
 
@@ -126,7 +126,9 @@ pub fn study(args: &StudyArgs) -> Result<(), CliError> {
             law: scene_law.to_string(),
         });
     }
-    std::fs::create_dir_all(&args.out).map_err(|source| CliError::Output {
+    // The folder is made before the runs, so that hours of runs are not lost to a
+    // folder that cannot be made; the files in it are written after them.
+    std::fs::create_dir_all(&args.out).map_err(|source| CliError::Folder {
         path: args.out.clone(),
         source,
     })?;
@@ -163,7 +165,9 @@ pub fn study(args: &StudyArgs) -> Result<(), CliError> {
         csv += &csv_line(row, scene.time.end);
         csv.push('\n');
     }
-    write(&csv_path, csv)?;
+    // The table and the fronts together, or none of them.
+    let mut outputs = Outputs::new();
+    outputs.add(&csv_path, csv)?;
     let mut written = Vec::new();
     for law in &laws {
         let mut paths = Vec::new();
@@ -180,10 +184,11 @@ pub fn study(args: &StudyArgs) -> Result<(), CliError> {
                 path: path.clone(),
                 source,
             })?;
-            write(&path, &json)?;
+            outputs.add(&path, &json)?;
             written.push(path);
         }
     }
+    outputs.commit()?;
     for law in &laws {
         print_front(&study, law, scene.time.end);
     }
@@ -209,7 +214,14 @@ pub fn study(args: &StudyArgs) -> Result<(), CliError> {
             args.auto_scenes.as_deref(),
             reference_configuration,
             &args.out,
-        )?;
+        )
+        .map_err(|source| CliError::AfterWritten {
+            written: std::iter::once(&csv_path)
+                .chain(&written)
+                .map(|p| p.display().to_string())
+                .collect(),
+            source: Box::new(source),
+        })?;
     }
     Ok(())
 }
@@ -372,7 +384,7 @@ fn verify_auto(
         }
     }
     let path = out.join("auto_verification.csv");
-    write(&path, csv)?;
+    write_atomically(&path, csv)?;
     println!();
     println!(
         "{failures} of {cases} cases fail; written to {}",

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::CliError;
 use stickslip::choice::Choice;
+use stickslip::files::{write_atomically, OutputFileError, Outputs};
 use stickslip::neural::{Activation, SyntheticPreset, SyntheticSpec, Variant};
 use stickslip_train::csv::{read_csv_file, ColumnSelection};
 use stickslip_train::data::{Split, Synthetic, NORMAL_FORCE, SLIDING_VELOCITY};
@@ -229,21 +230,14 @@ pub fn load_split(args: &DataArgs) -> Result<(Split, DataSource), CliError> {
     }
 }
 
-fn write_file(path: &Path, text: &str) -> Result<(), CliError> {
-    std::fs::write(path, text).map_err(|source| CliError::TrainOutput {
-        action: "cannot write",
-        path: path.to_path_buf(),
-        source,
-    })
-}
-
 /// Fails early (before minutes of training) if an output file's directory is missing.
 pub(crate) fn check_output_directory(path: &Path) -> Result<(), CliError> {
     match path.parent() {
         Some(dir) if !dir.as_os_str().is_empty() && !dir.is_dir() => {
-            Err(CliError::MissingDirectory {
+            Err(OutputFileError::MissingDirectory {
                 path: path.to_path_buf(),
-            })
+            }
+            .into())
         }
         _ => Ok(()),
     }
@@ -258,15 +252,6 @@ pub fn run_train(args: &TrainArgs) -> Result<TrainReport, CliError> {
         check_output_directory(path)?;
     }
     let (split, source) = load_split(&args.data)?;
-    if let Some(dir) = &args.export_data {
-        std::fs::create_dir_all(dir).map_err(|source| CliError::TrainOutput {
-            action: "cannot create",
-            path: dir.clone(),
-            source,
-        })?;
-        split.train.write_csv(&dir.join("train.csv"))?;
-        split.test.write_csv(&dir.join("test.csv"))?;
-    }
     let config = TrainConfig {
         hidden_layers: args.layers.clone(),
         activation: args.activation,
@@ -291,17 +276,30 @@ pub fn run_train(args: &TrainArgs) -> Result<TrainReport, CliError> {
     if progress {
         eprintln!();
     }
-    model.save(&args.out)?;
+    // Every output after training, all or none: a report without its weights (or data
+    // exported for a run that failed) would be taken for a finished run.
+    let mut outputs = Outputs::new();
+    model.validate(&args.out.display().to_string())?;
+    outputs.add(&args.out, model.to_json()?)?;
     if let Some(path) = &args.report {
         let text = serde_json::to_string_pretty(&report).map_err(|source| CliError::Json {
             path: path.clone(),
             source,
         })?;
-        write_file(path, &(text + "\n"))?;
+        outputs.add(path, text + "\n")?;
     }
     if let Some(path) = &args.history {
-        write_file(path, &report.history_csv())?;
+        outputs.add(path, report.history_csv())?;
     }
+    if let Some(dir) = &args.export_data {
+        std::fs::create_dir_all(dir).map_err(|source| CliError::Folder {
+            path: dir.clone(),
+            source,
+        })?;
+        outputs.add(&dir.join("train.csv"), split.train.to_csv())?;
+        outputs.add(&dir.join("test.csv"), split.test.to_csv())?;
+    }
+    outputs.commit()?;
     let unit = if model.target.unit.is_empty() {
         String::new()
     } else {
@@ -380,7 +378,7 @@ pub fn run_search(args: &SearchArgs) -> Result<Vec<SearchRow>, CliError> {
             path: path.clone(),
             source,
         })?;
-        write_file(path, &(text + "\n"))?;
+        write_atomically(path, text + "\n")?;
     }
     Ok(rows)
 }

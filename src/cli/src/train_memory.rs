@@ -10,11 +10,12 @@ use crate::error::CliError;
 use crate::train::check_output_directory;
 use std::fmt::Write as _;
 use stickslip::choice::Choice;
+use stickslip::files::Outputs;
 use stickslip::memory::parameters::StateEvolution;
 use stickslip::neural::memory::response::{velocity_step, velocity_step_curve};
 use stickslip::neural::memory::{LearnedStateFriction, StateLawFile};
 use stickslip_train::memory::{
-    read_series_csv, train_state_law, write_series_csv, LearnedEvolution, StateTrainConfig,
+    read_series_csv, series_csv, train_state_law, LearnedEvolution, StateTrainConfig,
     TribometerSpec,
 };
 
@@ -82,9 +83,13 @@ pub struct TrainMemoryArgs {
 
 /// Runs `stickslip train-memory`; returns the file written.
 pub fn run_train_memory(args: &TrainMemoryArgs) -> Result<StateLawFile, CliError> {
-    for path in [Some(&args.out), args.export_data.as_ref()]
-        .into_iter()
-        .flatten()
+    for path in [
+        Some(&args.out),
+        args.export_data.as_ref(),
+        args.step_response.as_ref(),
+    ]
+    .into_iter()
+    .flatten()
     {
         check_output_directory(path)?;
     }
@@ -101,9 +106,6 @@ pub fn run_train_memory(args: &TrainMemoryArgs) -> Result<StateLawFile, CliError
         (None, Some(spec)) => (spec.generate(args.seed)?, spec.describe(), spec.noise_std),
         (None, None) => unreachable!("synthetic is Some exactly when data is None"),
     };
-    if let Some(path) = &args.export_data {
-        write_series_csv(&records, path)?;
-    }
     let config = StateTrainConfig {
         hidden: args.hidden,
         lambda: args.lambda,
@@ -120,7 +122,13 @@ pub fn run_train_memory(args: &TrainMemoryArgs) -> Result<StateLawFile, CliError
             eprintln!("iteration {i}: loss {loss:.6e} N^2");
         }
     })?;
-    file.save(&args.out)?;
+    // Every output after training, all or none.
+    let mut outputs = Outputs::new();
+    file.validate(&args.out.display().to_string())?;
+    outputs.add(&args.out, file.to_json()?)?;
+    if let Some(path) = &args.export_data {
+        outputs.add(path, series_csv(&records))?;
+    }
     if report.candidates.len() > 1 {
         for (evolution, m) in &report.candidates {
             println!(
@@ -171,13 +179,10 @@ pub fn run_train_memory(args: &TrainMemoryArgs) -> Result<StateLawFile, CliError
             );
         }
         if let Some(path) = &args.step_response {
-            std::fs::write(path, csv).map_err(|source| CliError::TrainOutput {
-                action: "cannot write",
-                path: path.clone(),
-                source,
-            })?;
+            outputs.add(path, csv)?;
         }
     }
+    outputs.commit()?;
     Ok(file)
 }
 

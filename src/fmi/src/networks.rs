@@ -5,6 +5,7 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use stickslip::files::WEIGHTS_FILE;
 use stickslip::neural::memory::{LearnedStateLaw, StateLawFile};
 use stickslip::neural::{NeuralError, NeuralLaw};
 
@@ -30,16 +31,16 @@ pub fn weights_name(value: &str) -> Result<String, String> {
     }
 }
 
-/// Why a network could not be had.
+/// Why a network could not be had. Each message names the file once: the reader's
+/// errors name it (`stickslip::files`, `NeuralLaw::from_file`), so none is added here.
 #[derive(Debug, thiserror::Error)]
 pub enum NetworkError {
-    #[error("weights file {path} is missing")]
-    Missing { path: PathBuf },
     /// A relative name before any resources folder was given.
     #[error("weights \"{name}\": no resources folder is known")]
     NoFolder { name: String },
-    #[error("weights file {path}: {source}")]
-    Unreadable { path: PathBuf, source: NeuralError },
+    /// The file is not there, not a regular file, unreadable, or not a network.
+    #[error(transparent)]
+    Unreadable(#[from] NeuralError),
 }
 
 /// Networks read so far, by the name they were asked for.
@@ -58,12 +59,9 @@ impl Networks {
     /// parsed: a model whose law needs no network never pays for one.
     pub fn open(&mut self, folder: &Path) -> Result<(), NetworkError> {
         self.folder = Some(folder.to_path_buf());
-        let default = folder.join(DEFAULT_WEIGHTS);
-        if default.is_file() {
-            Ok(())
-        } else {
-            Err(NetworkError::Missing { path: default })
-        }
+        WEIGHTS_FILE
+            .check(&folder.join(DEFAULT_WEIGHTS))
+            .map_err(|e| NetworkError::Unreadable(e.into()))
     }
 
     /// [`Self::open`], then reads the default weights, so that a corrupted file fails
@@ -101,25 +99,22 @@ impl Networks {
             return Ok(law.clone());
         }
         let full = self.path_of(name)?;
-        let law = match std::fs::read_to_string(&full) {
+        let law = match WEIGHTS_FILE.read_text(&full) {
             Ok(text) if StateLawFile::is_state_law(&text) => {
-                let file = StateLawFile::from_json(&text, &full.display().to_string()).map_err(
-                    |source| NetworkError::Unreadable {
-                        path: full.clone(),
-                        source,
-                    },
-                )?;
+                let file = StateLawFile::from_json(&text, &full.display().to_string())
+                    .map_err(|e| e.in_file(&full))?;
                 Some(Arc::new(file.law()))
             }
-            // Unreadable or another format: the network reader reports it.
+            // Unreadable or another format: the network reader, which reads it the same
+            // way, reports it.
             _ => None,
         };
         self.state_laws.push((name.to_owned(), law.clone()));
         Ok(law)
     }
 
-    /// The file that weights `name` are read from (it exists): in `resources/`, or the
-    /// absolute path itself.
+    /// The file that weights `name` are read from: in `resources/`, or the absolute path
+    /// itself (whether it is a readable file is the reader's to say).
     fn path_of(&self, name: &str) -> Result<PathBuf, NetworkError> {
         let path = Path::new(name);
         let full = if path.is_absolute() {
@@ -134,15 +129,10 @@ impl Networks {
                 }
             }
         };
-        if !full.is_file() {
-            return Err(NetworkError::Missing { path: full });
-        }
         Ok(full)
     }
 
     fn read(&self, name: &str) -> Result<NeuralLaw, NetworkError> {
-        let full = self.path_of(name)?;
-        NeuralLaw::from_file(&full)
-            .map_err(|source| NetworkError::Unreadable { path: full, source })
+        Ok(NeuralLaw::from_file(&self.path_of(name)?)?)
     }
 }

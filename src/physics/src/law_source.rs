@@ -125,10 +125,7 @@ pub enum NetworkOrigin {
 impl NetworkOrigin {
     fn error(&self, source: NeuralError) -> SceneLawError {
         match self {
-            NetworkOrigin::Weights(path) => SceneLawError::Weights {
-                path: path.clone(),
-                source,
-            },
+            NetworkOrigin::Weights(path) => SceneLawError::weights(path, source),
             NetworkOrigin::Shipped => SceneLawError::Shipped(source),
         }
     }

@@ -17,7 +17,8 @@
 //! `Choice` trait and `choice!` macro that every enumerated setting is declared with.
 //! `elementary` holds the transcendental functions (exp, tanh, ...), from the pure-Rust
 //! `libm` crate so that results are the same bits on every CPU and platform; `short`
-//! prints numbers in messages short.
+//! prints numbers in messages short. `files` reads the files a user hands in and
+//! writes outputs whole or not at all, for every crate above.
 //!
 //! The FMI adapter (`stickslip-fmi`), the command line (`stickslip-cli`) and the trainer
 //! (`stickslip-train`) depend on this crate, never the reverse.
@@ -29,6 +30,7 @@ pub mod contact;
 pub mod element;
 pub mod elementary;
 pub mod fidelity;
+pub mod files;
 pub mod friction;
 pub mod integrator;
 pub mod jacobian;

@@ -576,6 +576,9 @@ pub enum SceneError {
     /// file's path can be put in front of a parser's message.
     #[error("scene file: {0}")]
     Parse(String),
+    /// The scene file cannot be read (missing, a directory, a device, empty, not UTF-8).
+    #[error(transparent)]
+    File(#[from] crate::files::InputFileError),
 }
 
 impl SceneError {
@@ -583,7 +586,7 @@ impl SceneError {
     pub fn field(&self) -> Option<&'static str> {
         match self {
             SceneError::Invalid { field, .. } => Some(field),
-            SceneError::Parse(_) => None,
+            SceneError::Parse(_) | SceneError::File(_) => None,
         }
     }
 }
@@ -873,8 +876,7 @@ impl Scene {
 
     /// Reads a `.toml` or `.json` scene file and checks it.
     pub fn load(path: &Path) -> Result<CheckedScene, SceneError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| SceneError::Parse(format!("{}: {e}", path.display())))?;
+        let text = crate::files::SCENE_FILE.read_text(path)?;
         let scene = match path.extension().and_then(|e| e.to_str()) {
             Some("json") => Scene::from_json_str(&text),
             Some("toml") => Scene::from_toml_str(&text),

@@ -128,7 +128,7 @@ pub fn read_csv_file(
     path: &std::path::Path,
     selection: &ColumnSelection,
 ) -> Result<Dataset, TrainError> {
-    let text = std::fs::read_to_string(path).map_err(|e| TrainError::io("cannot read", path, e))?;
+    let text = stickslip::files::DATA_FILE.read_text(path)?;
     parse_csv(&text, &path.display().to_string(), selection)
 }
 

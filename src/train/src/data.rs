@@ -125,10 +125,15 @@ impl Dataset {
         })
     }
 
-    /// Writes the set as CSV: a header of `name[unit]` columns (features, then target)
-    /// and one row per sample, every number in Rust's shortest round-trip form, so that
-    /// another program parses back exactly the same f64 values.
+    /// Writes [`Dataset::to_csv`] to `path`, whole or not at all.
     pub fn write_csv(&self, path: &Path) -> Result<(), TrainError> {
+        Ok(stickslip::files::write_atomically(path, self.to_csv())?)
+    }
+
+    /// The set as CSV: a header of `name[unit]` columns (features, then target) and one
+    /// row per sample, every number in Rust's shortest round-trip form, so that another
+    /// program parses back exactly the same f64 values.
+    pub fn to_csv(&self) -> String {
         let mut text = String::new();
         let header: Vec<String> = self
             .features
@@ -144,7 +149,7 @@ impl Dataset {
             }
             let _ = writeln!(text, "{target}");
         }
-        std::fs::write(path, text).map_err(|e| TrainError::io("cannot write", path, e))
+        text
     }
 
     /// Minimum and maximum of feature `index` over the samples.

@@ -1,6 +1,6 @@
 //! The trainer's one error type: data (synthetic or CSV), settings, training.
 
-use std::path::PathBuf;
+use stickslip::files::{InputFileError, OutputFileError};
 use stickslip::neural::NeuralError;
 
 /// Everything that can go wrong in training. Every variant names what was being read or
@@ -9,14 +9,14 @@ use stickslip::neural::NeuralError;
 /// physics crate's [`NeuralError`] and keep their message.
 #[derive(Debug, thiserror::Error)]
 pub enum TrainError {
-    /// A file could not be read or written.
-    #[error("{action} '{path}': {source}")]
-    Io {
-        action: &'static str,
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    /// A data or records file that cannot be read (`stickslip::files` names the path and
+    /// the reason).
+    #[error(transparent)]
+    File(#[from] InputFileError),
+
+    /// An output file that could not be written; nothing was put in its place.
+    #[error(transparent)]
+    Output(#[from] OutputFileError),
 
     /// A CSV file is malformed; `line` is 1-based as shown by an editor.
     #[error("{source_name}, line {line}: {message}")]
@@ -48,16 +48,6 @@ pub enum TrainError {
     Neural(#[from] NeuralError),
 }
 
-impl TrainError {
-    pub fn io(action: &'static str, path: impl Into<PathBuf>, source: std::io::Error) -> Self {
-        TrainError::Io {
-            action,
-            path: path.into(),
-            source,
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -76,18 +66,16 @@ mod tests {
     }
 
     #[test]
-    fn a_missing_file_names_the_path_and_keeps_the_io_error() {
+    fn a_missing_file_is_named_once() {
         let e =
             read_csv_file(std::path::Path::new("/nonexistent/m.csv"), &selection()).unwrap_err();
+        assert_eq!(e.to_string(), "data file /nonexistent/m.csv: no such file");
         assert!(
-            e.to_string()
-                .starts_with("cannot read '/nonexistent/m.csv': "),
-            "{e}"
-        );
-        let io = e.source().and_then(|s| s.downcast_ref::<std::io::Error>());
-        assert_eq!(
-            io.map(std::io::Error::kind),
-            Some(std::io::ErrorKind::NotFound)
+            matches!(
+                &e,
+                TrainError::File(f) if matches!(f.problem, stickslip::files::InputProblem::Missing)
+            ),
+            "{e:?}"
         );
     }
 

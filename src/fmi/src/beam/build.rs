@@ -22,7 +22,7 @@ pub(super) enum BuildError {
     #[error(transparent)]
     Network(#[from] NetworkError),
     /// The weights are not a friction law of the beam (wrong features), worded
-    /// "friction.weights = {name}: {reason}".
+    /// "friction.weights: weights file {name}: {reason}".
     #[error(transparent)]
     NotAFrictionLaw(#[from] SceneLawError),
     #[error(transparent)]

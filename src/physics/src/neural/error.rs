@@ -1,20 +1,30 @@
 //! The one error type of the neural friction law: networks, weights files, inference.
 //! (Training data and training have their own, `stickslip_train::TrainError`.)
 
-use std::path::PathBuf;
+use crate::files::{InputFileError, OutputFileError};
+use std::path::{Path, PathBuf};
 
 /// Everything that can go wrong in `neural`. Every variant names what was being read or
 /// checked, so the message alone tells the user what to fix; nothing in `neural` panics
 /// on bad input.
 #[derive(Debug, thiserror::Error)]
 pub enum NeuralError {
-    /// A file could not be read or written.
-    #[error("{action} '{path}': {source}")]
-    Io {
-        action: &'static str,
+    /// A weights file that cannot be read (missing, a directory, a device, empty, too
+    /// large, not UTF-8): `crate::files` names the path and the reason.
+    /// (Boxed, as `Output`, to keep `NeuralError` small: it travels in many results.)
+    #[error(transparent)]
+    File(Box<InputFileError>),
+
+    /// A weights file that could not be written; nothing was put in its place.
+    #[error(transparent)]
+    Output(Box<OutputFileError>),
+
+    /// A weights file that parsed but whose network cannot serve, for a reason that does
+    /// not name the file (the law's own checks): the path, once.
+    #[error("weights file {}: {source}", path.display())]
+    InFile {
         path: PathBuf,
-        #[source]
-        source: std::io::Error,
+        source: Box<NeuralError>,
     },
 
     /// A weights file is not valid JSON or does not have the expected fields
@@ -99,12 +109,50 @@ pub enum NeuralError {
     Matlab { path: PathBuf },
 }
 
+impl From<InputFileError> for NeuralError {
+    fn from(error: InputFileError) -> Self {
+        NeuralError::File(Box::new(error))
+    }
+}
+
+impl From<OutputFileError> for NeuralError {
+    fn from(error: OutputFileError) -> Self {
+        NeuralError::Output(Box::new(error))
+    }
+}
+
 impl NeuralError {
-    pub fn io(action: &'static str, path: impl Into<PathBuf>, source: std::io::Error) -> Self {
-        NeuralError::Io {
-            action,
-            path: path.into(),
-            source,
+    /// Whether the message names the file it is about (every error of reading a file
+    /// does; those of the law's checks and of evaluation do not).
+    fn names_its_file(&self) -> bool {
+        match self {
+            NeuralError::File(_)
+            | NeuralError::Output(_)
+            | NeuralError::InFile { .. }
+            | NeuralError::Json { .. }
+            | NeuralError::Format { .. }
+            | NeuralError::Version { .. }
+            | NeuralError::Shape { .. }
+            | NeuralError::NonFinite { .. }
+            | NeuralError::Onnx(_)
+            | NeuralError::Matlab { .. } => true,
+            NeuralError::FeatureCount { .. }
+            | NeuralError::NonFiniteInput { .. }
+            | NeuralError::NotAFrictionLaw(_)
+            | NeuralError::Inference { .. }
+            | NeuralError::InvalidInput(_) => false,
+        }
+    }
+
+    /// This error of reading `path`, naming it exactly once.
+    pub fn in_file(self, path: &Path) -> NeuralError {
+        if self.names_its_file() {
+            self
+        } else {
+            NeuralError::InFile {
+                path: path.to_path_buf(),
+                source: Box::new(self),
+            }
         }
     }
 }

@@ -62,12 +62,12 @@ pub(crate) fn to_pretty_json<T: serde::Serialize>(value: &T) -> Result<String, N
     Ok(text)
 }
 
-/// The text of the file at `path`.
+/// The text of the weights file at `path` (`crate::files` refuses what is not one).
 pub(crate) fn read_text(path: &std::path::Path) -> Result<String, NeuralError> {
-    std::fs::read_to_string(path).map_err(|e| NeuralError::io("cannot read", path, e))
+    Ok(crate::files::WEIGHTS_FILE.read_text(path)?)
 }
 
-/// Writes `text` to `path`.
+/// Writes `text` to `path`, whole or not at all.
 pub(crate) fn write_text(path: &std::path::Path, text: &str) -> Result<(), NeuralError> {
-    std::fs::write(path, text).map_err(|e| NeuralError::io("cannot write", path, e))
+    Ok(crate::files::write_atomically(path, text)?)
 }

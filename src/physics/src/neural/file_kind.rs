@@ -2,7 +2,6 @@
 //! file given where weights are read is never parsed by the wrong reader and a MATLAB
 //! file gets the command that converts it rather than a JSON syntax error.
 
-use std::io::Read;
 use std::path::Path;
 
 /// The three kinds of network file a user may hand us.
@@ -18,30 +17,38 @@ pub enum WeightsFileKind {
 }
 
 impl WeightsFileKind {
-    /// By extension (`.onnx`, `.mat`, any case), else by content:
+    /// By extension (`.onnx`, `.mat`, any case), when it says: a MAT-file is then refused
+    /// without reading it.
+    pub fn by_extension(path: &Path) -> Option<WeightsFileKind> {
+        let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if extension.eq_ignore_ascii_case("onnx") {
+            Some(WeightsFileKind::Onnx)
+        } else if extension.eq_ignore_ascii_case("mat") {
+            Some(WeightsFileKind::Matlab)
+        } else {
+            None
+        }
+    }
+
+    /// By extension, else by the file's first bytes `head`:
     /// - ONNX: a first byte of 0x08, the protobuf key of `ModelProto.ir_version`
     ///   (field 1, varint) that exporters write first; JSON text never starts with that
     ///   control character;
     /// - MATLAB: the text header both MAT-file formats start with ("MATLAB 5.0 MAT-file"
     ///   for version 5 to 7, "MATLAB 7.3 MAT-file" in the HDF5 user block of 7.3).
     ///
-    /// A file that cannot be read counts as JSON: its reader then reports why.
-    pub fn of(path: &Path) -> WeightsFileKind {
-        let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-        if extension.eq_ignore_ascii_case("onnx") {
-            return WeightsFileKind::Onnx;
+    /// The caller reads the file (`crate::files`, which refuses devices and empty files
+    /// first), so that telling the kind never opens what should not be read.
+    pub fn of(path: &Path, head: &[u8]) -> WeightsFileKind {
+        if let Some(kind) = Self::by_extension(path) {
+            return kind;
         }
-        if extension.eq_ignore_ascii_case("mat") {
-            return WeightsFileKind::Matlab;
-        }
-        let mut head = [0u8; 6];
-        let read = std::fs::File::open(path)
-            .and_then(|mut file| file.read(&mut head))
-            .unwrap_or(0);
-        match &head[..read] {
-            [0x08, ..] => WeightsFileKind::Onnx,
-            b"MATLAB" => WeightsFileKind::Matlab,
-            _ => WeightsFileKind::Json,
+        if head.first() == Some(&0x08) {
+            WeightsFileKind::Onnx
+        } else if head.starts_with(b"MATLAB") {
+            WeightsFileKind::Matlab
+        } else {
+            WeightsFileKind::Json
         }
     }
 }
@@ -51,11 +58,7 @@ mod tests {
     use super::*;
 
     fn kind_of(name: &str, bytes: &[u8]) -> WeightsFileKind {
-        let dir = std::env::temp_dir().join(format!("stickslip-file-kind-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join(name);
-        std::fs::write(&path, bytes).unwrap();
-        WeightsFileKind::of(&path)
+        WeightsFileKind::of(Path::new(name), bytes)
     }
 
     #[test]
@@ -73,9 +76,6 @@ mod tests {
         );
         assert_eq!(kind_of("e.json", b"{\"format\": 1}"), WeightsFileKind::Json);
         assert_eq!(kind_of("f", b"MAT"), WeightsFileKind::Json);
-        assert_eq!(
-            WeightsFileKind::of(Path::new("/nonexistent/weights")),
-            WeightsFileKind::Json
-        );
+        assert_eq!(kind_of("g", b""), WeightsFileKind::Json);
     }
 }

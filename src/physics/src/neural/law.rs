@@ -28,6 +28,7 @@ use super::forward::{Forward, Real};
 use super::onnx;
 use super::weights::FeatureRole;
 use super::weights::{network_input_range, NeuralModel, Variant};
+use crate::files::WEIGHTS_FILE;
 use crate::friction::{signum_or_zero, FrictionLaw};
 use crate::scene::Inference;
 
@@ -179,18 +180,32 @@ impl NeuralLaw {
 
     /// Loads and checks a weights file: our JSON, or an ONNX file described by its own
     /// metadata (`neural::onnx`), told apart by `WeightsFileKind::of`. A MATLAB file is
-    /// refused with the command that converts it.
+    /// refused with the command that converts it. Every error names `path` once.
     pub fn from_file(path: &Path) -> Result<NeuralLaw, NeuralError> {
-        let model = match WeightsFileKind::of(path) {
-            WeightsFileKind::Onnx => onnx::load_onnx(path, &onnx::OnnxImport::default())?,
-            WeightsFileKind::Json => NeuralModel::load(path)?,
-            WeightsFileKind::Matlab => {
+        let load = || {
+            if WeightsFileKind::by_extension(path) == Some(WeightsFileKind::Matlab) {
                 return Err(NeuralError::Matlab {
                     path: path.to_path_buf(),
-                })
+                });
             }
+            let bytes = WEIGHTS_FILE.read(path)?;
+            let source_name = path.display().to_string();
+            let model = match WeightsFileKind::of(path, &bytes) {
+                WeightsFileKind::Onnx => {
+                    onnx::import_onnx(&bytes, &onnx::OnnxImport::named(source_name))?
+                }
+                WeightsFileKind::Json => {
+                    NeuralModel::from_json(&WEIGHTS_FILE.text(path, bytes)?, &source_name)?
+                }
+                WeightsFileKind::Matlab => {
+                    return Err(NeuralError::Matlab {
+                        path: path.to_path_buf(),
+                    })
+                }
+            };
+            NeuralLaw::new(model)
         };
-        NeuralLaw::new(model)
+        load().map_err(|e| e.in_file(path))
     }
 
     /// Parses and checks weights-file text; `source_name` appears in errors.

@@ -77,8 +77,20 @@ pub use law::{PAPER_PLAIN_JSON, PAPER_SIGNED_JSON};
 /// Why a scene's neural law could not be built.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneLawError {
-    #[error("friction.weights = {path}: {source}")]
+    /// `source` names the file (made by [`SceneLawError::weights`]), so the message
+    /// names it once.
+    #[error("friction.weights: {source}")]
     Weights { path: String, source: NeuralError },
     #[error("shipped neural weights: {0}")]
     Shipped(NeuralError),
+}
+
+impl SceneLawError {
+    /// The weights file `path` refused for `source`, which is made to name the file.
+    pub fn weights(path: &str, source: NeuralError) -> SceneLawError {
+        SceneLawError::Weights {
+            path: path.to_string(),
+            source: source.in_file(std::path::Path::new(path)),
+        }
+    }
 }

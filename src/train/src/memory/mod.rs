@@ -18,4 +18,4 @@ pub use evolution::train_state_law;
 pub use fit::{StateTrainConfig, StateTrainReport};
 pub use learned_evolution::LearnedEvolution;
 pub use protocol::TribometerSpec;
-pub use series::{read_series_csv, simulate, write_series_csv, ForceSeries};
+pub use series::{read_series_csv, series_csv, simulate, write_series_csv, ForceSeries};

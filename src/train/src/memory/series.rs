@@ -199,12 +199,20 @@ pub fn parse_series_csv(text: &str, source_name: &str) -> Result<Vec<ForceSeries
 
 /// Reads a CSV file of records ([`parse_series_csv`]).
 pub fn read_series_csv(path: &Path) -> Result<Vec<ForceSeries>, TrainError> {
-    let text = std::fs::read_to_string(path).map_err(|e| TrainError::io("cannot read", path, e))?;
+    let text = stickslip::files::RECORDS_FILE.read_text(path)?;
     parse_series_csv(&text, &path.display().to_string())
 }
 
-/// Writes records as the CSV [`parse_series_csv`] reads (shortest round-trip numbers).
+/// Writes records as the CSV [`parse_series_csv`] reads, whole or not at all.
 pub fn write_series_csv(series: &[ForceSeries], path: &Path) -> Result<(), TrainError> {
+    Ok(stickslip::files::write_atomically(
+        path,
+        series_csv(series),
+    )?)
+}
+
+/// Records as the CSV [`parse_series_csv`] reads (shortest round-trip numbers).
+pub fn series_csv(series: &[ForceSeries]) -> String {
     let header: Vec<String> = COLUMNS.iter().map(|(n, u)| format!("{n}[{u}]")).collect();
     let mut text = header.join(",");
     text.push('\n');
@@ -218,7 +226,7 @@ pub fn write_series_csv(series: &[ForceSeries], path: &Path) -> Result<(), Train
             );
         }
     }
-    std::fs::write(path, text).map_err(|e| TrainError::io("cannot write", path, e))
+    text
 }
 
 #[cfg(test)]

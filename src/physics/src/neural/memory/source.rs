@@ -30,17 +30,15 @@ pub fn scene_state_law(
     else {
         return Ok(None);
     };
-    // An unreadable file is reported by the network reader, as before.
-    let Ok(text) = std::fs::read_to_string(Path::new(path)) else {
+    // A file that cannot be read is reported by the network reader, which reads it the
+    // same way.
+    let Ok(text) = crate::files::WEIGHTS_FILE.read_text(Path::new(path)) else {
         return Ok(None);
     };
     if !StateLawFile::is_state_law(&text) {
         return Ok(None);
     }
-    let refuse = |source: NeuralError| SceneLawError::Weights {
-        path: path.clone(),
-        source,
-    };
+    let refuse = |source: NeuralError| SceneLawError::weights(path, source);
     let file = StateLawFile::from_json(&text, path).map_err(refuse)?;
     match refusal(scene) {
         Some(reason) => Err(refuse(NeuralError::NotAFrictionLaw(reason))),

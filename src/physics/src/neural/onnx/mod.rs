@@ -82,8 +82,9 @@ pub fn import_onnx(bytes: &[u8], options: &OnnxImport) -> Result<NeuralModel, On
 /// Reads an ONNX file and imports it (`options.source_name` is replaced by the path
 /// when empty).
 pub fn load_onnx(path: &std::path::Path, options: &OnnxImport) -> Result<NeuralModel, OnnxError> {
-    let bytes = std::fs::read(path)
-        .map_err(|e| OnnxError::Model(super::error::NeuralError::io("cannot read", path, e)))?;
+    let bytes = crate::files::WEIGHTS_FILE
+        .read(path)
+        .map_err(|e| OnnxError::Model(e.into()))?;
     let mut options = options.clone();
     if options.source_name.is_empty() {
         options.source_name = path.display().to_string();
