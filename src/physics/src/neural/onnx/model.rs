@@ -79,6 +79,16 @@ pub struct GraphProto {
     pub output: Vec<ValueInfo>,
 }
 
+/// How a node is named in messages: 'name' (op), or #index (op) when unnamed. Here, beside
+/// the node, because the converter's chain, node and opset checks all name nodes.
+pub(crate) fn node_label(index: usize, node: &NodeProto) -> String {
+    if node.name.is_empty() {
+        format!("#{index} ({})", node.op_type)
+    } else {
+        format!("'{}' ({})", node.name, node.op_type)
+    }
+}
+
 /// `NodeProto`.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct NodeProto {

@@ -6,18 +6,9 @@ use std::collections::{HashMap, HashSet};
 use super::super::super::network::Activation;
 use super::super::super::weights::LayerWeights;
 use super::super::error::OnnxError;
-use super::super::model::{Dimension, GraphProto, NodeProto, TensorProto, ValueInfo};
+use super::super::model::{node_label, Dimension, GraphProto, NodeProto, TensorProto, ValueInfo};
 use super::network::OnnxNetwork;
 use super::opset::domain_of;
-
-/// How a node is named in messages: 'name' (op) or #index (op) when unnamed.
-pub(super) fn label(index: usize, node: &NodeProto) -> String {
-    if node.name.is_empty() {
-        format!("#{index} ({})", node.op_type)
-    } else {
-        format!("'{}' ({})", node.name, node.op_type)
-    }
-}
 
 /// Where the chain is: before the first dense layer, right after a dense layer (and its
 /// bias may still come), or after an activation.
@@ -136,7 +127,7 @@ impl<'g> Converter<'g> {
                 let (Some(tensor), [output]) = (value, node.output.as_slice()) else {
                     return Err(OnnxError::Attribute {
                         source_name: source_name.to_string(),
-                        node: label(index, node),
+                        node: node_label(index, node),
                         attribute: node
                             .attribute
                             .first()
@@ -166,7 +157,7 @@ impl<'g> Converter<'g> {
                         source_name: self.source_name.clone(),
                         message: format!(
                             "node {} writes '{output}', which is already defined",
-                            label(index, node)
+                            node_label(index, node)
                         ),
                     });
                 }
@@ -182,13 +173,13 @@ impl<'g> Converter<'g> {
                 return Err(match writer.get(input.as_str()) {
                     Some(&w) => OnnxError::Cycle {
                         source_name: self.source_name.clone(),
-                        node: label(index, node),
+                        node: node_label(index, node),
                         value: input.clone(),
-                        writer: label(w, &self.nodes[w]),
+                        writer: node_label(w, &self.nodes[w]),
                     },
                     None => OnnxError::DanglingInput {
                         source_name: self.source_name.clone(),
-                        node: label(index, node),
+                        node: node_label(index, node),
                         value: input.clone(),
                     },
                 });
@@ -244,8 +235,10 @@ impl<'g> Converter<'g> {
                     })
                 }
                 Some(many) => {
-                    let names: Vec<String> =
-                        many.iter().map(|&i| label(i, &self.nodes[i])).collect();
+                    let names: Vec<String> = many
+                        .iter()
+                        .map(|&i| node_label(i, &self.nodes[i]))
+                        .collect();
                     return Err(OnnxError::Graph {
                         source_name: self.source_name.clone(),
                         message: format!(
@@ -262,7 +255,7 @@ impl<'g> Converter<'g> {
             if std::mem::replace(&mut on_chain[index], true) {
                 return Err(self.structure(format!(
                     "node {} is reached twice",
-                    label(index, &self.nodes[index])
+                    node_label(index, &self.nodes[index])
                 )));
             }
             let node = &self.nodes[index];
@@ -270,7 +263,7 @@ impl<'g> Converter<'g> {
             let [output] = outputs.as_slice() else {
                 return Err(self.structure(format!(
                     "node {} has {} outputs; a layer has one",
-                    label(index, node),
+                    node_label(index, node),
                     outputs.len()
                 )));
             };
@@ -280,7 +273,7 @@ impl<'g> Converter<'g> {
             let [position] = running.as_slice() else {
                 return Err(self.structure(format!(
                     "node {} reads the running value '{current}' {} times",
-                    label(index, node),
+                    node_label(index, node),
                     running.len()
                 )));
             };
@@ -293,7 +286,7 @@ impl<'g> Converter<'g> {
                     source_name: self.source_name.clone(),
                     message: format!(
                         "node {} is not on the path from the input '{}' to the output '{}'",
-                        label(index, node),
+                        node_label(index, node),
                         self.input,
                         self.output
                     ),

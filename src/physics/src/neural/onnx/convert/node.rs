@@ -5,8 +5,8 @@ use std::collections::HashMap;
 
 use super::super::super::network::Activation;
 use super::super::error::OnnxError;
-use super::super::model::{attribute_type, AttributeProto, NodeProto};
-use super::chain::{label, Converter, Elementwise, Stage};
+use super::super::model::{attribute_type, node_label, AttributeProto, NodeProto};
+use super::chain::{Converter, Elementwise, Stage};
 use super::opset::domain_of;
 use super::tensors::Constant;
 
@@ -66,7 +66,7 @@ impl Converter<'_> {
         node: &NodeProto,
         position: usize,
     ) -> Result<(), OnnxError> {
-        let name = label(index, node);
+        let name = node_label(index, node);
         let default = match domain_of(&node.domain) {
             Some(ml) => !ml,
             None => {

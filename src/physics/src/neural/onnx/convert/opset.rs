@@ -19,8 +19,7 @@
 //! later version of it may mean something else.
 
 use super::super::error::OnnxError;
-use super::super::model::{GraphProto, ModelProto};
-use super::chain::label;
+use super::super::model::{node_label, GraphProto, ModelProto};
 
 /// IR versions accepted: from 3 (opset imports, on which the operators' meaning depends)
 /// to 14 (onnx 1.23). IR 12 to 14 added data types only (FLOAT8E8M0; UINT2 and INT2;
@@ -292,7 +291,7 @@ pub(super) fn checked_graph<'m>(
         if let Some(reason) = history.refusal(version) {
             return Err(OnnxError::OperatorVersion {
                 source_name: source(),
-                node: label(index, node),
+                node: node_label(index, node),
                 domain,
                 opset: version,
                 reason,
