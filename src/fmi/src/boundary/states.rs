@@ -45,9 +45,9 @@ impl Component {
 ///
 /// # Safety
 ///
-/// `c` as for `component_at`; `handle` is NULL or points to a writable FMU-state
-/// pointer (any value: one this instance returned is overwritten in place, any other is
-/// replaced, never written through).
+/// `c` as for `component_at`; `handle` is NULL or points to a readable and writable
+/// FMU-state pointer, initialised (to NULL or an earlier state, as the standard asks;
+/// any other value is replaced and never written through).
 pub(crate) unsafe fn get(c: *mut c_void, call: &'static str, handle: *mut *mut c_void) -> CStatus {
     // SAFETY: the caller's obligation on `c`.
     let component = unsafe { component_at(c) };

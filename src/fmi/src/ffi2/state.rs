@@ -8,8 +8,8 @@ use libc::size_t;
 /// # Safety
 ///
 /// `c` is NULL or a live instance of fmi2Instantiate that no other call uses meanwhile;
-/// `FMUstate` is NULL or points to a writable fmi2FMUstate (NULL, or any value: only
-/// one this instance returned is overwritten in place).
+/// `FMUstate` is NULL or points to a readable and writable, initialised fmi2FMUstate
+/// (only a state this instance returned is overwritten in place).
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetFMUstate(
     c: fmi2Component,

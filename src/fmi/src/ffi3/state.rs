@@ -9,8 +9,8 @@ use libc::size_t;
 ///
 /// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no other
 /// call uses meanwhile;
-/// `FMUState` is NULL or points to a writable fmi3FMUState (NULL, or any
-/// value: only one this instance returned is overwritten in place).
+/// `FMUState` is NULL or points to a readable and writable, initialised
+/// fmi3FMUState (only a state this instance returned is overwritten in place).
 #[no_mangle]
 pub unsafe extern "C" fn fmi3GetFMUState(
     instance: fmi3Instance,
