@@ -28,6 +28,11 @@
 //!   `target/fmu/3.0/`), and `ffi3::values3`, what an FMI 3.0 Float64 request stands
 //!   for (time, arrays, scalars). Neither interface calls the other.
 
+// The C interfaces rest on what the importer promises about its pointers: each unsafe
+// function states those promises and each unsafe block names the one it relies on.
+#![deny(unsafe_op_in_unsafe_fn, clippy::undocumented_unsafe_blocks)]
+#![warn(clippy::missing_safety_doc)]
+
 pub mod beam;
 mod boundary;
 mod declare;

@@ -23,6 +23,11 @@
 //! The FMI adapter (`stickslip-fmi`), the command line (`stickslip-cli`) and the trainer
 //! (`stickslip-train`) depend on this crate, never the reverse.
 
+// The only unsafe code is the AVX2 dispatch (banded, neural::forward); a new block must
+// say why it is sound.
+#![deny(clippy::undocumented_unsafe_blocks)]
+#![warn(clippy::missing_safety_doc)]
+
 pub mod auto;
 pub mod banded;
 pub mod choice;

@@ -76,34 +76,53 @@ pub(crate) fn c_string(text: &str) -> CString {
 }
 
 /// The importer's NUL-terminated string, or None for NULL.
+///
+/// # Safety
+///
+/// `s` is NULL or points to a NUL-terminated string that stays unchanged during the call
+/// (FMI passes every string argument so).
 pub(crate) unsafe fn text(s: *const c_char) -> Option<String> {
     if s.is_null() {
         None
     } else {
-        // SAFETY: the importer passes NUL-terminated strings.
+        // SAFETY: not NULL, so a NUL-terminated string by the caller's obligation.
         Some(unsafe { CStr::from_ptr(s) }.to_string_lossy().into_owned())
     }
 }
 
 /// A slice from a C array, or None for a NULL pointer with a non-zero length.
+///
+/// # Safety
+///
+/// Unless `n` is 0 or `ptr` is NULL, `ptr` points to `n` initialised elements that
+/// nothing writes to while the slice lives (FMI passes every array argument with the
+/// length beside it).
 pub(crate) unsafe fn slice<'a, T>(ptr: *const T, n: usize) -> Option<&'a [T]> {
     if n == 0 {
         Some(&[])
     } else if ptr.is_null() {
         None
     } else {
-        // SAFETY: the importer passes arrays of length n.
+        // SAFETY: n > 0 and not NULL, so n readable elements by the caller's obligation.
         Some(unsafe { std::slice::from_raw_parts(ptr, n) })
     }
 }
 
+/// A mutable slice over a C output array, or None for a NULL pointer with a non-zero
+/// length.
+///
+/// # Safety
+///
+/// Unless `n` is 0 or `ptr` is NULL, `ptr` points to `n` writable elements that nothing
+/// else reads or writes while the slice lives.
 pub(crate) unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize) -> Option<&'a mut [T]> {
     if n == 0 {
         Some(&mut [])
     } else if ptr.is_null() {
         None
     } else {
-        // SAFETY: the importer passes arrays of length n.
+        // SAFETY: n > 0 and not NULL, so n writable, unaliased elements by the caller's
+        // obligation.
         Some(unsafe { std::slice::from_raw_parts_mut(ptr, n) })
     }
 }
@@ -123,18 +142,28 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
         .unwrap_or_else(|| "unknown panic".into())
 }
 
-/// Runs `body` on the component behind `c` (logging `call` in logCalls), turning a
-/// NULL component and any panic into Error.
-pub(crate) unsafe fn with_component(
-    c: *mut c_void,
+/// The component behind an instance pointer, None for NULL.
+///
+/// # Safety
+///
+/// `c` is NULL or a pointer an instantiation function of this library returned and no
+/// free function has been given since, and no other call uses the instance meanwhile
+/// (the importer calls an instance from one thread at a time).
+pub(crate) unsafe fn component_at<'a>(c: *mut c_void) -> Option<&'a mut Component> {
+    // SAFETY: non-NULL, it is the live, unshared `Component` that `into_pointer` made.
+    (!c.is_null()).then(|| unsafe { &mut *(c as *mut Component) })
+}
+
+/// Runs `body` on `component` (logging `call` in logCalls), turning a NULL component
+/// (None) and any panic into Error.
+pub(crate) fn with_component(
+    component: Option<&mut Component>,
     call: &'static str,
     body: impl FnOnce(&mut Component) -> Status,
 ) -> CStatus {
-    if c.is_null() {
+    let Some(component) = component else {
         return Status::Error as CStatus;
-    }
-    // SAFETY: a non-NULL instance pointer is the one instantiation returned.
-    let component = unsafe { &mut *(c as *mut Component) };
+    };
     // The log call runs the importer's logger (and, from Rust, any logger closure), so
     // it is inside the unwind guard too: no panic of either may cross extern "C".
     match catch_unwind(AssertUnwindSafe(|| {
@@ -220,17 +249,28 @@ pub(crate) fn into_pointer(component: Component) -> *mut c_void {
 
 /// fmi2FreeInstance and fmi3FreeInstance: frees the component, its FMU states and
 /// strings; NULL is ignored.
+///
+/// # Safety
+///
+/// `c` is NULL or a pointer an instantiation function of this library returned that no
+/// call uses now and that is freed only this once (no call may use it afterwards).
 pub(crate) unsafe fn free_component(c: *mut c_void) {
     if c.is_null() {
         return;
     }
     let _ = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: the pointer instantiation returned; the importer frees it once.
+        // SAFETY: made by Box::into_raw in `into_pointer`, and freed only here, once, by
+        // the caller's obligation.
         drop(unsafe { Box::from_raw(c as *mut Component) });
     }));
 }
 
 /// fmi2SetDebugLogging and fmi3SetDebugLogging.
+///
+/// # Safety
+///
+/// `c` as for `component_at`; `categories` is NULL or holds `n_categories` pointers,
+/// each NULL or a NUL-terminated string.
 pub(crate) unsafe fn set_debug_logging(
     c: *mut c_void,
     call: &'static str,
@@ -238,19 +278,22 @@ pub(crate) unsafe fn set_debug_logging(
     n_categories: usize,
     categories: *const *const c_char,
 ) -> CStatus {
-    unsafe {
-        with_component(c, call, |component| {
-            let Some(pointers) = slice(categories, n_categories) else {
-                return null_argument(component, call, "categories");
-            };
-            let names: Vec<String> = pointers
-                .iter()
-                .map(|&p| text(p).unwrap_or_default())
-                .collect();
-            let names: Vec<&str> = names.iter().map(String::as_str).collect();
-            each!(&mut component.instance, i => i.set_debug_logging(on, &names))
-        })
-    }
+    // SAFETY: the caller's obligation on `c`.
+    let component = unsafe { component_at(c) };
+    with_component(component, call, |component| {
+        // SAFETY: NULL is refused below; otherwise n_categories pointers by the caller's
+        // obligation.
+        let Some(pointers) = (unsafe { slice(categories, n_categories) }) else {
+            return null_argument(component, call, "categories");
+        };
+        let names: Vec<String> = pointers
+            .iter()
+            // SAFETY: each category is NULL (read as "") or a NUL-terminated string.
+            .map(|&p| unsafe { text(p) }.unwrap_or_default())
+            .collect();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        each!(&mut component.instance, i => i.set_debug_logging(on, &names))
+    })
 }
 
 /// Exports `$name(instance)`, an FMI function with no argument but the instance whose
@@ -258,33 +301,38 @@ pub(crate) unsafe fn set_debug_logging(
 macro_rules! mode_change {
     ($(#[$doc:meta])* $name:ident => $method:ident) => {
         $(#[$doc])*
+        ///
+        /// # Safety
+        ///
+        /// `instance` is NULL or an instance this library's instantiation function
+        /// returned, not freed, and not used by another call meanwhile.
         #[no_mangle]
         pub unsafe extern "C" fn $name(instance: *mut std::ffi::c_void) -> std::ffi::c_int {
-            unsafe {
-                $crate::boundary::change_mode(instance, stringify!($name), |any| {
-                    $crate::boundary::each!(any, i => i.$method())
-                })
-            }
+            // SAFETY: the importer's obligation on `instance` above.
+            let component = unsafe { $crate::boundary::component_at(instance) };
+            $crate::boundary::change_mode(component, stringify!($name), |any| {
+                $crate::boundary::each!(any, i => i.$method())
+            })
         }
     };
 }
 pub(crate) use mode_change;
 
 /// A call that only changes the mode (and has no arguments besides the instance).
-pub(crate) unsafe fn change_mode(
-    c: *mut c_void,
+pub(crate) fn change_mode(
+    component: Option<&mut Component>,
     call: &'static str,
     change: fn(&mut AnyInstance) -> CallResult<()>,
 ) -> CStatus {
-    unsafe { with_component(c, call, |component| status(change(&mut component.instance))) }
+    with_component(component, call, |component| {
+        status(change(&mut component.instance))
+    })
 }
 
 /// fmi2Reset and fmi3Reset.
-pub(crate) unsafe fn reset(c: *mut c_void, call: &'static str) -> CStatus {
-    unsafe {
-        with_component(c, call, |component| {
-            each!(&mut component.instance, i => i.reset());
-            Status::Ok
-        })
-    }
+pub(crate) fn reset(component: Option<&mut Component>, call: &'static str) -> CStatus {
+    with_component(component, call, |component| {
+        each!(&mut component.instance, i => i.reset());
+        Status::Ok
+    })
 }

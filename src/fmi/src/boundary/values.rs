@@ -8,6 +8,11 @@ use crate::instance::{CallResult, Status};
 use std::ffi::c_char;
 
 /// Reads `nvr` values of type `T` and writes them converted into `value`.
+///
+/// # Safety
+///
+/// `vr` is NULL or `nvr` readable value references; `value` is NULL or `nvr` writable
+/// elements that nothing else uses during the call.
 #[allow(clippy::too_many_arguments)]
 pub(crate) unsafe fn get<T: Copy + Default, C>(
     component: &mut Component,
@@ -19,6 +24,8 @@ pub(crate) unsafe fn get<T: Copy + Default, C>(
     read: impl FnOnce(&mut AnyInstance, &[u32], &mut [T]) -> CallResult<()>,
     convert: impl Fn(T) -> C,
 ) -> Status {
+    // SAFETY: NULL with nvr > 0 is refused below; otherwise nvr elements each by the
+    // caller's obligation.
     let (Some(vrs), Some(out)) = (unsafe { slice(vr, nvr) }, unsafe { slice_mut(value, nvr) })
     else {
         return null_argument(component, call, arguments);
@@ -34,6 +41,10 @@ pub(crate) unsafe fn get<T: Copy + Default, C>(
 }
 
 /// Writes the `nvr` values of `value`, converted to `T`.
+///
+/// # Safety
+///
+/// `vr` and `value` are each NULL or `nvr` readable elements.
 #[allow(clippy::too_many_arguments)]
 pub(crate) unsafe fn set<C: Copy, T>(
     component: &mut Component,
@@ -45,6 +56,8 @@ pub(crate) unsafe fn set<C: Copy, T>(
     write: impl FnOnce(&mut AnyInstance, &[u32], &[T]) -> CallResult<()>,
     convert: impl Fn(C) -> T,
 ) -> Status {
+    // SAFETY: NULL with nvr > 0 is refused below; otherwise nvr elements each by the
+    // caller's obligation.
     let (Some(vrs), Some(values)) = (unsafe { slice(vr, nvr) }, unsafe { slice(value, nvr) })
     else {
         return null_argument(component, call, arguments);
@@ -55,6 +68,11 @@ pub(crate) unsafe fn set<C: Copy, T>(
 
 /// Reads `nvr` strings; the pointers written into `value` stay valid until the next
 /// call (the component keeps the strings).
+///
+/// # Safety
+///
+/// `vr` is NULL or `nvr` readable value references; `value` is NULL or `nvr` writable
+/// string pointers.
 pub(crate) unsafe fn get_strings(
     component: &mut Component,
     call: &str,
@@ -63,6 +81,8 @@ pub(crate) unsafe fn get_strings(
     nvr: usize,
     value: *mut *const c_char,
 ) -> Status {
+    // SAFETY: NULL with nvr > 0 is refused below; otherwise nvr elements each by the
+    // caller's obligation.
     let (Some(vrs), Some(out)) = (unsafe { slice(vr, nvr) }, unsafe { slice_mut(value, nvr) })
     else {
         return null_argument(component, call, arguments);
@@ -81,6 +101,11 @@ pub(crate) unsafe fn get_strings(
 }
 
 /// Writes `nvr` strings; a NULL string is refused.
+///
+/// # Safety
+///
+/// `vr` is NULL or `nvr` readable value references; `value` is NULL or `nvr` pointers,
+/// each NULL or a NUL-terminated string.
 pub(crate) unsafe fn set_strings(
     component: &mut Component,
     call: &str,
@@ -89,12 +114,15 @@ pub(crate) unsafe fn set_strings(
     nvr: usize,
     value: *const *const c_char,
 ) -> Status {
+    // SAFETY: NULL with nvr > 0 is refused below; otherwise nvr elements each by the
+    // caller's obligation.
     let (Some(vrs), Some(pointers)) = (unsafe { slice(vr, nvr) }, unsafe { slice(value, nvr) })
     else {
         return null_argument(component, call, arguments);
     };
     let mut owned = Vec::with_capacity(nvr);
     for &p in pointers {
+        // SAFETY: each pointer is NULL (refused) or a NUL-terminated string.
         match unsafe { text(p) } {
             Some(s) => owned.push(s),
             None => return null_argument(component, call, "a string value"),

@@ -11,7 +11,7 @@
 //! the FMU-state functions; `step` fmi2DoStep, the status functions and the functions
 //! of capabilities this FMU does not have.
 
-#![allow(non_snake_case, non_camel_case_types, clippy::missing_safety_doc)]
+#![allow(non_snake_case, non_camel_case_types)]
 
 mod state;
 mod step;
@@ -24,8 +24,8 @@ pub use types::*;
 pub use values::*;
 
 use crate::boundary::{
-    self, c_string, each, into_pointer, mode_change, new_component, text, unknown_guid,
-    with_component,
+    self, c_string, component_at, each, into_pointer, mode_change, new_component, text,
+    unknown_guid, with_component,
 };
 use crate::instance::{FmiVersion, Logger, Status};
 use crate::FmuKind;
@@ -43,7 +43,8 @@ struct ImporterLogger {
     instance_name: CString,
 }
 
-// The raw environment pointer is only handed back to the importer's own callback.
+// SAFETY: the environment pointer is only handed back to the importer's own callback,
+// which the importer lets the FMU call from the thread that calls the instance.
 unsafe impl Send for ImporterLogger {}
 
 impl ImporterLogger {
@@ -53,7 +54,8 @@ impl ImporterLogger {
         };
         let category = c_string(category);
         let message = c_string(message);
-        // SAFETY: the importer supplied the callback for exactly this call signature.
+        // SAFETY: the importer supplied the callback for exactly this call signature, and
+        // every string passed is a NUL-terminated CString that outlives the call.
         unsafe {
             callback(
                 self.environment,
@@ -136,6 +138,11 @@ pub extern "C" fn fmi2GetVersion() -> *const c_char {
     c"2.0".as_ptr()
 }
 
+/// # Safety
+///
+/// Every string argument is NULL or NUL-terminated; `functions` is NULL or points to an
+/// fmi2CallbackFunctions whose logger (if any) has fmi2CallbackLogger's signature and
+/// may be called, with `componentEnvironment`, as long as the instance lives.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2Instantiate(
     instanceName: fmi2String,
@@ -150,8 +157,10 @@ pub unsafe extern "C" fn fmi2Instantiate(
         return std::ptr::null_mut();
     }
     let result = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: checked non-NULL; the importer passes a valid struct.
+        // SAFETY: NULL was refused above; otherwise a valid struct by the importer's
+        // obligation.
         let callbacks = unsafe { &*functions };
+        // SAFETY: NULL or NUL-terminated, the importer's obligation.
         let name = unsafe { text(instanceName) }.unwrap_or_default();
         let logger = ImporterLogger {
             callback: callbacks.logger,
@@ -174,10 +183,12 @@ pub unsafe extern "C" fn fmi2Instantiate(
                 "fmuType = {fmuType}: this FMU supports co-simulation (fmi2CoSimulation = 1) only"
             ));
         }
+        // SAFETY: NULL or NUL-terminated, the importer's obligation.
         let guid = unsafe { text(fmuGUID) }.unwrap_or_default();
         let Some(kind) = FmuKind::from_guid(&guid) else {
             return fail(unknown_guid("GUID", &guid));
         };
+        // SAFETY: NULL or NUL-terminated, the importer's obligation.
         let location = unsafe { text(fmuResourceLocation) };
         let resources = match location.as_deref().map(resource_folder) {
             None => None,
@@ -200,11 +211,20 @@ pub unsafe extern "C" fn fmi2Instantiate(
     result.unwrap_or(std::ptr::null_mut())
 }
 
+/// # Safety
+///
+/// `c` is NULL or an instance fmi2Instantiate returned, not freed before, and not used
+/// by any call during or after this one.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
+    // SAFETY: the importer's obligation on `c` above.
     unsafe { boundary::free_component(c) }
 }
 
+/// # Safety
+///
+/// `c` is NULL or a live instance of fmi2Instantiate that no other call uses meanwhile;
+/// `categories` is NULL or `nCategories` pointers, each NULL or NUL-terminated.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetDebugLogging(
     c: fmi2Component,
@@ -212,6 +232,7 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     nCategories: size_t,
     categories: *const fmi2String,
 ) -> fmi2Status {
+    // SAFETY: the importer's obligations above.
     unsafe {
         boundary::set_debug_logging(
             c,
@@ -223,6 +244,9 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     }
 }
 
+/// # Safety
+///
+/// `c` is NULL or a live instance of fmi2Instantiate that no other call uses meanwhile.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetupExperiment(
     c: fmi2Component,
@@ -232,21 +256,25 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
     stopTimeDefined: fmi2Boolean,
     stopTime: fmi2Real,
 ) -> fmi2Status {
-    unsafe {
-        with_component(c, "fmi2SetupExperiment", |component| {
-            let stop = (stopTimeDefined != FMI2_FALSE).then_some(stopTime);
-            each!(&mut component.instance, i => boundary::status(i.setup_experiment(startTime, stop)))
-        })
-    }
+    // SAFETY: the importer's obligation on `c` above.
+    let component = unsafe { component_at(c) };
+    with_component(component, "fmi2SetupExperiment", |component| {
+        let stop = (stopTimeDefined != FMI2_FALSE).then_some(stopTime);
+        each!(&mut component.instance, i => boundary::status(i.setup_experiment(startTime, stop)))
+    })
 }
 
 mode_change!(fmi2EnterInitializationMode => enter_initialization_mode);
 mode_change!(fmi2ExitInitializationMode => exit_initialization_mode);
 mode_change!(fmi2Terminate => terminate);
 
+/// # Safety
+///
+/// `c` is NULL or a live instance of fmi2Instantiate that no other call uses meanwhile.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
-    unsafe { boundary::reset(c, "fmi2Reset") }
+    // SAFETY: the importer's obligation on `c` above.
+    boundary::reset(unsafe { component_at(c) }, "fmi2Reset")
 }
 
 #[cfg(test)]

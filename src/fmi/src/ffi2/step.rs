@@ -8,13 +8,20 @@ use super::types::{
     fmi2ValueReference, FMI2_FALSE, FMI2_TRUE,
 };
 use crate::boundary::{
-    each, fail, null_argument, slice, slice_mut, status, unsupported, with_component, Component,
+    component_at, each, fail, null_argument, slice, slice_mut, status, unsupported, with_component,
+    Component,
 };
 use crate::instance::{Status, StatusKind};
 use libc::size_t;
 
 /// NeuralFriction: the outputs' sensitivities along a seed of the inputs; StickSlipBeam:
 /// Error (its providesDirectionalDerivative is false). See `Instance::get_directional_derivative`.
+///
+/// # Safety
+///
+/// `c` is NULL or a live instance of fmi2Instantiate that no other call uses meanwhile;
+/// `vUnknown_ref` and `dvUnknown` are NULL or `nUnknown` elements (`dvUnknown` writable
+/// and used by nothing else), `vKnown_ref` and `dvKnown` NULL or `nKnown` elements.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     c: fmi2Component,
@@ -26,27 +33,35 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     dvUnknown: *mut fmi2Real,
 ) -> fmi2Status {
     const CALL: &str = "fmi2GetDirectionalDerivative";
-    unsafe {
-        with_component(c, CALL, |component| {
-            let (Some(unknowns), Some(knowns), Some(seed), Some(out)) = (
+    // SAFETY: the importer's obligation on `c` above.
+    let component = unsafe { component_at(c) };
+    with_component(component, CALL, |component| {
+        // SAFETY: NULL with a non-zero length is refused below; otherwise the lengths
+        // given, by the importer's obligation.
+        let arrays = unsafe {
+            (
                 slice(vUnknown_ref, nUnknown),
                 slice(vKnown_ref, nKnown),
                 slice(dvKnown, nKnown),
                 slice_mut(dvUnknown, nUnknown),
-            ) else {
-                return null_argument(
-                    component,
-                    CALL,
-                    "vUnknown_ref, vKnown_ref, dvKnown or dvUnknown",
-                );
-            };
-            status(
-                each!(&mut component.instance, i => i.get_directional_derivative(unknowns, knowns, seed, out)),
             )
-        })
-    }
+        };
+        let (Some(unknowns), Some(knowns), Some(seed), Some(out)) = arrays else {
+            return null_argument(
+                component,
+                CALL,
+                "vUnknown_ref, vKnown_ref, dvKnown or dvUnknown",
+            );
+        };
+        status(
+            each!(&mut component.instance, i => i.get_directional_derivative(unknowns, knowns, seed, out)),
+        )
+    })
 }
 
+/// # Safety
+///
+/// `c` is NULL or a live instance of fmi2Instantiate that no other call uses meanwhile.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
     c: fmi2Component,
@@ -55,17 +70,20 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
     _order: *const fmi2Integer,
     _value: *const fmi2Real,
 ) -> fmi2Status {
-    unsafe {
-        with_component(c, "fmi2SetRealInputDerivatives", |component| {
-            unsupported(
-                component,
-                "fmi2SetRealInputDerivatives",
-                "canInterpolateInputs is false",
-            )
-        })
-    }
+    // SAFETY: the importer's obligation on `c` above.
+    let component = unsafe { component_at(c) };
+    with_component(component, "fmi2SetRealInputDerivatives", |component| {
+        unsupported(
+            component,
+            "fmi2SetRealInputDerivatives",
+            "canInterpolateInputs is false",
+        )
+    })
 }
 
+/// # Safety
+///
+/// `c` is NULL or a live instance of fmi2Instantiate that no other call uses meanwhile.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
     c: fmi2Component,
@@ -74,17 +92,20 @@ pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
     _order: *const fmi2Integer,
     _value: *mut fmi2Real,
 ) -> fmi2Status {
-    unsafe {
-        with_component(c, "fmi2GetRealOutputDerivatives", |component| {
-            unsupported(
-                component,
-                "fmi2GetRealOutputDerivatives",
-                "maxOutputDerivativeOrder is 0",
-            )
-        })
-    }
+    // SAFETY: the importer's obligation on `c` above.
+    let component = unsafe { component_at(c) };
+    with_component(component, "fmi2GetRealOutputDerivatives", |component| {
+        unsupported(
+            component,
+            "fmi2GetRealOutputDerivatives",
+            "maxOutputDerivativeOrder is 0",
+        )
+    })
 }
 
+/// # Safety
+///
+/// `c` is NULL or a live instance of fmi2Instantiate that no other call uses meanwhile.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2DoStep(
     c: fmi2Component,
@@ -92,26 +113,29 @@ pub unsafe extern "C" fn fmi2DoStep(
     communicationStepSize: fmi2Real,
     _noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
 ) -> fmi2Status {
-    unsafe {
-        with_component(c, "fmi2DoStep", |component| {
-            status(
-                each!(&mut component.instance, i => i.do_step(currentCommunicationPoint, communicationStepSize)),
-            )
-        })
-    }
+    // SAFETY: the importer's obligation on `c` above.
+    let component = unsafe { component_at(c) };
+    with_component(component, "fmi2DoStep", |component| {
+        status(
+            each!(&mut component.instance, i => i.do_step(currentCommunicationPoint, communicationStepSize)),
+        )
+    })
 }
 
+/// # Safety
+///
+/// `c` is NULL or a live instance of fmi2Instantiate that no other call uses meanwhile.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
-    unsafe {
-        with_component(c, "fmi2CancelStep", |component| {
-            unsupported(
-                component,
-                "fmi2CancelStep",
-                "steps are synchronous (canRunAsynchronuously is false)",
-            )
-        })
-    }
+    // SAFETY: the importer's obligation on `c` above.
+    let component = unsafe { component_at(c) };
+    with_component(component, "fmi2CancelStep", |component| {
+        unsupported(
+            component,
+            "fmi2CancelStep",
+            "steps are synchronous (canRunAsynchronuously is false)",
+        )
+    })
 }
 
 fn status_kind(kind: fmi2StatusKind) -> Option<StatusKind> {
@@ -135,20 +159,24 @@ fn bad_status_kind(component: &mut Component, call: &str, kind: fmi2StatusKind) 
 /// fmi2Get*Status for the value types no status kind of this FMU has.
 macro_rules! unavailable_status {
     ($fn_name:ident, $c_type:ty) => {
+        /// # Safety
+        ///
+        /// `c` is NULL or a live instance of fmi2Instantiate that no other call uses
+        /// meanwhile; `_value` is never touched.
         #[no_mangle]
         pub unsafe extern "C" fn $fn_name(
             c: fmi2Component,
             s: fmi2StatusKind,
             _value: *mut $c_type,
         ) -> fmi2Status {
-            unsafe {
-                with_component(c, stringify!($fn_name), |component| match status_kind(s) {
-                    Some(kind) => each!(&mut component.instance, i => {
-                        i.unavailable_status(stringify!($fn_name), kind)
-                    }),
-                    None => bad_status_kind(component, stringify!($fn_name), s),
-                })
-            }
+            // SAFETY: the importer's obligation on `c` above.
+            let component = unsafe { component_at(c) };
+            with_component(component, stringify!($fn_name), |component| match status_kind(s) {
+                Some(kind) => each!(&mut component.instance, i => {
+                    i.unavailable_status(stringify!($fn_name), kind)
+                }),
+                None => bad_status_kind(component, stringify!($fn_name), s),
+            })
         }
     };
 }
@@ -157,52 +185,62 @@ unavailable_status!(fmi2GetStatus, fmi2Status);
 unavailable_status!(fmi2GetIntegerStatus, fmi2Integer);
 unavailable_status!(fmi2GetStringStatus, fmi2String);
 
+/// # Safety
+///
+/// `c` is NULL or a live instance of fmi2Instantiate that no other call uses meanwhile;
+/// `value` is NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetRealStatus(
     c: fmi2Component,
     s: fmi2StatusKind,
     value: *mut fmi2Real,
 ) -> fmi2Status {
-    unsafe {
-        with_component(c, "fmi2GetRealStatus", |component| {
-            if value.is_null() {
-                return null_argument(component, "fmi2GetRealStatus", "value");
+    // SAFETY: the importer's obligation on `c` above.
+    let component = unsafe { component_at(c) };
+    with_component(component, "fmi2GetRealStatus", |component| {
+        if value.is_null() {
+            return null_argument(component, "fmi2GetRealStatus", "value");
+        }
+        let Some(kind) = status_kind(s) else {
+            return bad_status_kind(component, "fmi2GetRealStatus", s);
+        };
+        match each!(&mut component.instance, i => i.real_status(kind)) {
+            Ok(v) => {
+                // SAFETY: NULL was refused above; writable by the importer's obligation.
+                unsafe { *value = v };
+                Status::Ok
             }
-            let Some(kind) = status_kind(s) else {
-                return bad_status_kind(component, "fmi2GetRealStatus", s);
-            };
-            match each!(&mut component.instance, i => i.real_status(kind)) {
-                Ok(v) => {
-                    *value = v;
-                    Status::Ok
-                }
-                Err(status) => status,
-            }
-        })
-    }
+            Err(status) => status,
+        }
+    })
 }
 
+/// # Safety
+///
+/// `c` is NULL or a live instance of fmi2Instantiate that no other call uses meanwhile;
+/// `value` is NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetBooleanStatus(
     c: fmi2Component,
     s: fmi2StatusKind,
     value: *mut fmi2Boolean,
 ) -> fmi2Status {
-    unsafe {
-        with_component(c, "fmi2GetBooleanStatus", |component| {
-            if value.is_null() {
-                return null_argument(component, "fmi2GetBooleanStatus", "value");
+    // SAFETY: the importer's obligation on `c` above.
+    let component = unsafe { component_at(c) };
+    with_component(component, "fmi2GetBooleanStatus", |component| {
+        if value.is_null() {
+            return null_argument(component, "fmi2GetBooleanStatus", "value");
+        }
+        let Some(kind) = status_kind(s) else {
+            return bad_status_kind(component, "fmi2GetBooleanStatus", s);
+        };
+        match each!(&mut component.instance, i => i.boolean_status(kind)) {
+            Ok(v) => {
+                // SAFETY: NULL was refused above; writable by the importer's obligation.
+                unsafe { *value = if v { FMI2_TRUE } else { FMI2_FALSE } };
+                Status::Ok
             }
-            let Some(kind) = status_kind(s) else {
-                return bad_status_kind(component, "fmi2GetBooleanStatus", s);
-            };
-            match each!(&mut component.instance, i => i.boolean_status(kind)) {
-                Ok(v) => {
-                    *value = if v { FMI2_TRUE } else { FMI2_FALSE };
-                    Status::Ok
-                }
-                Err(status) => status,
-            }
-        })
-    }
+            Err(status) => status,
+        }
+    })
 }

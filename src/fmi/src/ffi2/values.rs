@@ -5,7 +5,7 @@ use super::types::{
     fmi2Boolean, fmi2Component, fmi2Integer, fmi2Real, fmi2Status, fmi2String, fmi2ValueReference,
     FMI2_FALSE, FMI2_TRUE,
 };
-use crate::boundary::{each, values, with_component};
+use crate::boundary::{component_at, each, values, with_component};
 use libc::size_t;
 use std::ffi::c_int;
 
@@ -14,6 +14,11 @@ const ARGUMENTS: &str = "vr or value";
 
 macro_rules! getter {
     ($fn_name:ident, $c_type:ty, $method:ident, $convert:expr) => {
+        /// # Safety
+        ///
+        /// `c` is NULL or a live instance of fmi2Instantiate that no other call uses
+        /// meanwhile; `vr` is NULL or `nvr` value references, `value` NULL or `nvr`
+        /// writable elements that nothing else uses during the call.
         #[no_mangle]
         pub unsafe extern "C" fn $fn_name(
             c: fmi2Component,
@@ -21,8 +26,11 @@ macro_rules! getter {
             nvr: size_t,
             value: *mut $c_type,
         ) -> fmi2Status {
-            unsafe {
-                with_component(c, stringify!($fn_name), |component| {
+            // SAFETY: the importer's obligation on `c` above.
+            let component = unsafe { component_at(c) };
+            with_component(component, stringify!($fn_name), |component| {
+                // SAFETY: the importer's obligation on `vr` and `value` above.
+                unsafe {
                     values::get(
                         component,
                         stringify!($fn_name),
@@ -33,8 +41,8 @@ macro_rules! getter {
                         |any, vrs, out| each!(any, i => i.$method(vrs, out)),
                         $convert,
                     )
-                })
-            }
+                }
+            })
         }
     };
 }
@@ -49,6 +57,11 @@ getter!(fmi2GetBoolean, fmi2Boolean, get_boolean, |v: bool| {
     }
 });
 
+/// # Safety
+///
+/// `c` is NULL or a live instance of fmi2Instantiate that no other call uses meanwhile;
+/// `vr` is NULL or `nvr` value references, `value` NULL or `nvr` writable string
+/// pointers that nothing else uses during the call.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetString(
     c: fmi2Component,
@@ -57,15 +70,20 @@ pub unsafe extern "C" fn fmi2GetString(
     value: *mut fmi2String,
 ) -> fmi2Status {
     const CALL: &str = "fmi2GetString";
-    unsafe {
-        with_component(c, CALL, |component| {
-            values::get_strings(component, CALL, ARGUMENTS, vr, nvr, value)
-        })
-    }
+    // SAFETY: the importer's obligation on `c` above.
+    let component = unsafe { component_at(c) };
+    with_component(component, CALL, |component| {
+        // SAFETY: the importer's obligation on `vr` and `value` above.
+        unsafe { values::get_strings(component, CALL, ARGUMENTS, vr, nvr, value) }
+    })
 }
 
 macro_rules! setter {
     ($fn_name:ident, $c_type:ty, $method:ident, $convert:expr) => {
+        /// # Safety
+        ///
+        /// `c` is NULL or a live instance of fmi2Instantiate that no other call uses
+        /// meanwhile; `vr` and `value` are each NULL or `nvr` readable elements.
         #[no_mangle]
         pub unsafe extern "C" fn $fn_name(
             c: fmi2Component,
@@ -73,8 +91,11 @@ macro_rules! setter {
             nvr: size_t,
             value: *const $c_type,
         ) -> fmi2Status {
-            unsafe {
-                with_component(c, stringify!($fn_name), |component| {
+            // SAFETY: the importer's obligation on `c` above.
+            let component = unsafe { component_at(c) };
+            with_component(component, stringify!($fn_name), |component| {
+                // SAFETY: the importer's obligation on `vr` and `value` above.
+                unsafe {
                     values::set(
                         component,
                         stringify!($fn_name),
@@ -85,8 +106,8 @@ macro_rules! setter {
                         |any, vrs, values| each!(any, i => i.$method(vrs, values)),
                         $convert,
                     )
-                })
-            }
+                }
+            })
         }
     };
 }
@@ -96,6 +117,10 @@ setter!(fmi2SetInteger, fmi2Integer, set_integer, |v: i32| v);
 setter!(fmi2SetBoolean, fmi2Boolean, set_boolean, |v: c_int| v
     != FMI2_FALSE);
 
+/// # Safety
+///
+/// `c` is NULL or a live instance of fmi2Instantiate that no other call uses meanwhile;
+/// `vr` and `value` are each NULL or `nvr` readable elements, each string NULL or NUL-terminated.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetString(
     c: fmi2Component,
@@ -104,9 +129,10 @@ pub unsafe extern "C" fn fmi2SetString(
     value: *const fmi2String,
 ) -> fmi2Status {
     const CALL: &str = "fmi2SetString";
-    unsafe {
-        with_component(c, CALL, |component| {
-            values::set_strings(component, CALL, ARGUMENTS, vr, nvr, value)
-        })
-    }
+    // SAFETY: the importer's obligation on `c` above.
+    let component = unsafe { component_at(c) };
+    with_component(component, CALL, |component| {
+        // SAFETY: the importer's obligation on `vr` and `value` above.
+        unsafe { values::set_strings(component, CALL, ARGUMENTS, vr, nvr, value) }
+    })
 }

@@ -31,7 +31,7 @@
 //! Value types without variables (Float32, Int8, ..., Binary, Clock) accept empty
 //! requests and refuse any value reference.
 
-#![allow(non_snake_case, non_camel_case_types, clippy::missing_safety_doc)]
+#![allow(non_snake_case, non_camel_case_types)]
 
 mod derivatives;
 mod state;
@@ -47,8 +47,8 @@ pub use types::*;
 pub use values::*;
 
 use crate::boundary::{
-    self, c_string, each, into_pointer, mode_change, new_component, null_argument, status, text,
-    unknown_guid, with_component,
+    self, c_string, component_at, each, into_pointer, mode_change, new_component, null_argument,
+    status, text, unknown_guid, with_component,
 };
 use crate::instance::{EventOptions, FmiVersion, Logger, Status};
 use crate::FmuKind;
@@ -64,7 +64,8 @@ struct Logger3 {
     environment: fmi3InstanceEnvironment,
 }
 
-// The raw environment pointer is only handed back to the importer's own callback.
+// SAFETY: the environment pointer is only handed back to the importer's own callback,
+// which the importer lets the FMU call from the thread that calls the instance.
 unsafe impl Send for Logger3 {}
 
 impl Logger3 {
@@ -74,7 +75,8 @@ impl Logger3 {
         };
         let category = c_string(category);
         let message = c_string(message);
-        // SAFETY: the importer supplied the callback for exactly this signature.
+        // SAFETY: the importer supplied the callback for exactly this signature, and both
+        // strings are NUL-terminated CStrings that outlive the call.
         unsafe {
             callback(
                 self.environment,
@@ -109,6 +111,11 @@ pub extern "C" fn fmi3GetVersion() -> *const c_char {
     c"3.0".as_ptr()
 }
 
+/// # Safety
+///
+/// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no other
+/// call uses meanwhile; `categories` is NULL or `nCategories` pointers, each NULL or
+/// NUL-terminated.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3SetDebugLogging(
     instance: fmi3Instance,
@@ -116,6 +123,7 @@ pub unsafe extern "C" fn fmi3SetDebugLogging(
     nCategories: size_t,
     categories: *const fmi3String,
 ) -> fmi3Status {
+    // SAFETY: the importer's obligations above.
     unsafe {
         boundary::set_debug_logging(
             instance,
@@ -129,6 +137,11 @@ pub unsafe extern "C" fn fmi3SetDebugLogging(
 
 /// Logs why an instantiation failed, through the importer's callback; a panic while
 /// logging is caught (no panic crosses extern "C"), and the answer is NULL either way.
+///
+/// # Safety
+///
+/// `logMessage` is None or a callback with fmi3LogMessageCallback's signature that may
+/// be called with `environment`.
 unsafe fn refuse_instantiation(
     logMessage: Option<fmi3LogMessageCallback>,
     environment: fmi3InstanceEnvironment,
@@ -149,6 +162,10 @@ unsafe fn refuse_instantiation(
     std::ptr::null_mut()
 }
 
+/// # Safety
+///
+/// `logMessage` is NULL or a callback with fmi3LogMessageCallback's signature that may
+/// be called with `instanceEnvironment`; no other argument is read.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3InstantiateModelExchange(
     _instanceName: fmi3String,
@@ -159,6 +176,7 @@ pub unsafe extern "C" fn fmi3InstantiateModelExchange(
     instanceEnvironment: fmi3InstanceEnvironment,
     logMessage: Option<fmi3LogMessageCallback>,
 ) -> fmi3Instance {
+    // SAFETY: the importer's obligation on `logMessage` above.
     unsafe {
         refuse_instantiation(
             logMessage,
@@ -169,6 +187,10 @@ pub unsafe extern "C" fn fmi3InstantiateModelExchange(
     }
 }
 
+/// # Safety
+///
+/// `logMessage` is NULL or a callback with fmi3LogMessageCallback's signature that may
+/// be called with `instanceEnvironment`; no other argument is read.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3InstantiateScheduledExecution(
     _instanceName: fmi3String,
@@ -182,6 +204,7 @@ pub unsafe extern "C" fn fmi3InstantiateScheduledExecution(
     _lockPreemption: Option<fmi3LockPreemptionCallback>,
     _unlockPreemption: Option<fmi3UnlockPreemptionCallback>,
 ) -> fmi3Instance {
+    // SAFETY: the importer's obligation on `logMessage` above.
     unsafe {
         refuse_instantiation(
             logMessage,
@@ -192,6 +215,12 @@ pub unsafe extern "C" fn fmi3InstantiateScheduledExecution(
     }
 }
 
+/// # Safety
+///
+/// Every string argument is NULL or NUL-terminated; `logMessage` is NULL or a callback
+/// with fmi3LogMessageCallback's signature that may be called with
+/// `instanceEnvironment` as long as the instance lives. `_requiredIntermediateVariables`
+/// is never read.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     instanceName: fmi3String,
@@ -209,9 +238,11 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
 ) -> fmi3Instance {
     const CALL: &str = "fmi3InstantiateCoSimulation";
     let result = catch_unwind(AssertUnwindSafe(|| {
-        let refuse = |reason: String| unsafe {
-            refuse_instantiation(logMessage, instanceEnvironment, CALL, &reason)
+        let refuse = |reason: String| {
+            // SAFETY: the importer's obligation on `logMessage` above.
+            unsafe { refuse_instantiation(logMessage, instanceEnvironment, CALL, &reason) }
         };
+        // SAFETY: NULL or NUL-terminated, the importer's obligation.
         let name = unsafe { text(instanceName) }.unwrap_or_default();
         if name.is_empty() {
             return refuse("instanceName must be a non-empty string".into());
@@ -227,10 +258,12 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
                 "{nRequiredIntermediateVariables} intermediate variables requested, but this FMU provides no intermediate update (providesIntermediateUpdate = false)"
             ));
         }
+        // SAFETY: NULL or NUL-terminated, the importer's obligation.
         let token = unsafe { text(instantiationToken) }.unwrap_or_default();
         let Some(kind) = FmuKind::from_guid(&token) else {
             return refuse(unknown_guid("instantiationToken", &token));
         };
+        // SAFETY: NULL or NUL-terminated, the importer's obligation.
         let resources = match unsafe { text(resourcePath) }.as_deref().map(resource_path) {
             None => None,
             Some(Ok(dir)) => Some(dir),
@@ -258,14 +291,24 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     result.unwrap_or(std::ptr::null_mut())
 }
 
+/// # Safety
+///
+/// `instance` is NULL or an instance fmi3InstantiateCoSimulation returned, not freed
+/// before, and not used by any call during or after this one.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3FreeInstance(instance: fmi3Instance) {
+    // SAFETY: the importer's obligation on `instance` above.
     unsafe { boundary::free_component(instance) }
 }
 
 /// fmi3EnterInitializationMode: FMI 2.0's fmi2SetupExperiment and
 /// fmi2EnterInitializationMode in one call. The tolerance is not used: the step size is
 /// a parameter.
+///
+/// # Safety
+///
+/// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no other
+/// call uses meanwhile.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3EnterInitializationMode(
     instance: fmi3Instance,
@@ -275,15 +318,15 @@ pub unsafe extern "C" fn fmi3EnterInitializationMode(
     stopTimeDefined: fmi3Boolean,
     stopTime: fmi3Float64,
 ) -> fmi3Status {
-    unsafe {
-        with_component(instance, "fmi3EnterInitializationMode", |component| {
-            let stop = is_true(stopTimeDefined).then_some(stopTime);
-            each!(&mut component.instance, i => status(
-                i.setup_experiment(startTime, stop)
-                    .and_then(|()| i.enter_initialization_mode())
-            ))
-        })
-    }
+    // SAFETY: the importer's obligation on `instance` above.
+    let component = unsafe { component_at(instance) };
+    with_component(component, "fmi3EnterInitializationMode", |component| {
+        let stop = is_true(stopTimeDefined).then_some(stopTime);
+        each!(&mut component.instance, i => status(
+            i.setup_experiment(startTime, stop)
+                .and_then(|()| i.enter_initialization_mode())
+        ))
+    })
 }
 
 mode_change!(
@@ -292,9 +335,14 @@ mode_change!(
 );
 mode_change!(fmi3Terminate => terminate);
 
+/// # Safety
+///
+/// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no other
+/// call uses meanwhile.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3Reset(instance: fmi3Instance) -> fmi3Status {
-    unsafe { boundary::reset(instance, "fmi3Reset") }
+    // SAFETY: the importer's obligation on `instance` above.
+    boundary::reset(unsafe { component_at(instance) }, "fmi3Reset")
 }
 
 mode_change!(
@@ -308,6 +356,11 @@ mode_change!(
 
 /// fmi3UpdateDiscreteStates: settles at once (no discrete state of these models depends
 /// on the inputs set in Event Mode), with no next time event.
+///
+/// # Safety
+///
+/// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no other
+/// call uses meanwhile; each output pointer is NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3UpdateDiscreteStates(
     instance: fmi3Instance,
@@ -319,19 +372,22 @@ pub unsafe extern "C" fn fmi3UpdateDiscreteStates(
     nextEventTime: *mut fmi3Float64,
 ) -> fmi3Status {
     const CALL: &str = "fmi3UpdateDiscreteStates";
-    unsafe {
-        with_component(instance, CALL, |component| {
-            if discreteStatesNeedUpdate.is_null()
-                || terminateSimulation.is_null()
-                || nominalsOfContinuousStatesChanged.is_null()
-                || valuesOfContinuousStatesChanged.is_null()
-                || nextEventTimeDefined.is_null()
-                || nextEventTime.is_null()
-            {
-                return null_argument(component, CALL, "an output argument");
-            }
-            let result = each!(&mut component.instance, i => i.update_discrete_states());
-            let update = result.unwrap_or_default();
+    // SAFETY: the importer's obligation on `instance` above.
+    let component = unsafe { component_at(instance) };
+    with_component(component, CALL, |component| {
+        if discreteStatesNeedUpdate.is_null()
+            || terminateSimulation.is_null()
+            || nominalsOfContinuousStatesChanged.is_null()
+            || valuesOfContinuousStatesChanged.is_null()
+            || nextEventTimeDefined.is_null()
+            || nextEventTime.is_null()
+        {
+            return null_argument(component, CALL, "an output argument");
+        }
+        let result = each!(&mut component.instance, i => i.update_discrete_states());
+        let update = result.unwrap_or_default();
+        // SAFETY: NULL was refused above; each writable by the importer's obligation.
+        unsafe {
             *discreteStatesNeedUpdate = from_bool(update.discrete_states_need_update);
             *terminateSimulation = from_bool(update.terminate_simulation);
             *nominalsOfContinuousStatesChanged =
@@ -340,9 +396,9 @@ pub unsafe extern "C" fn fmi3UpdateDiscreteStates(
                 from_bool(update.values_of_continuous_states_changed);
             *nextEventTimeDefined = from_bool(update.next_event_time.is_some());
             *nextEventTime = update.next_event_time.unwrap_or(0.0);
-            status(result.map(|_| ()))
-        })
-    }
+        }
+        status(result.map(|_| ()))
+    })
 }
 
 #[cfg(test)]

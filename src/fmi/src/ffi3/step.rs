@@ -2,7 +2,7 @@
 //! returns fmi3Error and logs which capability flag says so).
 
 use super::types::*;
-use crate::boundary::{each, null_argument, status, unsupported, with_component};
+use crate::boundary::{component_at, each, null_argument, status, unsupported, with_component};
 use libc::size_t;
 
 /// fmi3DoStep: without earlyReturnAllowed the step ends at currentCommunicationPoint +
@@ -10,6 +10,11 @@ use libc::size_t;
 /// stick/slip switch inside the step (earlyReturn, lastSuccessfulTime = the switch), and
 /// with eventModeUsed a step ending at a switch sets eventHandlingNeeded
 /// (`Instance::do_step3`).
+///
+/// # Safety
+///
+/// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no other
+/// call uses meanwhile; each output pointer is NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3DoStep(
     instance: fmi3Instance,
@@ -22,44 +27,51 @@ pub unsafe extern "C" fn fmi3DoStep(
     lastSuccessfulTime: *mut fmi3Float64,
 ) -> fmi3Status {
     const CALL: &str = "fmi3DoStep";
-    unsafe {
-        with_component(instance, CALL, |component| {
-            if eventHandlingNeeded.is_null()
-                || terminateSimulation.is_null()
-                || earlyReturn.is_null()
-                || lastSuccessfulTime.is_null()
-            {
-                return null_argument(
-                    component,
-                    CALL,
-                    "eventHandlingNeeded, terminateSimulation, earlyReturn or lastSuccessfulTime",
-                );
-            }
-            let (result, time) = each!(&mut component.instance, i => {
-                let result = i.do_step3(currentCommunicationPoint, communicationStepSize);
-                (result, i.time())
-            });
-            let outcome = result.ok();
+    // SAFETY: the importer's obligation on `instance` above.
+    let component = unsafe { component_at(instance) };
+    with_component(component, CALL, |component| {
+        if eventHandlingNeeded.is_null()
+            || terminateSimulation.is_null()
+            || earlyReturn.is_null()
+            || lastSuccessfulTime.is_null()
+        {
+            return null_argument(
+                component,
+                CALL,
+                "eventHandlingNeeded, terminateSimulation, earlyReturn or lastSuccessfulTime",
+            );
+        }
+        let (result, time) = each!(&mut component.instance, i => {
+            let result = i.do_step3(currentCommunicationPoint, communicationStepSize);
+            (result, i.time())
+        });
+        let outcome = result.ok();
+        // SAFETY: NULL was refused above; each writable by the importer's obligation.
+        unsafe {
             *eventHandlingNeeded = from_bool(outcome.is_some_and(|o| o.event_handling_needed));
             *terminateSimulation = from_bool(false);
             *earlyReturn = from_bool(outcome.is_some_and(|o| o.early_return));
             *lastSuccessfulTime = outcome.map_or(time, |o| o.last_successful_time);
-            status(result.map(|_| ()))
-        })
-    }
+        }
+        status(result.map(|_| ()))
+    })
 }
 
 /// The functions of capabilities these FMUs do not have: each returns fmi3Error and logs
 /// which capability flag says so.
 macro_rules! not_supported {
     ($name:ident ( $($ty:ty),* $(,)? ), $why:literal) => {
+        /// # Safety
+        ///
+        /// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no
+        /// other call uses meanwhile; no other argument is read.
         #[no_mangle]
         pub unsafe extern "C" fn $name(instance: fmi3Instance $(, _: $ty)*) -> fmi3Status {
-            unsafe {
-                with_component(instance, stringify!($name), |component| {
-                    unsupported(component, stringify!($name), $why)
-                })
-            }
+            // SAFETY: the importer's obligation on `instance` above.
+            let component = unsafe { component_at(instance) };
+            with_component(component, stringify!($name), |component| {
+                unsupported(component, stringify!($name), $why)
+            })
         }
     };
 }

@@ -5,7 +5,8 @@
 use super::types::*;
 use super::values3;
 use crate::boundary::{
-    each, fail, null_argument, slice, slice_mut, status, values, with_component, Component,
+    component_at, each, fail, null_argument, slice, slice_mut, status, values, with_component,
+    Component,
 };
 use crate::instance::{Call, Status};
 use libc::size_t;
@@ -31,25 +32,29 @@ fn values_match(component: &mut Component, call: &str, nvr: size_t, nValues: siz
 
 /// Runs `body` on the instance's component after checking that nValues is what scalar
 /// variables need.
-unsafe fn with_values(
-    instance: fmi3Instance,
+fn with_values(
+    component: Option<&mut Component>,
     call: &'static str,
     nvr: size_t,
     n_values: size_t,
     body: impl FnOnce(&mut Component) -> Status,
 ) -> fmi3Status {
-    unsafe {
-        with_component(instance, call, |component| {
-            if !values_match(component, call, nvr, n_values) {
-                return Status::Error;
-            }
-            body(component)
-        })
-    }
+    with_component(component, call, |component| {
+        if !values_match(component, call, nvr, n_values) {
+            return Status::Error;
+        }
+        body(component)
+    })
 }
 
 /// fmi3GetFloat64: besides scalars, `time` and array variables, whose values take more
 /// than one slot of `values` (`values3`), so nValues is checked there.
+///
+/// # Safety
+///
+/// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no other
+/// call uses meanwhile; `valueReferences` is NULL or `nValueReferences` elements, `values` NULL or
+/// `nValues` writable elements that nothing else uses during the call.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3GetFloat64(
     instance: fmi3Instance,
@@ -59,20 +64,31 @@ pub unsafe extern "C" fn fmi3GetFloat64(
     nValues: size_t,
 ) -> fmi3Status {
     const CALL: &str = "fmi3GetFloat64";
-    unsafe {
-        with_component(instance, CALL, |component| {
-            let (Some(vrs), Some(out)) = (
+    // SAFETY: the importer's obligation on `instance` above.
+    let component = unsafe { component_at(instance) };
+    with_component(component, CALL, |component| {
+        // SAFETY: NULL with a non-zero length is refused below; otherwise the lengths
+        // given, by the importer's obligation.
+        let arrays = unsafe {
+            (
                 slice(valueReferences, nValueReferences),
                 slice_mut(values, nValues),
-            ) else {
-                return null_argument(component, CALL, "valueReferences or values");
-            };
-            status(each!(&mut component.instance, i => values3::get(i, vrs, out)))
-        })
-    }
+            )
+        };
+        let (Some(vrs), Some(out)) = arrays else {
+            return null_argument(component, CALL, "valueReferences or values");
+        };
+        status(each!(&mut component.instance, i => values3::get(i, vrs, out)))
+    })
 }
 
 /// fmi3SetFloat64: as [`fmi3GetFloat64`]; `time` cannot be set.
+///
+/// # Safety
+///
+/// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no other
+/// call uses meanwhile; `valueReferences` is NULL or `nValueReferences` elements, `values` NULL or
+/// `nValues` elements.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3SetFloat64(
     instance: fmi3Instance,
@@ -82,17 +98,22 @@ pub unsafe extern "C" fn fmi3SetFloat64(
     nValues: size_t,
 ) -> fmi3Status {
     const CALL: &str = "fmi3SetFloat64";
-    unsafe {
-        with_component(instance, CALL, |component| {
-            let (Some(vrs), Some(values)) = (
+    // SAFETY: the importer's obligation on `instance` above.
+    let component = unsafe { component_at(instance) };
+    with_component(component, CALL, |component| {
+        // SAFETY: NULL with a non-zero length is refused below; otherwise the lengths
+        // given, by the importer's obligation.
+        let arrays = unsafe {
+            (
                 slice(valueReferences, nValueReferences),
                 slice(values, nValues),
-            ) else {
-                return null_argument(component, CALL, "valueReferences or values");
-            };
-            status(each!(&mut component.instance, i => values3::set(i, vrs, values)))
-        })
-    }
+            )
+        };
+        let (Some(vrs), Some(values)) = arrays else {
+            return null_argument(component, CALL, "valueReferences or values");
+        };
+        status(each!(&mut component.instance, i => values3::set(i, vrs, values)))
+    })
 }
 
 /// fmi3GetInt32, fmi3SetInt32, fmi3GetBoolean and fmi3SetBoolean: nValues checked, then
@@ -100,6 +121,12 @@ pub unsafe extern "C" fn fmi3SetFloat64(
 /// `bool`, read as a byte so that a value other than 0 or 1 is no undefined behaviour.
 macro_rules! scalars {
     ($get:ident, $set:ident, $c_type:ty, $read:ident, $write:ident, $in:ty, $to_c:expr, $from_c:expr) => {
+        /// # Safety
+        ///
+        /// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no
+        /// other call uses meanwhile; `valueReferences` is NULL or `nValueReferences`
+        /// elements, `values` NULL or `nValues` writable elements that nothing else
+        /// uses during the call.
         #[no_mangle]
         pub unsafe extern "C" fn $get(
             instance: fmi3Instance,
@@ -109,8 +136,11 @@ macro_rules! scalars {
             nValues: size_t,
         ) -> fmi3Status {
             const CALL: &str = stringify!($get);
-            unsafe {
-                with_values(instance, CALL, nValueReferences, nValues, |component| {
+            // SAFETY: the importer's obligation on `instance` above.
+            let component = unsafe { component_at(instance) };
+            with_values(component, CALL, nValueReferences, nValues, |component| {
+                // SAFETY: the importer's obligations on the arrays above.
+                unsafe {
                     values::get(
                         component,
                         CALL,
@@ -121,10 +151,15 @@ macro_rules! scalars {
                         |any, vrs, out| each!(any, i => i.$read(vrs, out)),
                         $to_c,
                     )
-                })
-            }
+                }
+            })
         }
 
+        /// # Safety
+        ///
+        /// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no
+        /// other call uses meanwhile; `valueReferences` is NULL or `nValueReferences`
+        /// elements, `values` NULL or `nValues` elements.
         #[no_mangle]
         pub unsafe extern "C" fn $set(
             instance: fmi3Instance,
@@ -134,8 +169,11 @@ macro_rules! scalars {
             nValues: size_t,
         ) -> fmi3Status {
             const CALL: &str = stringify!($set);
-            unsafe {
-                with_values(instance, CALL, nValueReferences, nValues, |component| {
+            // SAFETY: the importer's obligation on `instance` above.
+            let component = unsafe { component_at(instance) };
+            with_values(component, CALL, nValueReferences, nValues, |component| {
+                // SAFETY: the importer's obligations on the arrays above.
+                unsafe {
                     values::set(
                         component,
                         CALL,
@@ -146,8 +184,8 @@ macro_rules! scalars {
                         |any, vrs, values| each!(any, i => i.$write(vrs, values)),
                         $from_c,
                     )
-                })
-            }
+                }
+            })
         }
     };
 }
@@ -173,6 +211,12 @@ scalars!(
     is_true
 );
 
+/// # Safety
+///
+/// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no
+/// other call uses meanwhile; `valueReferences` is NULL or `nValueReferences`
+/// elements, `values` NULL or `nValues` writable
+/// string pointers that nothing else uses during the call.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3GetString(
     instance: fmi3Instance,
@@ -182,8 +226,11 @@ pub unsafe extern "C" fn fmi3GetString(
     nValues: size_t,
 ) -> fmi3Status {
     const CALL: &str = "fmi3GetString";
-    unsafe {
-        with_values(instance, CALL, nValueReferences, nValues, |component| {
+    // SAFETY: the importer's obligation on `instance` above.
+    let component = unsafe { component_at(instance) };
+    with_values(component, CALL, nValueReferences, nValues, |component| {
+        // SAFETY: the importer's obligations on the arrays above.
+        unsafe {
             values::get_strings(
                 component,
                 CALL,
@@ -192,10 +239,16 @@ pub unsafe extern "C" fn fmi3GetString(
                 nValueReferences,
                 values,
             )
-        })
-    }
+        }
+    })
 }
 
+/// # Safety
+///
+/// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no
+/// other call uses meanwhile; `valueReferences` is NULL or `nValueReferences`
+/// elements, `values` NULL or `nValues` pointers, each
+/// NULL or NUL-terminated.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3SetString(
     instance: fmi3Instance,
@@ -205,8 +258,11 @@ pub unsafe extern "C" fn fmi3SetString(
     nValues: size_t,
 ) -> fmi3Status {
     const CALL: &str = "fmi3SetString";
-    unsafe {
-        with_values(instance, CALL, nValueReferences, nValues, |component| {
+    // SAFETY: the importer's obligation on `instance` above.
+    let component = unsafe { component_at(instance) };
+    with_values(component, CALL, nValueReferences, nValues, |component| {
+        // SAFETY: the importer's obligations on the arrays above.
+        unsafe {
             values::set_strings(
                 component,
                 CALL,
@@ -215,13 +271,17 @@ pub unsafe extern "C" fn fmi3SetString(
                 nValueReferences,
                 values,
             )
-        })
-    }
+        }
+    })
 }
 
 /// A get or set of a value type that has no variables in these FMUs: legal in the
 /// modes of `call` with no value references, an error naming the first one otherwise.
-fn no_variables_of_type(
+///
+/// # Safety
+///
+/// `vrs` is NULL or `nvr` value references.
+unsafe fn no_variables_of_type(
     component: &mut Component,
     name: &str,
     call: Call,
@@ -235,7 +295,7 @@ fn no_variables_of_type(
     if nvr == 0 {
         return Status::Ok;
     }
-    // SAFETY: the importer passes nvr value references.
+    // SAFETY: NULL gives None; otherwise nvr value references by the caller's obligation.
     let first = unsafe { slice(vrs, nvr) }.and_then(|v| v.first().copied());
     let which = first.map_or("NULL".into(), |vr| vr.to_string());
     fail(
@@ -247,6 +307,11 @@ fn no_variables_of_type(
 
 macro_rules! no_variables {
     ($get:ident, $set:ident, $c_type:ty, $type_name:literal) => {
+        /// # Safety
+        ///
+        /// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no other
+        /// call uses meanwhile; `valueReferences` is NULL or `nValueReferences` elements;
+        /// no other argument is read.
         #[no_mangle]
         pub unsafe extern "C" fn $get(
             instance: fmi3Instance,
@@ -255,8 +320,11 @@ macro_rules! no_variables {
             _values: *mut $c_type,
             _nValues: size_t,
         ) -> fmi3Status {
-            unsafe {
-                with_component(instance, stringify!($get), |component| {
+            // SAFETY: the importer's obligation on `instance` above.
+            let component = unsafe { component_at(instance) };
+            with_component(component, stringify!($get), |component| {
+                // SAFETY: the importer's obligation on `valueReferences` above.
+                unsafe {
                     no_variables_of_type(
                         component,
                         stringify!($get),
@@ -265,10 +333,15 @@ macro_rules! no_variables {
                         nValueReferences,
                         $type_name,
                     )
-                })
-            }
+                }
+            })
         }
 
+        /// # Safety
+        ///
+        /// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no other
+        /// call uses meanwhile; `valueReferences` is NULL or `nValueReferences` elements;
+        /// no other argument is read.
         #[no_mangle]
         pub unsafe extern "C" fn $set(
             instance: fmi3Instance,
@@ -277,8 +350,11 @@ macro_rules! no_variables {
             _values: *const $c_type,
             _nValues: size_t,
         ) -> fmi3Status {
-            unsafe {
-                with_component(instance, stringify!($set), |component| {
+            // SAFETY: the importer's obligation on `instance` above.
+            let component = unsafe { component_at(instance) };
+            with_component(component, stringify!($set), |component| {
+                // SAFETY: the importer's obligation on `valueReferences` above.
+                unsafe {
                     no_variables_of_type(
                         component,
                         stringify!($set),
@@ -287,8 +363,8 @@ macro_rules! no_variables {
                         nValueReferences,
                         $type_name,
                     )
-                })
-            }
+                }
+            })
         }
     };
 }
@@ -302,6 +378,11 @@ no_variables!(fmi3GetUInt32, fmi3SetUInt32, fmi3UInt32, "UInt32");
 no_variables!(fmi3GetInt64, fmi3SetInt64, fmi3Int64, "Int64");
 no_variables!(fmi3GetUInt64, fmi3SetUInt64, fmi3UInt64, "UInt64");
 
+/// # Safety
+///
+/// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no other
+/// call uses meanwhile; `valueReferences` is NULL or `nValueReferences` elements; no
+/// other argument is read.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3GetBinary(
     instance: fmi3Instance,
@@ -311,8 +392,11 @@ pub unsafe extern "C" fn fmi3GetBinary(
     _values: *mut fmi3Binary,
     _nValues: size_t,
 ) -> fmi3Status {
-    unsafe {
-        with_component(instance, "fmi3GetBinary", |component| {
+    // SAFETY: the importer's obligation on `instance` above.
+    let component = unsafe { component_at(instance) };
+    with_component(component, "fmi3GetBinary", |component| {
+        // SAFETY: the importer's obligation on `valueReferences` above.
+        unsafe {
             no_variables_of_type(
                 component,
                 "fmi3GetBinary",
@@ -321,10 +405,15 @@ pub unsafe extern "C" fn fmi3GetBinary(
                 nValueReferences,
                 "Binary",
             )
-        })
-    }
+        }
+    })
 }
 
+/// # Safety
+///
+/// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no other
+/// call uses meanwhile; `valueReferences` is NULL or `nValueReferences` elements; no
+/// other argument is read.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3SetBinary(
     instance: fmi3Instance,
@@ -334,8 +423,11 @@ pub unsafe extern "C" fn fmi3SetBinary(
     _values: *const fmi3Binary,
     _nValues: size_t,
 ) -> fmi3Status {
-    unsafe {
-        with_component(instance, "fmi3SetBinary", |component| {
+    // SAFETY: the importer's obligation on `instance` above.
+    let component = unsafe { component_at(instance) };
+    with_component(component, "fmi3SetBinary", |component| {
+        // SAFETY: the importer's obligation on `valueReferences` above.
+        unsafe {
             no_variables_of_type(
                 component,
                 "fmi3SetBinary",
@@ -344,10 +436,15 @@ pub unsafe extern "C" fn fmi3SetBinary(
                 nValueReferences,
                 "Binary",
             )
-        })
-    }
+        }
+    })
 }
 
+/// # Safety
+///
+/// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no other
+/// call uses meanwhile; `valueReferences` is NULL or `nValueReferences` elements; no
+/// other argument is read.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3GetClock(
     instance: fmi3Instance,
@@ -355,8 +452,11 @@ pub unsafe extern "C" fn fmi3GetClock(
     nValueReferences: size_t,
     _values: *mut fmi3Clock,
 ) -> fmi3Status {
-    unsafe {
-        with_component(instance, "fmi3GetClock", |component| {
+    // SAFETY: the importer's obligation on `instance` above.
+    let component = unsafe { component_at(instance) };
+    with_component(component, "fmi3GetClock", |component| {
+        // SAFETY: the importer's obligation on `valueReferences` above.
+        unsafe {
             no_variables_of_type(
                 component,
                 "fmi3GetClock",
@@ -365,10 +465,15 @@ pub unsafe extern "C" fn fmi3GetClock(
                 nValueReferences,
                 "Clock",
             )
-        })
-    }
+        }
+    })
 }
 
+/// # Safety
+///
+/// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no other
+/// call uses meanwhile; `valueReferences` is NULL or `nValueReferences` elements; no
+/// other argument is read.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3SetClock(
     instance: fmi3Instance,
@@ -376,8 +481,11 @@ pub unsafe extern "C" fn fmi3SetClock(
     nValueReferences: size_t,
     _values: *const fmi3Clock,
 ) -> fmi3Status {
-    unsafe {
-        with_component(instance, "fmi3SetClock", |component| {
+    // SAFETY: the importer's obligation on `instance` above.
+    let component = unsafe { component_at(instance) };
+    with_component(component, "fmi3SetClock", |component| {
+        // SAFETY: the importer's obligation on `valueReferences` above.
+        unsafe {
             no_variables_of_type(
                 component,
                 "fmi3SetClock",
@@ -386,6 +494,6 @@ pub unsafe extern "C" fn fmi3SetClock(
                 nValueReferences,
                 "Clock",
             )
-        })
-    }
+        }
+    })
 }
