@@ -654,52 +654,80 @@ pub fn plane_stress_divisions(geometry: &Geometry, element_size: f64) -> (usize,
     (along, through)
 }
 
-impl Scene {
-    /// Validates every field and returns the checked scene.
-    pub fn check(self) -> Result<CheckedScene, SceneError> {
-        let g = &self.geometry;
-        positive("geometry.length", g.length, "m")?;
-        positive("geometry.height", g.height, "m")?;
-        if g.height >= g.length {
+// The checks of the scene's sections, in the order `Scene::check` runs them. A check
+// that needs another section's value takes it as an argument, so that what each rule
+// depends on shows in its signature.
+
+impl Geometry {
+    /// The beam's dimensions: finite, positive, and a beam (height below length).
+    fn check(&self) -> Result<(), SceneError> {
+        positive("geometry.length", self.length, "m")?;
+        positive("geometry.height", self.height, "m")?;
+        if self.height >= self.length {
             return Err(invalid(
                 "geometry.height",
-                g.height,
-                &format!("smaller than geometry.length = {} m", g.length),
+                self.height,
+                &format!("smaller than geometry.length = {} m", self.length),
             ));
         }
-        positive("geometry.width", g.width, "m")?;
+        positive("geometry.width", self.width, "m")
+    }
+}
 
-        let m = &self.material;
-        positive("material.density", m.density, "kg/m3")?;
-        positive("material.youngs_modulus", m.youngs_modulus, "Pa")?;
+impl Material {
+    /// Density and Young's modulus positive, Poisson's ratio where plane stress is defined.
+    fn check(&self) -> Result<(), SceneError> {
+        positive("material.density", self.density, "kg/m3")?;
+        positive("material.youngs_modulus", self.youngs_modulus, "Pa")?;
         // Open at both ends: nu = -1 and nu = 0.5 make the plane-stress D singular.
-        if !(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5) {
+        if !(self.poisson_ratio > -1.0 && self.poisson_ratio < 0.5) {
             return Err(invalid(
                 "material.poisson_ratio",
-                m.poisson_ratio,
+                self.poisson_ratio,
                 "in (-1, 0.5)",
             ));
         }
+        Ok(())
+    }
+}
 
-        let l = &self.loading;
-        if !l.belt_speed.is_finite() {
-            return Err(invalid("loading.belt_speed", l.belt_speed, "finite (m/s)"));
-        }
-        non_negative("loading.normal_force", l.normal_force, "N")?;
-
-        let f = &self.friction;
-        non_negative("friction.static_coefficient", f.static_coefficient, "1")?;
-        non_negative("friction.kinetic_coefficient", f.kinetic_coefficient, "1")?;
-        if f.kinetic_coefficient > f.static_coefficient {
+impl Loading {
+    /// A finite belt speed (either sign) and a normal force not negative.
+    fn check(&self) -> Result<(), SceneError> {
+        if !self.belt_speed.is_finite() {
             return Err(invalid(
-                "friction.kinetic_coefficient",
-                f.kinetic_coefficient,
-                &format!("<= friction.static_coefficient = {}", f.static_coefficient),
+                "loading.belt_speed",
+                self.belt_speed,
+                "finite (m/s)",
             ));
         }
-        non_negative("friction.decay", f.decay, "s/m")?;
-        non_negative("friction.stick_threshold", f.stick_threshold, "m/s")?;
-        if let Some(path) = &f.weights {
+        non_negative("loading.normal_force", self.normal_force, "N")
+    }
+}
+
+impl Friction {
+    /// The coefficients (kinetic at most static), the exponential law's decay, the stick
+    /// threshold, the weights path when given, then the laws with state's parameters.
+    fn check(&self) -> Result<(), SceneError> {
+        non_negative("friction.static_coefficient", self.static_coefficient, "1")?;
+        non_negative(
+            "friction.kinetic_coefficient",
+            self.kinetic_coefficient,
+            "1",
+        )?;
+        if self.kinetic_coefficient > self.static_coefficient {
+            return Err(invalid(
+                "friction.kinetic_coefficient",
+                self.kinetic_coefficient,
+                &format!(
+                    "<= friction.static_coefficient = {}",
+                    self.static_coefficient
+                ),
+            ));
+        }
+        non_negative("friction.decay", self.decay, "s/m")?;
+        non_negative("friction.stick_threshold", self.stick_threshold, "m/s")?;
+        if let Some(path) = &self.weights {
             if path.trim().is_empty() {
                 return Err(SceneError::Invalid {
                     field: "friction.weights",
@@ -708,57 +736,84 @@ impl Scene {
                 });
             }
         }
-
-        let problems = [f.lugre.problem(), f.rate_and_state.problem()];
+        let problems = [self.lugre.problem(), self.rate_and_state.problem()];
         if let Some(problem) = problems.into_iter().flatten().next() {
             return Err(invalid(problem.field, problem.value, &problem.requirement));
         }
+        Ok(())
+    }
+}
 
-        let c = &self.contact;
-        within("contact.preload", c.preload, 0.0, 1.0, true)?;
-        if f.law.has_memory() {
-            // A law with state is stepped with the relative slip velocity (its state
-            // evolves with the slip), on the one model the whole run uses.
-            if c.sliding_velocity != SlidingVelocity::Relative {
-                return Err(SceneError::Invalid {
-                    field: "contact.sliding_velocity",
-                    value: crate::choice::Choice::name(c.sliding_velocity).into(),
-                    requirement: format!(
-                        "relative with friction.law = {} (a law with state evolves with the relative slip velocity)",
-                        crate::choice::Choice::name(f.law)
-                    ),
-                });
-            }
-            if c.slip_modes_below > 0.0 {
-                return Err(invalid(
-                    "contact.slip_modes_below",
-                    c.slip_modes_below,
-                    "0 with a law with state (it has no stick phase to keep on the full mesh)",
-                ));
-            }
-            if self.fidelity.level == FidelityLevel::Auto {
-                // auto's front, its partner ratios and its verification were measured
-                // with the memoryless switch (data/pareto_front.json). The laws with
-                // state have measured fronts (the study's law axis), but their stick is a
-                // velocity threshold and their own fronts differ (LuGre's cheapest point
-                // under 1 um is another configuration), so auto's chain does not carry over.
-                return Err(SceneError::Invalid {
-                    field: "fidelity.level",
-                    value: "auto".into(),
-                    requirement: format!(
-                        "modal, beam or plane-stress with friction.law = {}: auto's measured front and partner chain are for the memoryless laws only, none was measured for a law with state as auto walks it (their own study fronts: `stickslip study --laws`, docs/speed-accuracy.md, \"Friction laws with memory\")",
-                        crate::choice::Choice::name(f.law)
-                    ),
-                });
-            }
+impl Contact {
+    /// The preload's range, then the rules that tie the contact to the friction law
+    /// (`law`), to the integrator's scheme (`scheme`) and to the model (`level`).
+    fn check(
+        &self,
+        law: FrictionLawKind,
+        scheme: Scheme,
+        level: FidelityLevel,
+    ) -> Result<(), SceneError> {
+        within("contact.preload", self.preload, 0.0, 1.0, true)?;
+        if law.has_memory() {
+            self.check_with_memory_law(law, level)?;
         }
-        if f.law.has_memory() {
-            if let Some(error) = c.refusal_with_memory(crate::choice::Choice::name(f.law)) {
-                return Err(error);
-            }
+        self.check_with_scheme(scheme)?;
+        self.check_slip_modes(level)
+    }
+
+    /// What a law with state (`law`) needs of the contact: the relative sliding
+    /// velocity, no modal slip, a concrete model (`level` not auto) and the default
+    /// slip-phase rules.
+    fn check_with_memory_law(
+        &self,
+        law: FrictionLawKind,
+        level: FidelityLevel,
+    ) -> Result<(), SceneError> {
+        // A law with state is stepped with the relative slip velocity (its state
+        // evolves with the slip), on the one model the whole run uses.
+        if self.sliding_velocity != SlidingVelocity::Relative {
+            return Err(SceneError::Invalid {
+                field: "contact.sliding_velocity",
+                value: crate::choice::Choice::name(self.sliding_velocity).into(),
+                requirement: format!(
+                    "relative with friction.law = {} (a law with state evolves with the relative slip velocity)",
+                    crate::choice::Choice::name(law)
+                ),
+            });
         }
-        if let Some((field, value)) = c.phase_rule() {
-            if self.integrator.scheme == Scheme::MoreauJean {
+        if self.slip_modes_below > 0.0 {
+            return Err(invalid(
+                "contact.slip_modes_below",
+                self.slip_modes_below,
+                "0 with a law with state (it has no stick phase to keep on the full mesh)",
+            ));
+        }
+        if level == FidelityLevel::Auto {
+            // auto's front, its partner ratios and its verification were measured
+            // with the memoryless switch (data/pareto_front.json). The laws with
+            // state have measured fronts (the study's law axis), but their stick is a
+            // velocity threshold and their own fronts differ (LuGre's cheapest point
+            // under 1 um is another configuration), so auto's chain does not carry over.
+            return Err(SceneError::Invalid {
+                field: "fidelity.level",
+                value: "auto".into(),
+                requirement: format!(
+                    "modal, beam or plane-stress with friction.law = {}: auto's measured front and partner chain are for the memoryless laws only, none was measured for a law with state as auto walks it (their own study fronts: `stickslip study --laws`, docs/speed-accuracy.md, \"Friction laws with memory\")",
+                    crate::choice::Choice::name(law)
+                ),
+            });
+        }
+        match self.refusal_with_memory(crate::choice::Choice::name(law)) {
+            Some(error) => Err(error),
+            None => Ok(()),
+        }
+    }
+
+    /// What Moreau-Jean (`scheme`) refuses: the paper authors' slip-phase rules and the
+    /// finite-difference tip velocity.
+    fn check_with_scheme(&self, scheme: Scheme) -> Result<(), SceneError> {
+        if let Some((field, value)) = self.phase_rule() {
+            if scheme == Scheme::MoreauJean {
                 return Err(SceneError::Invalid {
                     field,
                     value: value.into(),
@@ -766,77 +821,110 @@ impl Scene {
                 });
             }
         }
-        if c.tip_velocity == TipVelocity::FiniteDifference
-            && self.integrator.scheme == Scheme::MoreauJean
-        {
+        if self.tip_velocity == TipVelocity::FiniteDifference && scheme == Scheme::MoreauJean {
             return Err(SceneError::Invalid {
                 field: "contact.tip_velocity",
                 value: crate::choice::Choice::name(TipVelocity::FiniteDifference).into(),
                 requirement: "integrator (Moreau-Jean's stick holds the velocity itself, which a difference of displacements cannot)".into(),
             });
         }
-        non_negative("contact.slip_modes_below", c.slip_modes_below, "rad/s")?;
-        if c.slip_modes_below > 0.0 && self.fidelity.level != FidelityLevel::PlaneStress {
+        Ok(())
+    }
+
+    /// The modal slip's cut-off: not negative, and above 0 only on the plane-stress
+    /// mesh (`level`).
+    fn check_slip_modes(&self, level: FidelityLevel) -> Result<(), SceneError> {
+        non_negative("contact.slip_modes_below", self.slip_modes_below, "rad/s")?;
+        if self.slip_modes_below > 0.0 && level != FidelityLevel::PlaneStress {
             // The authors integrate slip on their continuum mesh's modes; on the beam
             // or a modal model the full model is already (close to) that basis, and
             // `auto` picks the model itself.
             return Err(invalid(
                 "contact.slip_modes_below",
-                c.slip_modes_below,
+                self.slip_modes_below,
                 "0 unless fidelity.level = plane-stress (slip on the modes of the plane-stress mesh below the cut-off)",
             ));
         }
+        Ok(())
+    }
+}
 
-        let d = &self.damping;
-        non_negative("damping.mass_proportional", d.mass_proportional, "1/s")?;
+impl Damping {
+    /// Both Rayleigh coefficients finite and not negative.
+    fn check(&self) -> Result<(), SceneError> {
+        non_negative("damping.mass_proportional", self.mass_proportional, "1/s")?;
         non_negative(
             "damping.stiffness_proportional",
-            d.stiffness_proportional,
+            self.stiffness_proportional,
             "s",
-        )?;
+        )
+    }
+}
 
-        let t = &self.time;
-        positive("time.step", t.step, "s")?;
-        positive("time.end", t.end, "s")?;
-        if t.step > t.end {
+impl Time {
+    /// Step and end positive, the step at most the end, and at most `MAX_STEPS` steps.
+    fn check(&self) -> Result<(), SceneError> {
+        positive("time.step", self.step, "s")?;
+        positive("time.end", self.end, "s")?;
+        if self.step > self.end {
             return Err(invalid(
                 "time.step",
-                t.step,
-                &format!("<= time.end = {} s", t.end),
+                self.step,
+                &format!("<= time.end = {} s", self.end),
             ));
         }
-        if t.end / t.step > MAX_STEPS {
+        if self.end / self.step > MAX_STEPS {
             return Err(invalid(
                 "time.step",
-                t.step,
+                self.step,
                 &format!("large enough that time.end / time.step <= {MAX_STEPS:e}"),
             ));
         }
+        Ok(())
+    }
+}
 
-        let fi = &self.fidelity;
+impl Fidelity {
+    /// The tolerance when given, the beam's element count, the element size against the
+    /// beam's length (`geometry`) and the plane-stress mesh's size, the mode count.
+    fn check(&self, geometry: &Geometry) -> Result<(), SceneError> {
         // Absent, `auto` uses `auto::DEFAULT_TOLERANCE`, as the FMU's start value does.
-        if let Some(tolerance) = fi.tolerance {
+        if let Some(tolerance) = self.tolerance {
             positive("fidelity.tolerance", tolerance, "m")?;
         }
-        if fi.beam_elements == 0 || fi.beam_elements > MAX_BEAM_ELEMENTS {
+        if self.beam_elements == 0 || self.beam_elements > MAX_BEAM_ELEMENTS {
             return Err(invalid(
                 "fidelity.beam_elements",
-                fi.beam_elements as f64,
+                self.beam_elements as f64,
                 &format!("in [1, {MAX_BEAM_ELEMENTS}]"),
             ));
         }
-        positive("fidelity.element_size", fi.element_size, "m")?;
-        if fi.element_size > g.length {
+        positive("fidelity.element_size", self.element_size, "m")?;
+        if self.element_size > geometry.length {
             return Err(invalid(
                 "fidelity.element_size",
-                fi.element_size,
-                &format!("<= geometry.length = {} m", g.length),
+                self.element_size,
+                &format!("<= geometry.length = {} m", geometry.length),
             ));
         }
-        let plane_stress_used = fi.level == FidelityLevel::PlaneStress
-            || (fi.level == FidelityLevel::Modal && fi.modal_basis == ModalBasis::PlaneStress);
+        self.check_plane_stress_size(geometry)?;
+        if self.modes == 0 || self.modes > MAX_MODES {
+            return Err(invalid(
+                "fidelity.modes",
+                self.modes as f64,
+                &format!("in [1, {MAX_MODES}]"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// When the plane-stress mesh is built (its level, or the modal level on its
+    /// modes): at most `MAX_DOFS` degrees of freedom on `geometry`.
+    fn check_plane_stress_size(&self, geometry: &Geometry) -> Result<(), SceneError> {
+        let plane_stress_used = self.level == FidelityLevel::PlaneStress
+            || (self.level == FidelityLevel::Modal && self.modal_basis == ModalBasis::PlaneStress);
         if plane_stress_used {
-            let (nx, ny) = plane_stress_divisions(g, fi.element_size);
+            let (nx, ny) = plane_stress_divisions(geometry, self.element_size);
             // Q8 nodes: (2 nx + 1)(ny + 1) corner-row nodes plus (nx + 1) ny mid-side ones.
             // In f64: with a tiny element on a long beam the count overflows usize.
             let (nx, ny) = (nx as f64, ny as f64);
@@ -844,23 +932,40 @@ impl Scene {
             if 2.0 * nodes > MAX_DOFS as f64 {
                 return Err(invalid(
                     "fidelity.element_size",
-                    fi.element_size,
+                    self.element_size,
                     &format!("coarse enough for at most {MAX_DOFS} degrees of freedom"),
                 ));
             }
         }
-        if fi.modes == 0 || fi.modes > MAX_MODES {
-            return Err(invalid(
-                "fidelity.modes",
-                fi.modes as f64,
-                &format!("in [1, {MAX_MODES}]"),
-            ));
-        }
+        Ok(())
+    }
+}
 
-        let i = &self.integrator;
-        within("integrator.rho_inf", i.rho_inf, 0.0, 1.0, false)?;
-        within("integrator.theta", i.theta, 0.5, 1.0, false)?;
+impl Integrator {
+    /// Generalised-alpha's rho_inf in [0, 1], Moreau-Jean's theta in [0.5, 1].
+    fn check(&self) -> Result<(), SceneError> {
+        within("integrator.rho_inf", self.rho_inf, 0.0, 1.0, false)?;
+        within("integrator.theta", self.theta, 0.5, 1.0, false)
+    }
+}
 
+impl Scene {
+    /// Validates every field and returns the checked scene: each section's check in
+    /// turn, so that a scene with several faults reports the first in this order.
+    pub fn check(self) -> Result<CheckedScene, SceneError> {
+        self.geometry.check()?;
+        self.material.check()?;
+        self.loading.check()?;
+        self.friction.check()?;
+        self.contact.check(
+            self.friction.law,
+            self.integrator.scheme,
+            self.fidelity.level,
+        )?;
+        self.damping.check()?;
+        self.time.check()?;
+        self.fidelity.check(&self.geometry)?;
+        self.integrator.check()?;
         Ok(CheckedScene(self))
     }
 

@@ -5,9 +5,11 @@
 //! resolution of the tip force from it (stick reaction, slip solve and switch for either
 //! scheme, see `contact`), then the integrator's finish with that force.
 
-use crate::contact::{Contact, ContactState, Kinetic, Previous, SlipSolve, SlipSolver, Transition};
+use crate::contact::{
+    Contact, ContactState, Kinetic, Previous, Resolution, SlipSolve, SlipSolver, Transition,
+};
 use crate::friction::FrictionLaw;
-use crate::integrator::{Coefficients, Integrator, Kinematics};
+use crate::integrator::{Coefficients, Integrator, Kinematics, TrialStep};
 use crate::memory::{StateVariable, STATE_VARIABLES};
 use crate::modal_slip::{SlipBasis, SlipBasisError};
 use crate::scene::{CheckedScene, DampingPhase, InitialState, TipVelocity};
@@ -542,64 +544,109 @@ impl Simulator {
         let damping = phase_damping(&self.scene, self.state.contact);
         let static_limit = self.static_limit();
         // A step that starts in slip runs on the modal slip model, if there is one.
+        let on_modes = self.modal_slip.is_some() && self.state.contact == ContactState::Slip;
+        if landing {
+            self.prepare_landing(on_modes, damping)?;
+        }
+        let dt = self.step_parts(landing).0.integrator.dt();
+        let trial = self.trial(landing);
+        let resolution = self.resolve(&trial, static_limit);
+        self.finish(landing, resolution.force);
+        self.record(landing, dt, &trial, resolution)
+    }
+
+    /// Landing seam: makes `landing` the integrator of a landing step of
+    /// `landing_length` with the Rayleigh coefficients `damping`, on the modal slip
+    /// model when `on_modes`; the one built for an earlier landing is kept when it fits.
+    fn prepare_landing(
+        &mut self,
+        on_modes: bool,
+        damping: (f64, f64),
+    ) -> Result<(), SimulationError> {
+        let length = self.landing_length;
+        let reusable = on_modes == self.landing_modal
+            && matches!(&self.landing, Some(i) if i.dt() == length && i.damping() == damping);
+        if !reusable {
+            let model = match &self.modal_slip {
+                Some(m) if on_modes => m.basis.model(),
+                _ => &self.model,
+            };
+            self.landing_modal = on_modes;
+            self.landing = Some(Integrator::new(
+                model,
+                Coefficients::from_scene(&self.scene),
+                length,
+                damping.0,
+                damping.1,
+            )?);
+        }
+        Ok(())
+    }
+
+    /// What a step runs on, chosen by its kind (`landing`) and the contact state at its
+    /// start: the landing integrator, the modal slip model's, the stick phase's or the
+    /// main one. Returned beside the simulation state so that a seam can change both.
+    /// The choice is the same every time it is asked within a step, since neither the
+    /// contact state nor the integrators change until the step is recorded.
+    fn step_parts(&mut self, landing: bool) -> (StepParts<'_>, &mut SimulationState) {
         let modal = match &mut self.modal_slip {
             Some(m) if self.state.contact == ContactState::Slip => Some(m),
             _ => None,
         };
-        let on_modes = modal.is_some();
-        if landing {
-            let length = self.landing_length;
-            let reusable = on_modes == self.landing_modal
-                && matches!(&self.landing, Some(i) if i.dt() == length && i.damping() == damping);
-            if !reusable {
-                self.landing_modal = on_modes;
-                self.landing = Some(Integrator::new(
-                    modal.as_ref().map_or(&self.model, |m| m.basis.model()),
-                    Coefficients::from_scene(&self.scene),
-                    length,
-                    damping.0,
-                    damping.1,
-                )?);
-            }
-        }
-        let (integrator, model, mut modal_state) = match (
+        let parts = match (
             landing,
             self.landing.as_mut(),
             self.stick_integrator.as_mut(),
             modal,
         ) {
-            (true, Some(short), _, Some(m)) => {
-                (short, m.basis.model(), Some((&m.basis, &mut m.state)))
-            }
-            (true, Some(short), _, None) => (short, &self.model, None),
-            (false, _, _, Some(m)) => (
-                &mut m.integrator,
-                m.basis.model(),
-                Some((&m.basis, &mut m.state)),
-            ),
+            (true, Some(short), _, Some(m)) => StepParts {
+                integrator: short,
+                model: m.basis.model(),
+                modal: Some((&m.basis, &mut m.state)),
+            },
+            (true, Some(short), _, None) => StepParts {
+                integrator: short,
+                model: &self.model,
+                modal: None,
+            },
+            (false, _, _, Some(m)) => StepParts {
+                integrator: &mut m.integrator,
+                model: m.basis.model(),
+                modal: Some((&m.basis, &mut m.state)),
+            },
             (false, _, Some(stick), None) if self.state.contact == ContactState::Stick => {
-                (stick, &self.model, None)
+                StepParts {
+                    integrator: stick,
+                    model: &self.model,
+                    modal: None,
+                }
             }
-            _ => (&mut self.integrator, &self.model, None),
+            _ => StepParts {
+                integrator: &mut self.integrator,
+                model: &self.model,
+                modal: None,
+            },
         };
+        (parts, &mut self.state)
+    }
+
+    /// Trial seam: the step's solve without tip force, which the contact resolves the
+    /// force from. With `contact.tip_velocity = finite-difference` its tip velocities
+    /// are recast as differences of tip displacements.
+    fn trial(&mut self, landing: bool) -> TrialStep {
         let finite_difference = self.scene.contact.tip_velocity == TipVelocity::FiniteDifference;
-        let dt = integrator.dt();
         let vb = self.belt_speed;
-        let state = &mut self.state;
-        let previous = Previous {
-            state: state.contact,
-            relative_velocity: state.relative_velocity,
-            force: state.contact_force,
-        };
+        let (mut parts, state) = self.step_parts(landing);
+        let dt = parts.integrator.dt();
         // In slip on modes: q = Phi^T M x of the full state (a state already in their
         // span after the first slip step, so that this is exact; at stick -> slip it drops
         // the modes above the cut-off), expanded back after the step.
-        if let Some((basis, q)) = &mut modal_state {
+        if let Some((basis, q)) = &mut parts.modal {
             basis.project_kinematics(&state.kinematics, q);
         }
-        let mut trial = match &modal_state {
-            Some((_, q)) => integrator.trial(model, q),
-            None => integrator.trial(model, &state.kinematics),
+        let mut trial = match &parts.modal {
+            Some((_, q)) => parts.integrator.trial(parts.model, q),
+            None => parts.integrator.trial(parts.model, &state.kinematics),
         };
         if finite_difference {
             // v_tip,n+1 = (u_tip,n+1 - u_tip,n) / dt is affine in F as the integrator's
@@ -609,11 +656,26 @@ impl Simulator {
                 (trial.free_tip_displacement - trial.start_tip_displacement) / dt;
             trial.velocity_per_force = trial.displacement_per_force / dt;
         }
-        let resolution = match (self.external, self.law.as_memory_mut()) {
+        trial
+    }
+
+    /// Resolve seam: the contact's tip force for the step from its `trial` (stick
+    /// reaction, slip solve, switch), against `static_limit` and with the kinetic force
+    /// of the external input or the law. A law with state advances its state here, and
+    /// the simulation state keeps a copy.
+    fn resolve(&mut self, trial: &TrialStep, static_limit: f64) -> Resolution {
+        let vb = self.belt_speed;
+        let state = &mut self.state;
+        let previous = Previous {
+            state: state.contact,
+            relative_velocity: state.relative_velocity,
+            force: state.contact_force,
+        };
+        match (self.external, self.law.as_memory_mut()) {
             (None, Some(law)) => {
                 let resolution =
                     self.contact
-                        .resolve_with_memory(&trial, previous, vb, law, self.normal_force);
+                        .resolve_with_memory(trial, previous, vb, law, self.normal_force);
                 state.law_state.clear();
                 state.law_state.extend_from_slice(law.state());
                 resolution
@@ -643,16 +705,38 @@ impl Simulator {
                     },
                 };
                 self.contact
-                    .resolve(&trial, previous, vb, static_limit, kinetic)
+                    .resolve(trial, previous, vb, static_limit, kinetic)
             }
-        };
-        match modal_state {
+        }
+    }
+
+    /// Finish seam: the step's end kinematics under the resolved tip `force`, expanded
+    /// back onto the full model when the step ran on the slip modes.
+    fn finish(&mut self, landing: bool, force: f64) {
+        let (parts, state) = self.step_parts(landing);
+        match parts.modal {
             Some((basis, q)) => {
-                integrator.finish(q, resolution.force);
+                parts.integrator.finish(q, force);
                 basis.expand_kinematics(q, &mut state.kinematics);
             }
-            None => integrator.finish(&mut state.kinematics, resolution.force),
+            None => parts.integrator.finish(&mut state.kinematics, force),
         }
+    }
+
+    /// Record seam: the step of length `dt` counted and timed, the tip's relative
+    /// velocity and the `resolution`'s forces stored, and a switch of the contact state
+    /// recorded as a transition. A non-finite tip state is refused. True when the
+    /// contact switched.
+    fn record(
+        &mut self,
+        landing: bool,
+        dt: f64,
+        trial: &TrialStep,
+        resolution: Resolution,
+    ) -> Result<bool, SimulationError> {
+        let finite_difference = self.scene.contact.tip_velocity == TipVelocity::FiniteDifference;
+        let vb = self.belt_speed;
+        let state = &mut self.state;
         self.last_slip = resolution.slip;
         state.step += 1;
         if landing {
@@ -736,6 +820,15 @@ fn slots_of(variables: &[StateVariable]) -> Vec<(usize, usize)> {
                 .map(|slot| (k, slot))
         })
         .collect()
+}
+
+/// What one step runs on (see `Simulator::step_parts`).
+struct StepParts<'a> {
+    integrator: &'a mut Integrator,
+    model: &'a StructuralModel,
+    /// When the step runs on the slip modes: their basis and the step's modal
+    /// coordinates.
+    modal: Option<(&'a SlipBasis, &'a mut Kinematics)>,
 }
 
 /// The slip phase on modes below a cut-off (`contact.slip_modes_below`).

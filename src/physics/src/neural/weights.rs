@@ -219,19 +219,35 @@ impl NeuralModel {
         Ok(model)
     }
 
-    /// Checks shapes, roles and finiteness.
+    /// Checks shapes, roles and finiteness: the format, the layers, the features, the
+    /// target, then what the file records of its training, each in turn.
     pub fn validate(&self, source_name: &str) -> Result<(), NeuralError> {
-        let shape = |message: String| NeuralError::Shape {
-            source_name: source_name.to_string(),
-            message,
-        };
-        let finite = |field: String, value: f64| finite(source_name, field, value);
+        self.check_format(source_name)?;
+        self.check_layers(source_name)?;
+        self.check_features(source_name)?;
+        self.check_target(source_name)?;
+        self.check_record(source_name)
+    }
+
+    /// The file's format name and version are the ones this reader knows.
+    fn check_format(&self, source_name: &str) -> Result<(), NeuralError> {
         if self.format != FORMAT_NAME || self.version != FORMAT_VERSION {
-            return Err(shape(format!(
-                "format '{}' version {} (expected '{FORMAT_NAME}' version {FORMAT_VERSION})",
-                self.format, self.version
-            )));
+            return Err(shape_error(
+                source_name,
+                format!(
+                    "format '{}' version {} (expected '{FORMAT_NAME}' version {FORMAT_VERSION})",
+                    self.format, self.version
+                ),
+            ));
         }
+        Ok(())
+    }
+
+    /// `layer_sizes` fits the features and the layers, and every weight and bias is
+    /// there and finite.
+    fn check_layers(&self, source_name: &str) -> Result<(), NeuralError> {
+        let shape = |message: String| shape_error(source_name, message);
+        let finite = |field: String, value: f64| finite(source_name, field, value);
         let sizes = &self.layer_sizes;
         if sizes.len() < 2 || sizes.contains(&0) || sizes.last() != Some(&1) {
             return Err(shape(format!(
@@ -279,6 +295,14 @@ impl NeuralModel {
                 finite(format!("layers[{l}].biases[{o}]"), *b)?;
             }
         }
+        Ok(())
+    }
+
+    /// Each feature's scaling finite and usable, its name listed once, each role held
+    /// by at most one feature, and the sliding velocity present for the signed variant.
+    fn check_features(&self, source_name: &str) -> Result<(), NeuralError> {
+        let shape = |message: String| shape_error(source_name, message);
+        let finite = |field: String, value: f64| finite(source_name, field, value);
         for (k, f) in self.features.iter().enumerate() {
             for (what, v) in [
                 ("input_mean", f.input_mean),
@@ -314,6 +338,11 @@ impl NeuralModel {
                 "the signed variant needs a feature with the role sliding_velocity".into(),
             ));
         }
+        Ok(())
+    }
+
+    /// The target's scaling finite and usable.
+    fn check_target(&self, source_name: &str) -> Result<(), NeuralError> {
         let t = &self.target;
         for (what, v) in [
             ("output_mean", t.output_mean),
@@ -321,17 +350,24 @@ impl NeuralModel {
             ("min", t.min),
             ("max", t.max),
         ] {
-            finite(format!("target.{what}"), v)?;
+            finite(source_name, format!("target.{what}"), v)?;
         }
         if t.output_std <= 0.0 || t.min > t.max {
-            return Err(shape(
+            return Err(shape_error(
+                source_name,
                 "target: output_std must be positive and min <= max".into(),
             ));
         }
-        finite("training.lambda".into(), self.training.lambda)?;
+        Ok(())
+    }
+
+    /// What the file records of its training: the regularisation weight, the synthetic
+    /// data's settings when given, the error metrics.
+    fn check_record(&self, source_name: &str) -> Result<(), NeuralError> {
+        finite(source_name, "training.lambda".into(), self.training.lambda)?;
         if let Some(spec) = &self.training.synthetic {
             spec.check()
-                .map_err(|message| shape(format!("training.{message}")))?;
+                .map_err(|message| shape_error(source_name, format!("training.{message}")))?;
         }
         let m = &self.metrics;
         for (what, v) in [
@@ -340,7 +376,7 @@ impl NeuralModel {
             ("r2_train", m.r2_train),
             ("r2_test", m.r2_test),
         ] {
-            finite(format!("metrics.{what}"), v)?;
+            finite(source_name, format!("metrics.{what}"), v)?;
         }
         Ok(())
     }
@@ -449,5 +485,13 @@ impl NeuralModel {
             .zip(&signs)
             .map(|(&z, &s)| self.force_from_output(z, s))
             .collect())
+    }
+}
+
+/// A fault in a weights file's shape, named after the file (`source_name`).
+fn shape_error(source_name: &str, message: String) -> NeuralError {
+    NeuralError::Shape {
+        source_name: source_name.to_string(),
+        message,
     }
 }
