@@ -9,7 +9,7 @@
 # free, with a logger, with a NULL logger, and with allocateMemory/freeMemory callbacks
 # (calloc/free wrappers, which the FMU must not call: canNotUseMemoryManagementFunctions
 # = true). One FMU state per life is left for fmi2FreeInstance to free. Then
-# `valgrind_driver_loop3` in tests/fmu/ffi3.rs: the same kind of life
+# `valgrind_driver_loop3` in tests/fmu/ffi3/valgrind_driver.rs: the same kind of life
 # through the FMI 3.0 interface (fmi3* functions of the same library).
 #
 # scripts/test.sh runs it after the Rust tests; it also runs on its own. Honours
@@ -47,7 +47,7 @@ set +e
 valgrind --leak-check=full --errors-for-leak-kinds=definite --error-exitcode=1 \
   --log-file="$log" \
   "$bin" --ignored --exact threads_resources::valgrind_driver::valgrind_driver_loop \
-  ffi3::valgrind_driver_loop3 \
+  ffi3::valgrind_driver::valgrind_driver_loop3 \
   --test-threads=1 --nocapture
 status=$?
 set -e
