@@ -2,14 +2,15 @@
 # Runs an FMI importer loop under valgrind (memcheck) and fails on any invalid read or
 # write, use of uninitialised memory, or definitely lost block.
 #
-# The loop is the ignored test `valgrind_driver_loop` in tests/fmu/threads_resources.rs:
-# both FMUs through the C ABI, instantiate -> parameters -> initialise -> steps with
-# reads and writes -> FMU state get/serialize/deserialize/set/free -> an error and the
-# recovery from it -> reset -> free, with a logger, with a NULL logger, and with
-# allocateMemory/freeMemory callbacks (calloc/free wrappers, which the FMU must not
-# call: canNotUseMemoryManagementFunctions = true). One FMU state per life is left for
-# fmi2FreeInstance to free. Then `valgrind_driver_loop3` in tests/fmu/ffi3.rs: the same
-# kind of life through the FMI 3.0 interface (fmi3* functions of the same library).
+# The loop is the ignored test `valgrind_driver_loop` in
+# tests/fmu/threads_resources/valgrind_driver.rs: both FMUs through the C ABI,
+# instantiate -> parameters -> initialise -> steps with reads and writes -> FMU state
+# get/serialize/deserialize/set/free -> an error and the recovery from it -> reset ->
+# free, with a logger, with a NULL logger, and with allocateMemory/freeMemory callbacks
+# (calloc/free wrappers, which the FMU must not call: canNotUseMemoryManagementFunctions
+# = true). One FMU state per life is left for fmi2FreeInstance to free. Then
+# `valgrind_driver_loop3` in tests/fmu/ffi3/valgrind_driver.rs: the same kind of life
+# through the FMI 3.0 interface (fmi3* functions of the same library).
 #
 # scripts/test.sh runs it after the Rust tests; it also runs on its own. Honours
 # CARGO_TARGET_DIR. STICKSLIP_VALGRIND_ROUNDS sets the lives per FMU and kind of
@@ -45,7 +46,8 @@ echo "== valgrind $bin (log: $log)"
 set +e
 valgrind --leak-check=full --errors-for-leak-kinds=definite --error-exitcode=1 \
   --log-file="$log" \
-  "$bin" --ignored --exact threads_resources::valgrind_driver_loop ffi3::valgrind_driver_loop3 \
+  "$bin" --ignored --exact threads_resources::valgrind_driver::valgrind_driver_loop \
+  ffi3::valgrind_driver::valgrind_driver_loop3 \
   --test-threads=1 --nocapture
 status=$?
 set -e
