@@ -13,7 +13,11 @@
 //! in its own directory and is renamed into place only when all outputs of a command
 //! are complete, so that a command that fails leaves no new file and an older file of
 //! the same name untouched. (A rename within one directory is atomic on the file
-//! systems we run on; a copy is not.)
+//! systems we run on; a copy is not.) A destination that exists and is no regular file
+//! (`/dev/null`, `/dev/stdout`, a named pipe) is written straight into instead: a rename
+//! would replace the device node or the pipe with a regular file (as root, `--out
+//! /dev/null` would turn /dev/null into a file), and such a destination has no older
+//! contents to keep.
 
 use std::fmt;
 use std::io::{Read, Write};
@@ -240,6 +244,12 @@ struct Staged {
     path: PathBuf,
 }
 
+/// Whether `destination` exists and is something other than a regular file (a device, a
+/// pipe, a socket), which is written into rather than replaced.
+fn is_special(destination: &Path) -> bool {
+    std::fs::metadata(destination).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
 /// The output files of one command: each is written to a temporary file beside its
 /// destination with [`Outputs::add`]; [`Outputs::commit`] renames them all into place.
 /// Dropped without a commit (the command failed), it removes its temporary files, so
@@ -271,6 +281,15 @@ impl Outputs {
             path: path.to_path_buf(),
             source,
         };
+        if is_special(&destination) {
+            let file = std::fs::OpenOptions::new()
+                .write(true)
+                .open(&destination)
+                .map_err(io)?;
+            let mut writer = std::io::BufWriter::new(file);
+            write(&mut writer).map_err(io)?;
+            return writer.flush().map_err(io);
+        }
         let (temporary, file) = create_temporary(&destination).map_err(io)?;
         // Registered before writing, so that a failed write removes it on drop.
         self.staged.push(Staged {
@@ -463,6 +482,37 @@ mod tests {
                 format!("weights file {device}: is a character device, not a regular file")
             );
         }
+    }
+
+    /// A named pipe stays a pipe and its reader gets the bytes: the writer opens it
+    /// instead of renaming a temporary file over it (which would replace the pipe, and
+    /// as root `/dev/null`, with a regular file).
+    #[cfg(unix)]
+    #[test]
+    fn a_pipe_is_written_into_not_replaced() {
+        use std::os::unix::fs::FileTypeExt;
+        let dir = scratch("pipe");
+        let pipe = dir.join("pipe");
+        let made = std::process::Command::new("mkfifo").arg(&pipe).status();
+        if !made.is_ok_and(|s| s.success()) {
+            eprintln!("mkfifo unavailable: skipped");
+            return;
+        }
+        // The reader reports through a channel: were the pipe replaced, its open would
+        // wait for a writer forever, and the test fails on the type check, not by hanging.
+        let (sender, received) = std::sync::mpsc::channel();
+        {
+            let pipe = pipe.clone();
+            std::thread::spawn(move || sender.send(std::fs::read(pipe).unwrap()));
+        }
+        write_atomically(&pipe, b"t,x\n0,1\n").unwrap();
+        assert!(std::fs::metadata(&pipe).unwrap().file_type().is_fifo());
+        let bytes = received
+            .recv_timeout(std::time::Duration::from_secs(30))
+            .unwrap();
+        assert_eq!(bytes, b"t,x\n0,1\n");
+        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+        assert_eq!(left.len(), 1, "only the pipe: no temporary file left");
     }
 
     #[test]
