@@ -6,11 +6,11 @@ use serde::{Deserialize, Serialize};
 
 use super::super::network::Activation;
 use super::super::weights::{
-    network_input_range, FeatureRole, FeatureSpec, Metrics, NeuralModel, StopReason, TargetSpec,
-    TrainingInfo, Variant, FORMAT_NAME, FORMAT_VERSION,
+    network_input_range, FeatureRole, FeatureSpec, LayerWeights, Metrics, NeuralModel, StopReason,
+    TargetSpec, TrainingInfo, Variant, FORMAT_NAME, FORMAT_VERSION,
 };
-use super::convert::OnnxNetwork;
-use super::error::OnnxError;
+use super::error::OnnxImportError;
+use stickslip_formats::onnx::{self as read, OnnxNetwork};
 
 /// Metadata key: JSON array of [`FeatureInfo`], one per input column, in column order.
 pub const FEATURES_KEY: &str = "stickslip.features";
@@ -111,10 +111,10 @@ fn parse<T: serde::de::DeserializeOwned>(
     network: &OnnxNetwork,
     key: &str,
     source_name: &str,
-) -> Result<Option<T>, OnnxError> {
+) -> Result<Option<T>, OnnxImportError> {
     metadata(network, key)
         .map(|text| {
-            serde_json::from_str(text).map_err(|e| OnnxError::Description {
+            serde_json::from_str(text).map_err(|e| OnnxImportError::Description {
                 source_name: source_name.to_string(),
                 message: format!("metadata '{key}' is not valid: {e}"),
             })
@@ -127,9 +127,12 @@ fn parse<T: serde::de::DeserializeOwned>(
 /// Training notes and metrics are not in an ONNX file; they are filled with markers that
 /// say so (`training.data` names the file and producer, `training.loss` says "unknown",
 /// counts and metrics are 0, `stop_reason` max_iterations).
-pub fn neural_model(network: &OnnxNetwork, options: &OnnxImport) -> Result<NeuralModel, OnnxError> {
+pub fn neural_model(
+    network: &OnnxNetwork,
+    options: &OnnxImport,
+) -> Result<NeuralModel, OnnxImportError> {
     let source_name = options.source_name.as_str();
-    let description = |message: String| OnnxError::Description {
+    let description = |message: String| OnnxImportError::Description {
         source_name: source_name.to_string(),
         message,
     };
@@ -173,7 +176,7 @@ pub fn neural_model(network: &OnnxNetwork, options: &OnnxImport) -> Result<Neura
         format: FORMAT_NAME.into(),
         version: FORMAT_VERSION,
         variant,
-        activation: network.activation,
+        activation: activation(network.activation),
         layer_sizes: network.layer_sizes(),
         features: features
             .iter()
@@ -196,7 +199,14 @@ pub fn neural_model(network: &OnnxNetwork, options: &OnnxImport) -> Result<Neura
             min: target.min,
             max: target.max,
         },
-        layers: network.layers.clone(),
+        layers: network
+            .layers
+            .iter()
+            .map(|layer| LayerWeights {
+                weights: layer.weights.clone(),
+                biases: layer.biases.clone(),
+            })
+            .collect(),
         training: TrainingInfo {
             data: format!("imported from ONNX {source_name} ({})", network.producer),
             synthetic: None,
@@ -221,12 +231,21 @@ pub fn neural_model(network: &OnnxNetwork, options: &OnnxImport) -> Result<Neura
     model.validate(source_name)?;
     let bound = output_bound(&model);
     if overflows(bound) {
-        return Err(OnnxError::Overflow {
+        return Err(OnnxImportError::Overflow {
             source_name: source_name.to_string(),
             bound,
         });
     }
     Ok(model)
+}
+
+/// The reader's activation as ours (the same functions, named alike).
+fn activation(activation: read::Activation) -> Activation {
+    match activation {
+        read::Activation::Tanh => Activation::Tanh,
+        read::Activation::Sigmoid => Activation::Sigmoid,
+        read::Activation::Relu => Activation::Relu,
+    }
 }
 
 /// Bounds at or above this (or NaN) count as overflow: far enough below f64::MAX

@@ -2,9 +2,9 @@
 //! output scaling (see the `convert` documentation on rounding), and the network
 //! checked.
 
-use super::super::super::network::Activation;
 use super::super::error::OnnxError;
 use super::chain::{Converter, Elementwise, Stage};
+use super::network::Activation;
 use super::network::{OnnxNetwork, Precision};
 
 impl Converter<'_> {

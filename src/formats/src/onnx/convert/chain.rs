@@ -3,10 +3,10 @@
 
 use std::collections::{HashMap, HashSet};
 
-use super::super::super::network::Activation;
-use super::super::super::weights::LayerWeights;
 use super::super::error::OnnxError;
 use super::super::model::{node_label, Dimension, GraphProto, NodeProto, TensorProto, ValueInfo};
+use super::network::Activation;
+use super::network::DenseLayer;
 use super::network::OnnxNetwork;
 use super::opset::domain_of;
 
@@ -39,7 +39,7 @@ pub(super) struct Converter<'g> {
     pub(super) width: Option<usize>,
     pub(super) stage: Stage,
     pub(super) input_ops: Vec<(Elementwise, Vec<f64>, String)>,
-    pub(super) layers: Vec<LayerWeights>,
+    pub(super) layers: Vec<DenseLayer>,
     pub(super) activations: Vec<(Activation, String)>,
     pub(super) output_ops: Vec<(Elementwise, f64)>,
 }

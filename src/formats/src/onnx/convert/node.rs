@@ -3,10 +3,10 @@
 
 use std::collections::HashMap;
 
-use super::super::super::network::Activation;
 use super::super::error::OnnxError;
 use super::super::model::{attribute_type, node_label, AttributeProto, NodeProto};
 use super::chain::{Converter, Elementwise, Stage};
+use super::network::Activation;
 use super::opset::domain_of;
 use super::tensors::Constant;
 
