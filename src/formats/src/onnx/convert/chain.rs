@@ -45,45 +45,22 @@ pub(super) struct Converter<'g> {
 }
 
 impl<'g> Converter<'g> {
+    /// The converter of `graph`, once its one input and output, their types and the
+    /// input's width, its `Constant` nodes and its node order are checked.
     pub(super) fn new(
         graph: &'g GraphProto,
         source_name: &str,
     ) -> Result<Converter<'g>, OnnxError> {
-        let graph_error = |message: String| OnnxError::Graph {
-            source_name: source_name.to_string(),
-            message,
-        };
         let mut constants: HashMap<&str, &TensorProto> = graph
             .initializer
             .iter()
             .map(|t| (t.name.as_str(), t))
             .collect();
-        let inputs: Vec<&ValueInfo> = graph
-            .input
-            .iter()
-            .filter(|i| !constants.contains_key(i.name.as_str()))
-            .collect();
-        if inputs.len() != 1 {
-            let names: Vec<&str> = inputs.iter().map(|i| i.name.as_str()).collect();
-            return Err(graph_error(format!(
-                "the graph has {} inputs besides initializers ({}); exactly one (the \
-                 features, [batch, features]) is supported",
-                inputs.len(),
-                names.join(", ")
-            )));
-        }
-        if graph.output.len() != 1 {
-            let names: Vec<&str> = graph.output.iter().map(|o| o.name.as_str()).collect();
-            return Err(graph_error(format!(
-                "the graph has {} outputs ({}); exactly one (the force) is supported",
-                names.len(),
-                names.join(", ")
-            )));
-        }
+        let input = one_input_and_output(graph, &constants, source_name)?;
         let mut converter = Converter {
             source_name: source_name.to_string(),
             nodes: &graph.node,
-            input: inputs[0].name.clone(),
+            input: input.name.clone(),
             output: graph.output[0].name.clone(),
             constants: HashMap::new(),
             saw_f32: false,
@@ -94,55 +71,38 @@ impl<'g> Converter<'g> {
             activations: Vec::new(),
             output_ops: Vec::new(),
         };
-        for (info, what) in [
-            (inputs[0], "graph input"),
-            (&graph.output[0], "graph output"),
-        ] {
+        converter.check_ends(input, &graph.output[0])?;
+        constant_nodes(graph, source_name, &mut constants)?;
+        converter.constants = constants;
+        converter.check_order(graph)?;
+        Ok(converter)
+    }
+
+    /// The graph input's and output's element types (FLOAT or DOUBLE when given), and
+    /// the input's rank 2, whose width is taken when it is a number.
+    fn check_ends(&mut self, input: &ValueInfo, output: &ValueInfo) -> Result<(), OnnxError> {
+        for (info, what) in [(input, "graph input"), (output, "graph output")] {
             if let Some(t) = info.elem_type {
-                converter.check_float(t, &format!("{what} '{}'", info.name))?;
+                self.check_float(t, &format!("{what} '{}'", info.name))?;
             }
         }
-        if let Some(shape) = &inputs[0].shape {
+        if let Some(shape) = &input.shape {
             match shape.as_slice() {
-                [_, Dimension::Value(w)] if *w > 0 => converter.width = Some(*w as usize),
+                [_, Dimension::Value(w)] if *w > 0 => self.width = Some(*w as usize),
                 [_, _] => {}
                 _ => {
-                    return Err(converter.shape_error(
+                    return Err(self.shape_error(
                         "(graph input)",
                         format!(
                             "graph input '{}' has rank {}; [batch, features] is expected",
-                            inputs[0].name,
+                            input.name,
                             shape.len()
                         ),
                     ))
                 }
             }
         }
-        for (index, node) in graph.node.iter().enumerate() {
-            if node.op_type == "Constant" && domain_of(&node.domain) == Some(false) {
-                let value = match node.attribute.as_slice() {
-                    [a] if a.name == "value" && a.t.is_some() => a.t.as_ref(),
-                    _ => None,
-                };
-                let (Some(tensor), [output]) = (value, node.output.as_slice()) else {
-                    return Err(OnnxError::Attribute {
-                        source_name: source_name.to_string(),
-                        node: node_label(index, node),
-                        attribute: node
-                            .attribute
-                            .first()
-                            .map_or_else(|| "value".to_string(), |a| a.name.clone()),
-                        reason: "a Constant must have one output and its value as the \
-                                 tensor attribute 'value'"
-                            .into(),
-                    });
-                };
-                constants.insert(output.as_str(), tensor);
-            }
-        }
-        converter.constants = constants;
-        converter.check_order(graph)?;
-        Ok(converter)
+        Ok(())
     }
 
     pub(super) fn check_order(&self, graph: &GraphProto) -> Result<(), OnnxError> {
@@ -210,6 +170,27 @@ impl<'g> Converter<'g> {
         producer: String,
         metadata: Vec<(String, String)>,
     ) -> Result<OnnxNetwork, OnnxError> {
+        let readers = self.readers();
+        let mut on_chain = vec![false; self.nodes.len()];
+        let mut current = self.input.clone();
+        while current != self.output {
+            let index = self.reader_of(&readers, &current)?;
+            // The order check makes the chain advance through the node list, so a node
+            // cannot come twice; this guards the loop regardless.
+            if std::mem::replace(&mut on_chain[index], true) {
+                return Err(self.structure(format!(
+                    "node {} is reached twice",
+                    node_label(index, &self.nodes[index])
+                )));
+            }
+            current = self.step(index, &current)?;
+        }
+        self.check_all_on_chain(&on_chain)?;
+        self.finish(producer, metadata)
+    }
+
+    /// The nodes that read each value, each node once per value.
+    fn readers(&self) -> HashMap<&'g str, Vec<usize>> {
         let mut readers: HashMap<&str, Vec<usize>> = HashMap::new();
         for (index, node) in self.nodes.iter().enumerate() {
             let mut seen = HashSet::new();
@@ -219,67 +200,71 @@ impl<'g> Converter<'g> {
                 }
             }
         }
-        let mut on_chain = vec![false; self.nodes.len()];
-        let mut current = self.input.clone();
-        while current != self.output {
-            let index = match readers.get(current.as_str()).map(Vec::as_slice) {
-                Some([index]) => *index,
-                None | Some([]) => {
-                    return Err(OnnxError::Graph {
-                        source_name: self.source_name.clone(),
-                        message: format!(
-                            "'{current}' is read by no node and is not the graph output \
-                             '{}'",
-                            self.output
-                        ),
-                    })
-                }
-                Some(many) => {
-                    let names: Vec<String> = many
-                        .iter()
-                        .map(|&i| node_label(i, &self.nodes[i]))
-                        .collect();
-                    return Err(OnnxError::Graph {
-                        source_name: self.source_name.clone(),
-                        message: format!(
-                            "'{current}' is read by {} nodes ({}); only a chain of layers \
-                             is supported",
-                            many.len(),
-                            names.join(", ")
-                        ),
-                    });
-                }
-            };
-            // The order check makes the chain advance through the node list, so a node
-            // cannot come twice; this guards the loop regardless.
-            if std::mem::replace(&mut on_chain[index], true) {
-                return Err(self.structure(format!(
-                    "node {} is reached twice",
-                    node_label(index, &self.nodes[index])
-                )));
+        readers
+    }
+
+    /// The one node that reads `current`, the running value.
+    fn reader_of(
+        &self,
+        readers: &HashMap<&str, Vec<usize>>,
+        current: &str,
+    ) -> Result<usize, OnnxError> {
+        match readers.get(current).map(Vec::as_slice) {
+            Some([index]) => Ok(*index),
+            None | Some([]) => Err(OnnxError::Graph {
+                source_name: self.source_name.clone(),
+                message: format!(
+                    "'{current}' is read by no node and is not the graph output \
+                     '{}'",
+                    self.output
+                ),
+            }),
+            Some(many) => {
+                let names: Vec<String> = many
+                    .iter()
+                    .map(|&i| node_label(i, &self.nodes[i]))
+                    .collect();
+                Err(OnnxError::Graph {
+                    source_name: self.source_name.clone(),
+                    message: format!(
+                        "'{current}' is read by {} nodes ({}); only a chain of layers \
+                         is supported",
+                        many.len(),
+                        names.join(", ")
+                    ),
+                })
             }
-            let node = &self.nodes[index];
-            let outputs: Vec<&String> = node.output.iter().filter(|o| !o.is_empty()).collect();
-            let [output] = outputs.as_slice() else {
-                return Err(self.structure(format!(
-                    "node {} has {} outputs; a layer has one",
-                    node_label(index, node),
-                    outputs.len()
-                )));
-            };
-            let running: Vec<usize> = (0..node.input.len())
-                .filter(|&k| node.input[k] == current)
-                .collect();
-            let [position] = running.as_slice() else {
-                return Err(self.structure(format!(
-                    "node {} reads the running value '{current}' {} times",
-                    node_label(index, node),
-                    running.len()
-                )));
-            };
-            self.apply(index, node, *position)?;
-            current = output.to_string();
         }
+    }
+
+    /// Node `index` applied to the running value `current`, which it reads once; its
+    /// one output is the next running value.
+    fn step(&mut self, index: usize, current: &str) -> Result<String, OnnxError> {
+        let node = &self.nodes[index];
+        let outputs: Vec<&String> = node.output.iter().filter(|o| !o.is_empty()).collect();
+        let [output] = outputs.as_slice() else {
+            return Err(self.structure(format!(
+                "node {} has {} outputs; a layer has one",
+                node_label(index, node),
+                outputs.len()
+            )));
+        };
+        let running: Vec<usize> = (0..node.input.len())
+            .filter(|&k| node.input[k] == current)
+            .collect();
+        let [position] = running.as_slice() else {
+            return Err(self.structure(format!(
+                "node {} reads the running value '{current}' {} times",
+                node_label(index, node),
+                running.len()
+            )));
+        };
+        self.apply(index, node, *position)?;
+        Ok(output.to_string())
+    }
+
+    /// Every node but the `Constant`s lies on the chain.
+    fn check_all_on_chain(&self, on_chain: &[bool]) -> Result<(), OnnxError> {
         for (index, node) in self.nodes.iter().enumerate() {
             if !on_chain[index] && node.op_type != "Constant" {
                 return Err(OnnxError::Graph {
@@ -293,6 +278,74 @@ impl<'g> Converter<'g> {
                 });
             }
         }
-        self.finish(producer, metadata)
+        Ok(())
     }
+}
+
+/// The graph's one input besides the initializers (`constants`), once the graph is
+/// known to have exactly one of those and one output.
+fn one_input_and_output<'g>(
+    graph: &'g GraphProto,
+    constants: &HashMap<&str, &TensorProto>,
+    source_name: &str,
+) -> Result<&'g ValueInfo, OnnxError> {
+    let graph_error = |message: String| OnnxError::Graph {
+        source_name: source_name.to_string(),
+        message,
+    };
+    let inputs: Vec<&ValueInfo> = graph
+        .input
+        .iter()
+        .filter(|i| !constants.contains_key(i.name.as_str()))
+        .collect();
+    if inputs.len() != 1 {
+        let names: Vec<&str> = inputs.iter().map(|i| i.name.as_str()).collect();
+        return Err(graph_error(format!(
+            "the graph has {} inputs besides initializers ({}); exactly one (the \
+             features, [batch, features]) is supported",
+            inputs.len(),
+            names.join(", ")
+        )));
+    }
+    if graph.output.len() != 1 {
+        let names: Vec<&str> = graph.output.iter().map(|o| o.name.as_str()).collect();
+        return Err(graph_error(format!(
+            "the graph has {} outputs ({}); exactly one (the force) is supported",
+            names.len(),
+            names.join(", ")
+        )));
+    }
+    Ok(inputs[0])
+}
+
+/// The outputs of the graph's `Constant` nodes added to `constants`, each node checked
+/// to hold its value as the tensor attribute `value`.
+fn constant_nodes<'g>(
+    graph: &'g GraphProto,
+    source_name: &str,
+    constants: &mut HashMap<&'g str, &'g TensorProto>,
+) -> Result<(), OnnxError> {
+    for (index, node) in graph.node.iter().enumerate() {
+        if node.op_type == "Constant" && domain_of(&node.domain) == Some(false) {
+            let value = match node.attribute.as_slice() {
+                [a] if a.name == "value" && a.t.is_some() => a.t.as_ref(),
+                _ => None,
+            };
+            let (Some(tensor), [output]) = (value, node.output.as_slice()) else {
+                return Err(OnnxError::Attribute {
+                    source_name: source_name.to_string(),
+                    node: node_label(index, node),
+                    attribute: node
+                        .attribute
+                        .first()
+                        .map_or_else(|| "value".to_string(), |a| a.name.clone()),
+                    reason: "a Constant must have one output and its value as the \
+                             tensor attribute 'value'"
+                        .into(),
+                });
+            };
+            constants.insert(output.as_str(), tensor);
+        }
+    }
+    Ok(())
 }

@@ -132,47 +132,96 @@ pub fn neural_model(
     options: &OnnxImport,
 ) -> Result<NeuralModel, OnnxImportError> {
     let source_name = options.source_name.as_str();
-    let description = |message: String| OnnxImportError::Description {
+    let features = described_features(network, options)?;
+    let target = match &options.target {
+        Some(t) => t.clone(),
+        None => parse::<TargetInfo>(network, TARGET_KEY, source_name)?.unwrap_or_default(),
+    };
+    let variant = described_variant(network, options)?;
+    let model = assembled(network, source_name, &features, target, variant);
+    model.validate(source_name)?;
+    let bound = output_bound(&model);
+    if overflows(bound) {
+        return Err(OnnxImportError::Overflow {
+            source_name: source_name.to_string(),
+            bound,
+        });
+    }
+    Ok(model)
+}
+
+fn description(source_name: &str, message: String) -> OnnxImportError {
+    OnnxImportError::Description {
         source_name: source_name.to_string(),
         message,
-    };
+    }
+}
+
+/// The input columns from `options`, else from the metadata; one per network input.
+fn described_features(
+    network: &OnnxNetwork,
+    options: &OnnxImport,
+) -> Result<Vec<FeatureInfo>, OnnxImportError> {
+    let source_name = options.source_name.as_str();
     let features = match &options.features {
         Some(f) => f.clone(),
         None => {
             parse::<Vec<FeatureInfo>>(network, FEATURES_KEY, source_name)?.ok_or_else(|| {
-                description(format!(
-                    "the features (names, roles, training ranges) are not described: give them \
-                 in the metadata key '{FEATURES_KEY}' (a JSON array with one \
-                 {{\"name\", \"unit\", \"role\", \"min\", \"max\"}} per input column) or as \
-                 import options (`stickslip import-network FILE.onnx --feature \
-                 NAME:ROLE:UNIT:MIN:MAX ...`, once per column, writes a weights file)"
-                ))
+                description(
+                    source_name,
+                    format!(
+                        "the features (names, roles, training ranges) are not described: give \
+                         them in the metadata key '{FEATURES_KEY}' (a JSON array with one \
+                         {{\"name\", \"unit\", \"role\", \"min\", \"max\"}} per input column) or \
+                         as import options (`stickslip import-network FILE.onnx --feature \
+                         NAME:ROLE:UNIT:MIN:MAX ...`, once per column, writes a weights file)"
+                    ),
+                )
             })?
         }
     };
     let inputs = network.input_mean.len();
     if features.len() != inputs {
-        return Err(description(format!(
-            "{} features are described but the network has {inputs} inputs",
-            features.len()
-        )));
+        return Err(description(
+            source_name,
+            format!(
+                "{} features are described but the network has {inputs} inputs",
+                features.len()
+            ),
+        ));
     }
-    let target = match &options.target {
-        Some(t) => t.clone(),
-        None => parse::<TargetInfo>(network, TARGET_KEY, source_name)?.unwrap_or_default(),
-    };
-    let variant = match options.variant {
-        Some(v) => v,
+    Ok(features)
+}
+
+/// The variant from `options`, else from the metadata, else plain.
+fn described_variant(
+    network: &OnnxNetwork,
+    options: &OnnxImport,
+) -> Result<Variant, OnnxImportError> {
+    match options.variant {
+        Some(v) => Ok(v),
         None => match metadata(network, VARIANT_KEY) {
-            None => Variant::Plain,
+            None => Ok(Variant::Plain),
             Some(text) => <Variant as crate::choice::Choice>::from_name(text).ok_or_else(|| {
-                description(format!(
-                    "metadata '{VARIANT_KEY}' is '{text}', expected 'plain' or 'signed'"
-                ))
-            })?,
+                description(
+                    &options.source_name,
+                    format!("metadata '{VARIANT_KEY}' is '{text}', expected 'plain' or 'signed'"),
+                )
+            }),
         },
-    };
-    let model = NeuralModel {
+    }
+}
+
+/// The network and its description as a `NeuralModel` (not yet validated), with the
+/// markers of an import for what ONNX does not hold.
+fn assembled(
+    network: &OnnxNetwork,
+    source_name: &str,
+    features: &[FeatureInfo],
+    target: TargetInfo,
+    variant: Variant,
+) -> NeuralModel {
+    NeuralModel {
         format: FORMAT_NAME.into(),
         version: FORMAT_VERSION,
         variant,
@@ -227,16 +276,7 @@ pub fn neural_model(
             r2_train: 0.0,
             r2_test: 0.0,
         },
-    };
-    model.validate(source_name)?;
-    let bound = output_bound(&model);
-    if overflows(bound) {
-        return Err(OnnxImportError::Overflow {
-            source_name: source_name.to_string(),
-            bound,
-        });
     }
-    Ok(model)
 }
 
 /// The reader's activation as ours (the same functions, named alike).
