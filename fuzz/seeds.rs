@@ -342,7 +342,7 @@ fn training_csv() {
 /// Small networks in the forms PyTorch and skl2onnx export (`stickslip_tests::onnx`).
 fn onnx() {
     for (name, bytes) in stickslip_tests::onnx::fuzz_seeds() {
-        stickslip::neural::onnx::read_onnx(&bytes, &name).unwrap_or_else(|e| panic!("{name}: {e}"));
+        stickslip_formats::onnx::read_onnx(&bytes, &name).unwrap_or_else(|e| panic!("{name}: {e}"));
         write("onnx", &name, &bytes);
     }
 }

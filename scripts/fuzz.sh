@@ -2,7 +2,8 @@
 # Fuzzes every parser of outside bytes with cargo fuzz (libFuzzer):
 #   fmu_state     serialized FMU state (fmi2DeSerializeFMUstate + fmi2SetFMUstate)
 #   weights       neural weights file (NeuralLaw::from_file / from_json)
-#   onnx          ONNX network (stickslip::neural::onnx::read_onnx / import_onnx)
+#   onnx          ONNX network (stickslip_formats::onnx::read_onnx, then
+#                 stickslip::neural::onnx's import)
 #   scene         scene file (stickslip simulate --scene FILE)
 #   training_csv  training CSV (stickslip train --data FILE.csv)
 #

@@ -1,4 +1,5 @@
-//! An ONNX file, as `stickslip::neural::onnx::read_onnx` and `import_onnx` read it
+//! An ONNX file, as `stickslip_formats::onnx::read_onnx` reads it and
+//! `stickslip::neural::onnx` imports it
 //! (issue 23: a network exported by PyTorch, Keras or scikit-learn).
 //!
 //! A file that converts is imported with its metadata, or, when that does not describe
@@ -7,7 +8,8 @@
 //! batch.
 //!
 //! Checked properties (a panic is a finding):
-//! - nothing panics, whatever the bytes (the reader promises an `OnnxError`);
+//! - nothing panics, whatever the bytes (the reader promises an `OnnxError`, the
+//!   import an `OnnxImportError`);
 //! - an imported model is a valid `NeuralLaw`;
 //! - it evaluates every finite feature vector to a finite force (inputs are clamped to
 //!   the training range and the importer bounds the output over it).
@@ -16,8 +18,9 @@
 
 use libfuzzer_sys::fuzz_target;
 use nalgebra::DMatrix;
-use stickslip::neural::onnx::{describe, read_onnx, FeatureInfo, OnnxImport};
+use stickslip::neural::onnx::{describe, FeatureInfo, OnnxImport};
 use stickslip::neural::NeuralLaw;
+use stickslip_formats::onnx::read_onnx;
 
 fuzz_target!(|data: &[u8]| {
     let Ok(network) = read_onnx(data, "fuzz.onnx") else {

@@ -47,7 +47,7 @@ ROLES = {
     "sliding_velocity": ("sliding_velocity", "m/s"),
 }
 FEATURE_ROLES = ("sliding_velocity", "normal_force", "other")
-# fitrnet's hidden activations that our reader (stickslip::neural::onnx) takes, and the
+# fitrnet's hidden activations that our reader (stickslip_formats::onnx) takes, and the
 # ONNX operator of each.
 ACTIVATIONS = {"tanh": "Tanh", "relu": "Relu", "sigmoid": "Sigmoid"}
 IDENTITY_TRANSFORM = "classreg.learning.transform.identity"

@@ -344,7 +344,7 @@ def test_what_onnx_writes_by_default_is_read(built, trained, tmp_path, dtype):
     fresh = helper.make_model(written.graph, producer_name="onnx.helper")
     fresh.metadata_props.extend(written.metadata_props)
     # The pins' defaults: a bump of onnx that writes newer versions must revisit the
-    # reader's checked opsets (src/physics/src/neural/onnx/convert/opset.rs).
+    # reader's checked opsets (src/formats/src/onnx/convert/opset.rs).
     assert (fresh.ir_version, fresh.opset_import[0].version) == (14, 28)
     onnx.checker.check_model(fresh)
     path = tmp_path / "default.onnx"
@@ -354,14 +354,14 @@ def test_what_onnx_writes_by_default_is_read(built, trained, tmp_path, dtype):
 
 
 def test_reader_operator_table_is_the_pinned_onnx_schema_history():
-    """The reader's per-operator versions (OPERATORS in src/physics/src/neural/onnx/convert/
+    """The reader's per-operator versions (OPERATORS in src/formats/src/onnx/convert/
     opset.rs) are the since-versions of the pinned onnx's schema history, the source of
     truth for what each operator version is, and its checked opsets and newest IR version
     are that onnx's: a bump of onnx that adds an operator version makes this fail, so that
     the new version is judged before files using it are accepted."""
     from onnx import defs
 
-    source = (REPO / "src/physics/src/neural/onnx/convert/opset.rs").read_text()
+    source = (REPO / "src/formats/src/onnx/convert/opset.rs").read_text()
     table = {
         (name, ml == "true"): [int(v) for v in since.split(",")]
         for name, ml, since in re.findall(

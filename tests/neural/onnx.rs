@@ -7,12 +7,11 @@
 
 use std::sync::Arc;
 use stickslip::law_source::{LawSource, NetworkOrigin};
-use stickslip::neural::onnx::{
-    import_onnx, read_onnx, FeatureInfo, OnnxError, OnnxImport, Precision,
-};
+use stickslip::neural::onnx::{import_onnx, FeatureInfo, OnnxImport, OnnxImportError};
 use stickslip::neural::weights::LayerWeights;
 use stickslip::neural::{FeatureRole, NeuralLaw, NeuralModel};
 use stickslip::scene::{FrictionLawKind, Inference, Scene};
+use stickslip_formats::onnx::{read_onnx, OnnxError, Precision};
 use stickslip_tests::onnx::{
     export, Attribute, Data, Exporter, Node, Onnx, Value, DOUBLE, FLOAT16,
 };
@@ -26,7 +25,7 @@ fn paper(signed: bool) -> NeuralModel {
     law.unwrap().model().clone()
 }
 
-fn import(onnx: &Onnx) -> Result<NeuralModel, OnnxError> {
+fn import(onnx: &Onnx) -> Result<NeuralModel, OnnxImportError> {
     import_onnx(&onnx.encode(), &OnnxImport::named("test.onnx"))
 }
 

@@ -7,8 +7,9 @@
 //! opaque data, an undocumented format that the pip package mat-io reads (see
 //! docs/decisions.md).
 //!
-//! The converter is `stickslip::neural::onnx`; this module only maps flags to
-//! [`OnnxImport`], writes the model and measures it on a CSV file.
+//! The reader is `stickslip_formats::onnx` and the import `stickslip::neural::onnx`;
+//! this module only maps flags to [`OnnxImport`], writes the model and measures it on a
+//! CSV file.
 
 use std::path::PathBuf;
 
@@ -17,11 +18,10 @@ use nalgebra::DMatrix;
 use crate::error::CliError;
 use stickslip::choice::Choice;
 use stickslip::files::WEIGHTS_FILE;
-use stickslip::neural::file_kind::WeightsFileKind;
-use stickslip::neural::onnx::{
-    describe, read_onnx, FeatureInfo, OnnxImport, OnnxNetwork, Precision, TargetInfo,
-};
+use stickslip::neural::onnx::{describe, FeatureInfo, OnnxImport, TargetInfo};
 use stickslip::neural::{FeatureRole, NeuralError, NeuralLaw, NeuralModel, Variant};
+use stickslip_formats::onnx::{read_onnx, OnnxNetwork, Precision};
+use stickslip_formats::sniff::WeightsFileKind;
 use stickslip_train::csv::{read_csv_file, ColumnSelection};
 use stickslip_train::train::mse_and_r2;
 

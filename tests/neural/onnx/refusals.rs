@@ -20,7 +20,7 @@ fn truncated_files_are_refused() {
     for n in 0..bytes.len() {
         match import_onnx(&bytes[..n], &OnnxImport::named("cut.onnx")) {
             Ok(_) if n < required => panic!("a {n}-byte prefix of {} was accepted", bytes.len()),
-            Err(OnnxError::Wire { .. }) => wire += 1,
+            Err(OnnxImportError::Read(OnnxError::Wire { .. })) => wire += 1,
             _ => {}
         }
     }

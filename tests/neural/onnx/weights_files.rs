@@ -155,12 +155,12 @@ fn a_scene_reads_onnx_weights_and_names_what_is_missing() {
     ] {
         assert!(message.contains(part), "{part} missing from: {message}");
     }
-    // The ONNX reason is kept as the `OnnxError` it is.
+    // The ONNX reason is kept as the `OnnxImportError` it is.
     match NeuralLaw::from_file(&bare) {
         Err(stickslip::neural::NeuralError::Onnx(e)) => assert!(
             matches!(
-                e.downcast_ref::<OnnxError>(),
-                Some(OnnxError::Description { .. })
+                e.downcast_ref::<OnnxImportError>(),
+                Some(OnnxImportError::Description { .. })
             ),
             "{e:?}"
         ),

@@ -91,8 +91,8 @@ pub enum NeuralError {
 
     /// An ONNX file given where weights are read (`NeuralLaw::from_file`) could not be
     /// imported; the reason names the node, tensor or metadata key at fault. It is an
-    /// `onnx::OnnxError` (downcast to read it), held as a trait object because
-    /// `OnnxError` holds a `NeuralError` and its module depends on this one.
+    /// `onnx::OnnxImportError` (downcast to read it), held as a trait object because
+    /// `OnnxImportError` holds a `NeuralError` and its module depends on this one.
     #[error("{0}")]
     Onnx(Box<dyn std::error::Error + Send + Sync>),
 

@@ -23,7 +23,6 @@ use std::path::Path;
 use nalgebra::DMatrix;
 
 use super::error::NeuralError;
-use super::file_kind::WeightsFileKind;
 use super::forward::{Forward, Real};
 use super::onnx;
 use super::weights::FeatureRole;
@@ -31,6 +30,7 @@ use super::weights::{network_input_range, NeuralModel, Variant};
 use crate::files::WEIGHTS_FILE;
 use crate::friction::{signum_or_zero, FrictionLaw};
 use crate::scene::Inference;
+use stickslip_formats::sniff::WeightsFileKind;
 
 /// The shipped plain-variant weights (`weights/paper-plain.json`).
 pub const PAPER_PLAIN_JSON: &str = include_str!("../../../../weights/paper-plain.json");

@@ -10,8 +10,9 @@
 //!   model as a `crate::friction::FrictionLaw`;
 //! - `table`: the network tabulated at initialisation, with its verified error (the
 //!   law as `friction.inference` asks is built by `crate::law_source`);
-//! - `onnx`: networks exported to ONNX (PyTorch, Keras, scikit-learn), read in pure Rust
-//!   into the same `NeuralModel`;
+//! - `onnx`: networks exported to ONNX (PyTorch, Keras, scikit-learn), read by
+//!   `stickslip_formats::onnx` into a dense chain and turned here into the same
+//!   `NeuralModel`;
 //! - `memory`: the learned law with memory (rate-and-state with trained parameters and a
 //!   network correction), its weights file (`stickslip-state-friction`) and its
 //!   velocity-step response; shipped as `weights/rate-and-state-learned.json`;
@@ -55,7 +56,6 @@
 
 mod error;
 mod file_checks;
-pub mod file_kind;
 pub mod forward;
 pub mod jacobian;
 pub mod law;
@@ -67,7 +67,6 @@ pub mod table;
 pub mod weights;
 
 pub use error::NeuralError;
-pub use file_kind::WeightsFileKind;
 pub use law::NeuralLaw;
 pub use network::Activation;
 pub use weights::{FeatureRole, NeuralModel, StopReason, SyntheticPreset, SyntheticSpec, Variant};

@@ -6,11 +6,11 @@ use serde::{Deserialize, Serialize};
 
 use super::super::network::Activation;
 use super::super::weights::{
-    network_input_range, FeatureRole, FeatureSpec, Metrics, NeuralModel, StopReason, TargetSpec,
-    TrainingInfo, Variant, FORMAT_NAME, FORMAT_VERSION,
+    network_input_range, FeatureRole, FeatureSpec, LayerWeights, Metrics, NeuralModel, StopReason,
+    TargetSpec, TrainingInfo, Variant, FORMAT_NAME, FORMAT_VERSION,
 };
-use super::convert::OnnxNetwork;
-use super::error::OnnxError;
+use super::error::OnnxImportError;
+use stickslip_formats::onnx::{self as read, OnnxNetwork};
 
 /// Metadata key: JSON array of [`FeatureInfo`], one per input column, in column order.
 pub const FEATURES_KEY: &str = "stickslip.features";
@@ -111,10 +111,10 @@ fn parse<T: serde::de::DeserializeOwned>(
     network: &OnnxNetwork,
     key: &str,
     source_name: &str,
-) -> Result<Option<T>, OnnxError> {
+) -> Result<Option<T>, OnnxImportError> {
     metadata(network, key)
         .map(|text| {
-            serde_json::from_str(text).map_err(|e| OnnxError::Description {
+            serde_json::from_str(text).map_err(|e| OnnxImportError::Description {
                 source_name: source_name.to_string(),
                 message: format!("metadata '{key}' is not valid: {e}"),
             })
@@ -127,53 +127,105 @@ fn parse<T: serde::de::DeserializeOwned>(
 /// Training notes and metrics are not in an ONNX file; they are filled with markers that
 /// say so (`training.data` names the file and producer, `training.loss` says "unknown",
 /// counts and metrics are 0, `stop_reason` max_iterations).
-pub fn neural_model(network: &OnnxNetwork, options: &OnnxImport) -> Result<NeuralModel, OnnxError> {
+pub fn neural_model(
+    network: &OnnxNetwork,
+    options: &OnnxImport,
+) -> Result<NeuralModel, OnnxImportError> {
     let source_name = options.source_name.as_str();
-    let description = |message: String| OnnxError::Description {
+    let features = described_features(network, options)?;
+    let target = match &options.target {
+        Some(t) => t.clone(),
+        None => parse::<TargetInfo>(network, TARGET_KEY, source_name)?.unwrap_or_default(),
+    };
+    let variant = described_variant(network, options)?;
+    let model = assembled(network, source_name, &features, target, variant);
+    model.validate(source_name)?;
+    let bound = output_bound(&model);
+    if overflows(bound) {
+        return Err(OnnxImportError::Overflow {
+            source_name: source_name.to_string(),
+            bound,
+        });
+    }
+    Ok(model)
+}
+
+fn description(source_name: &str, message: String) -> OnnxImportError {
+    OnnxImportError::Description {
         source_name: source_name.to_string(),
         message,
-    };
+    }
+}
+
+/// The input columns from `options`, else from the metadata; one per network input.
+fn described_features(
+    network: &OnnxNetwork,
+    options: &OnnxImport,
+) -> Result<Vec<FeatureInfo>, OnnxImportError> {
+    let source_name = options.source_name.as_str();
     let features = match &options.features {
         Some(f) => f.clone(),
         None => {
             parse::<Vec<FeatureInfo>>(network, FEATURES_KEY, source_name)?.ok_or_else(|| {
-                description(format!(
-                    "the features (names, roles, training ranges) are not described: give them \
-                 in the metadata key '{FEATURES_KEY}' (a JSON array with one \
-                 {{\"name\", \"unit\", \"role\", \"min\", \"max\"}} per input column) or as \
-                 import options (`stickslip import-network FILE.onnx --feature \
-                 NAME:ROLE:UNIT:MIN:MAX ...`, once per column, writes a weights file)"
-                ))
+                description(
+                    source_name,
+                    format!(
+                        "the features (names, roles, training ranges) are not described: give \
+                         them in the metadata key '{FEATURES_KEY}' (a JSON array with one \
+                         {{\"name\", \"unit\", \"role\", \"min\", \"max\"}} per input column) or \
+                         as import options (`stickslip import-network FILE.onnx --feature \
+                         NAME:ROLE:UNIT:MIN:MAX ...`, once per column, writes a weights file)"
+                    ),
+                )
             })?
         }
     };
     let inputs = network.input_mean.len();
     if features.len() != inputs {
-        return Err(description(format!(
-            "{} features are described but the network has {inputs} inputs",
-            features.len()
-        )));
+        return Err(description(
+            source_name,
+            format!(
+                "{} features are described but the network has {inputs} inputs",
+                features.len()
+            ),
+        ));
     }
-    let target = match &options.target {
-        Some(t) => t.clone(),
-        None => parse::<TargetInfo>(network, TARGET_KEY, source_name)?.unwrap_or_default(),
-    };
-    let variant = match options.variant {
-        Some(v) => v,
+    Ok(features)
+}
+
+/// The variant from `options`, else from the metadata, else plain.
+fn described_variant(
+    network: &OnnxNetwork,
+    options: &OnnxImport,
+) -> Result<Variant, OnnxImportError> {
+    match options.variant {
+        Some(v) => Ok(v),
         None => match metadata(network, VARIANT_KEY) {
-            None => Variant::Plain,
+            None => Ok(Variant::Plain),
             Some(text) => <Variant as crate::choice::Choice>::from_name(text).ok_or_else(|| {
-                description(format!(
-                    "metadata '{VARIANT_KEY}' is '{text}', expected 'plain' or 'signed'"
-                ))
-            })?,
+                description(
+                    &options.source_name,
+                    format!("metadata '{VARIANT_KEY}' is '{text}', expected 'plain' or 'signed'"),
+                )
+            }),
         },
-    };
-    let model = NeuralModel {
+    }
+}
+
+/// The network and its description as a `NeuralModel` (not yet validated), with the
+/// markers of an import for what ONNX does not hold.
+fn assembled(
+    network: &OnnxNetwork,
+    source_name: &str,
+    features: &[FeatureInfo],
+    target: TargetInfo,
+    variant: Variant,
+) -> NeuralModel {
+    NeuralModel {
         format: FORMAT_NAME.into(),
         version: FORMAT_VERSION,
         variant,
-        activation: network.activation,
+        activation: activation(network.activation),
         layer_sizes: network.layer_sizes(),
         features: features
             .iter()
@@ -196,7 +248,14 @@ pub fn neural_model(network: &OnnxNetwork, options: &OnnxImport) -> Result<Neura
             min: target.min,
             max: target.max,
         },
-        layers: network.layers.clone(),
+        layers: network
+            .layers
+            .iter()
+            .map(|layer| LayerWeights {
+                weights: layer.weights.clone(),
+                biases: layer.biases.clone(),
+            })
+            .collect(),
         training: TrainingInfo {
             data: format!("imported from ONNX {source_name} ({})", network.producer),
             synthetic: None,
@@ -217,16 +276,16 @@ pub fn neural_model(network: &OnnxNetwork, options: &OnnxImport) -> Result<Neura
             r2_train: 0.0,
             r2_test: 0.0,
         },
-    };
-    model.validate(source_name)?;
-    let bound = output_bound(&model);
-    if overflows(bound) {
-        return Err(OnnxError::Overflow {
-            source_name: source_name.to_string(),
-            bound,
-        });
     }
-    Ok(model)
+}
+
+/// The reader's activation as ours (the same functions, named alike).
+fn activation(activation: read::Activation) -> Activation {
+    match activation {
+        read::Activation::Tanh => Activation::Tanh,
+        read::Activation::Sigmoid => Activation::Sigmoid,
+        read::Activation::Relu => Activation::Relu,
+    }
 }
 
 /// Bounds at or above this (or NaN) count as overflow: far enough below f64::MAX

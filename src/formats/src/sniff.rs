@@ -7,9 +7,9 @@ use std::path::Path;
 /// The three kinds of network file a user may hand us.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WeightsFileKind {
-    /// Our weights format (`weights::NeuralModel`), JSON text.
+    /// JSON text (the physics' own weights format, `stickslip::neural::weights`).
     Json,
-    /// An ONNX `ModelProto` (`neural::onnx`).
+    /// An ONNX `ModelProto` (`crate::onnx`).
     Onnx,
     /// A MATLAB MAT-file (a `fitrnet` network). Read by the Python package, not here:
     /// MATLAB stores the network as MCOS opaque data, an undocumented format.
@@ -37,7 +37,7 @@ impl WeightsFileKind {
     /// - MATLAB: the text header both MAT-file formats start with ("MATLAB 5.0 MAT-file"
     ///   for version 5 to 7, "MATLAB 7.3 MAT-file" in the HDF5 user block of 7.3).
     ///
-    /// The caller reads the file (`crate::files`, which refuses devices and empty files
+    /// The caller reads the file (`stickslip::files`, which refuses devices and empty files
     /// first), so that telling the kind never opens what should not be read.
     pub fn of(path: &Path, head: &[u8]) -> WeightsFileKind {
         if let Some(kind) = Self::by_extension(path) {

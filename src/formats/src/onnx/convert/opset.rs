@@ -213,64 +213,91 @@ pub(super) fn checked_graph<'m>(
     model: &'m ModelProto,
     source_name: &str,
 ) -> Result<&'m GraphProto, OnnxError> {
-    let source = || source_name.to_string();
     let (min, max) = IR_VERSIONS;
     if !(min..=max).contains(&model.ir_version) {
         return Err(OnnxError::IrVersion {
-            source_name: source(),
+            source_name: source_name.to_string(),
             found: model.ir_version,
             min,
             max,
         });
     }
-    let opset = |ml: bool| {
-        model
-            .opset_import
-            .iter()
-            .filter(|o| domain_of(&o.domain) == Some(ml))
-            .map(|o| o.version)
-            .max()
-    };
-    let accepted = format!(
-        "each operator is judged by the version its opset gives it; opsets up to ai.onnx {} \
-         and ai.onnx.ml {} are checked",
-        CHECKED_OPSETS.default, CHECKED_OPSETS.ml
-    );
-    let opset_error = |problem: String| OnnxError::Opset {
-        source_name: source(),
-        problem,
-        accepted: accepted.clone(),
-    };
-    let default_opset = match opset(false) {
-        None => return Err(opset_error("the model imports no ai.onnx opset".into())),
-        Some(v) if v < 1 => {
-            return Err(opset_error(format!(
-                "the model imports ai.onnx opset {v}, which does not exist"
-            )))
-        }
-        Some(v) => v,
-    };
+    let default_opset = default_opset(model, source_name)?;
     let graph = model.graph.as_ref().ok_or_else(|| OnnxError::Graph {
-        source_name: source(),
+        source_name: source_name.to_string(),
         message: "the model has no graph".into(),
     })?;
+    let ml_opset = ml_opset(model, graph, source_name)?;
+    check_operator_versions(graph, default_opset, ml_opset, source_name)?;
+    Ok(graph)
+}
+
+/// The newest opset the model imports of the default domain (`ml` false) or of
+/// `ai.onnx.ml` (`ml` true).
+fn imported_opset(model: &ModelProto, ml: bool) -> Option<i64> {
+    model
+        .opset_import
+        .iter()
+        .filter(|o| domain_of(&o.domain) == Some(ml))
+        .map(|o| o.version)
+        .max()
+}
+
+fn opset_error(source_name: &str, problem: String) -> OnnxError {
+    OnnxError::Opset {
+        source_name: source_name.to_string(),
+        problem,
+        accepted: format!(
+            "each operator is judged by the version its opset gives it; opsets up to ai.onnx {} \
+             and ai.onnx.ml {} are checked",
+            CHECKED_OPSETS.default, CHECKED_OPSETS.ml
+        ),
+    }
+}
+
+/// The ai.onnx opset, which every model must import.
+fn default_opset(model: &ModelProto, source_name: &str) -> Result<i64, OnnxError> {
+    match imported_opset(model, false) {
+        None => Err(opset_error(
+            source_name,
+            "the model imports no ai.onnx opset".into(),
+        )),
+        Some(v) if v < 1 => Err(opset_error(
+            source_name,
+            format!("the model imports ai.onnx opset {v}, which does not exist"),
+        )),
+        Some(v) => Ok(v),
+    }
+}
+
+/// The ai.onnx.ml opset, required when the graph uses one of its operators (0 when
+/// absent and unused).
+fn ml_opset(model: &ModelProto, graph: &GraphProto, source_name: &str) -> Result<i64, OnnxError> {
     let uses_ml = graph
         .node
         .iter()
         .any(|n| domain_of(&n.domain) == Some(true));
-    let ml_opset = match opset(true) {
-        None if uses_ml => {
-            return Err(opset_error(
-                "the graph uses ai.onnx.ml operators but imports no ai.onnx.ml opset".into(),
-            ))
-        }
-        Some(v) if uses_ml && v < 1 => {
-            return Err(opset_error(format!(
-                "the model imports ai.onnx.ml opset {v}, which does not exist"
-            )))
-        }
-        found => found.unwrap_or(0),
-    };
+    match imported_opset(model, true) {
+        None if uses_ml => Err(opset_error(
+            source_name,
+            "the graph uses ai.onnx.ml operators but imports no ai.onnx.ml opset".into(),
+        )),
+        Some(v) if uses_ml && v < 1 => Err(opset_error(
+            source_name,
+            format!("the model imports ai.onnx.ml opset {v}, which does not exist"),
+        )),
+        found => Ok(found.unwrap_or(0)),
+    }
+}
+
+/// Every node whose operator is in [`OPERATORS`] is of a version, under the opset of
+/// its domain, that the converter reads.
+fn check_operator_versions(
+    graph: &GraphProto,
+    default_opset: i64,
+    ml_opset: i64,
+    source_name: &str,
+) -> Result<(), OnnxError> {
     for (index, node) in graph.node.iter().enumerate() {
         // Operators outside the table (and other domains) are refused by name when the
         // chain reaches them, with the list of those supported.
@@ -290,7 +317,7 @@ pub(super) fn checked_graph<'m>(
         };
         if let Some(reason) = history.refusal(version) {
             return Err(OnnxError::OperatorVersion {
-                source_name: source(),
+                source_name: source_name.to_string(),
                 node: node_label(index, node),
                 domain,
                 opset: version,
@@ -298,5 +325,5 @@ pub(super) fn checked_graph<'m>(
             });
         }
     }
-    Ok(graph)
+    Ok(())
 }

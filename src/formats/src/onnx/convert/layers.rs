@@ -1,9 +1,9 @@
 //! Dense layers from weight and bias constants, and the elementwise scalings by
 //! constants collected for the input normalisation and output scaling.
 
-use super::super::super::weights::LayerWeights;
 use super::super::error::OnnxError;
 use super::chain::{Converter, Elementwise, Stage};
+use super::network::DenseLayer;
 use super::tensors::{shape_text, Constant};
 
 impl Converter<'_> {
@@ -138,7 +138,7 @@ impl Converter<'_> {
         if self.layers.is_empty() {
             self.width = Some(k);
         }
-        self.layers.push(LayerWeights {
+        self.layers.push(DenseLayer {
             weights,
             biases: vec![0.0; n],
         });

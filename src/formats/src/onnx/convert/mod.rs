@@ -39,7 +39,7 @@ mod node;
 pub mod opset;
 mod tensors;
 
-pub use network::{OnnxNetwork, Precision};
+pub use network::{Activation, DenseLayer, OnnxNetwork, Precision};
 pub use opset::{CheckedOpsets, OperatorHistory, CHECKED_OPSETS, IR_VERSIONS, OPERATORS};
 
 use super::error::OnnxError;

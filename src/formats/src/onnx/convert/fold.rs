@@ -2,17 +2,45 @@
 //! output scaling (see the `convert` documentation on rounding), and the network
 //! checked.
 
-use super::super::super::network::Activation;
 use super::super::error::OnnxError;
 use super::chain::{Converter, Elementwise, Stage};
+use super::network::Activation;
 use super::network::{OnnxNetwork, Precision};
 
 impl Converter<'_> {
+    /// The chain read to its end as the network: its ending and activations checked,
+    /// the scalings folded, every folded number checked finite.
     pub(super) fn finish(
         mut self,
         producer: String,
         metadata: Vec<(String, String)>,
     ) -> Result<OnnxNetwork, OnnxError> {
+        let activation = self.hidden_activation()?;
+        let (mean, std) = self.input_normalisation()?;
+        let (offset, scale) = self.output_scaling()?;
+        self.check_layers_finite()?;
+        Ok(OnnxNetwork {
+            precision: if self.saw_f32 {
+                Precision::F32
+            } else {
+                Precision::F64
+            },
+            input_name: self.input,
+            output_name: self.output,
+            input_mean: mean,
+            input_std: std,
+            layers: self.layers,
+            activation,
+            output_mean: offset,
+            output_std: scale,
+            producer,
+            metadata,
+        })
+    }
+
+    /// The one activation of the hidden layers (Tanh when there is none), once the chain
+    /// is known to end in a linear dense layer with one output.
+    fn hidden_activation(&self) -> Result<Activation, OnnxError> {
         match self.stage {
             Stage::Input => {
                 return Err(self.structure("the graph has no dense layer (Gemm or MatMul)".into()))
@@ -44,8 +72,13 @@ impl Converter<'_> {
                 "the network has {outputs} outputs; a friction law has one"
             )));
         }
+        Ok(activation)
+    }
+
+    /// The input scalings as (x - mean) / std, composed op by op (see the module
+    /// documentation); a negative std is moved into the first layer's weights.
+    fn input_normalisation(&mut self) -> Result<(Vec<f64>, Vec<f64>), OnnxError> {
         let inputs = self.layers[0].weights[0].len();
-        // (x - mean) / std, composed op by op (see the module documentation).
         let mut mean = vec![0.0; inputs];
         let mut std = vec![1.0; inputs];
         for (op, values, name) in &self.input_ops {
@@ -83,7 +116,12 @@ impl Converter<'_> {
                 }
             }
         }
-        // y = offset + scale z, composed op by op.
+        Ok((mean, std))
+    }
+
+    /// The output scalings as y = offset + scale z, composed op by op; a negative scale
+    /// is moved into the last layer.
+    fn output_scaling(&mut self) -> Result<(f64, f64), OnnxError> {
         let (mut offset, mut scale) = (0.0, 1.0);
         for (op, c) in &self.output_ops {
             match op {
@@ -112,6 +150,11 @@ impl Converter<'_> {
             }
             last.biases.iter_mut().for_each(|b| *b = -*b);
         }
+        Ok((offset, scale))
+    }
+
+    /// Every weight and bias finite: folding alpha/beta can overflow finite constants.
+    fn check_layers_finite(&self) -> Result<(), OnnxError> {
         let check = |values: &[f64], what: String| -> Result<(), OnnxError> {
             match values.iter().position(|v| !v.is_finite()) {
                 Some(index) => Err(OnnxError::NonFinite {
@@ -123,7 +166,6 @@ impl Converter<'_> {
                 None => Ok(()),
             }
         };
-        // Folding alpha/beta can overflow finite constants.
         for (l, layer) in self.layers.iter().enumerate() {
             for row in &layer.weights {
                 check(row, format!("layer {} weights (after alpha)", l + 1))?;
@@ -133,22 +175,6 @@ impl Converter<'_> {
                 format!("layer {} biases (after beta)", l + 1),
             )?;
         }
-        Ok(OnnxNetwork {
-            precision: if self.saw_f32 {
-                Precision::F32
-            } else {
-                Precision::F64
-            },
-            input_name: self.input,
-            output_name: self.output,
-            input_mean: mean,
-            input_std: std,
-            layers: self.layers,
-            activation,
-            output_mean: offset,
-            output_std: scale,
-            producer,
-            metadata,
-        })
+        Ok(())
     }
 }
