@@ -98,14 +98,24 @@ fn measure(fmu: &mut Instance<StickSlipBeam>, transitions_vr: u32, held: usize) 
     }
 }
 
-/// The state's JSON with every number replaced by null: the same keys, the same
-/// structure and the same number of values.
+/// The state's JSON with every number, and the contact state ("Stick" or "Slip"),
+/// replaced by null: the same keys, the same structure and the same number of values.
+/// (Which of the two the run is in at t = 1800 s and 7200 s is a value like the
+/// numbers; it changed with the fix of issue 37.)
 fn skeleton(state: &[u8]) -> serde_json::Value {
     fn strip(value: &mut serde_json::Value) {
         match value {
             serde_json::Value::Number(_) => *value = serde_json::Value::Null,
             serde_json::Value::Array(items) => items.iter_mut().for_each(strip),
-            serde_json::Value::Object(fields) => fields.values_mut().for_each(strip),
+            serde_json::Value::Object(fields) => {
+                for (key, field) in fields.iter_mut() {
+                    if key == "contact" && field.is_string() {
+                        *field = serde_json::Value::Null;
+                    } else {
+                        strip(field);
+                    }
+                }
+            }
             _ => {}
         }
     }
@@ -229,13 +239,22 @@ fn two_hours_of_simulated_time_keep_the_state_and_memory_flat() {
         late.time
     );
     // Getting and serializing it costs the same: the same allocations of the same
-    // sizes. (The serialization buffer grows by doubling, so a state whose length
-    // crossed a power of two would ask for more; at about 3 kB it does not.)
-    assert_eq!(late.allocations, early.allocations, "allocations");
+    // sizes, except that the serialization buffer grows by doubling, so a state whose
+    // length crossed a power of two asks for one more (since issue 37 changed the
+    // numbers the two states are 4095 and 4098 bytes, across 4096).
+    let doublings = |len: usize| usize::BITS - len.saturating_sub(1).leading_zeros();
+    let crossed = u64::from(doublings(late.state.len()).abs_diff(doublings(early.state.len())));
     assert_eq!(
-        late.allocated_bytes, early.allocated_bytes,
-        "bytes allocated"
+        late.allocations,
+        early.allocations + crossed,
+        "allocations ({crossed} powers of two crossed)"
     );
+    if crossed == 0 {
+        assert_eq!(
+            late.allocated_bytes, early.allocated_bytes,
+            "bytes allocated"
+        );
+    }
     // Memory: the instance's heap is exactly the same; the process's resident memory
     // grows by less than the margin.
     assert_eq!(late.live_bytes, early.live_bytes, "heap bytes held");

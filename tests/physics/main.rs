@@ -1,7 +1,7 @@
 //! Physics: statics and frequencies against beam theory, dynamics (orbits, energy,
 //! convergence), the modal model of the plane-stress mesh, the extremes, scene
-//! validation, the choice enums, fidelity = auto, the error messages, and the layering
-//! of the crates.
+//! validation, the choice enums, fidelity = auto, the error messages, the friction
+//! reversals of issue 37, and the layering of the crates.
 
 mod authors_rules;
 mod authors_scene;
@@ -18,6 +18,7 @@ mod memory;
 mod mesh_modes;
 mod modal_slip;
 mod reproducible;
+mod reversals;
 mod scene_validation;
 mod slip_solve;
 mod statics;

@@ -101,8 +101,8 @@ fn tip_response(scene: &CheckedScene) -> (f64, f64) {
 /// and the tip stays within a bound set by the iteration tolerance.
 ///
 /// The bound: where both converge they agree to dF = 2 SLIP_TOLERANCE (1 + mu_s F_n) per
-/// slip step (contact's unit tests), and where the equation has no solution Newton
-/// returns the fixed point's number bit for bit. A force error dF moves the tip by
+/// slip step (contact's unit tests), and where the equation has no solution both take
+/// the reversal force, bit for bit (`contact::jump`). A force error dF moves the tip by
 /// du/dF dF in its step and leaves a velocity error dv/dF dF, which, kept for the rest
 /// of the run, moves the tip by at most dv/dF dF t_end. Summed over the run's slip
 /// steps: N_slip dF (du/dF + dv/dF t_end), 1e-10 m here. A velocity error does not stay
@@ -181,7 +181,7 @@ fn newton_follows_the_fixed_point_over_the_paper_scene() {
 
 /// Evaluations per slip step in the paper scene at beam fidelity: 1 to 3 with Newton
 /// wherever the slip equation has a solution (laws with a jump at v = 0 meet a few steps
-/// near re-stick without one, where the fixed-point iteration's answer is kept), against
+/// near re-stick without one, where the reversal force is taken), against
 /// 6 to 7 on average with the fixed-point iteration. The plain network's steep zero
 /// crossing makes Newton take more at some breakaways; where the fixed point did not
 /// converge at all (|F_law' dx/dF| > 1 there), Newton solves every step.

@@ -2,7 +2,7 @@
 //! level, a steep law's root, a law with a jump, and a coupled model's tangent.
 
 use super::{alpha_f, contact, coulomb, level, previous, BELT, LIMIT, LOW_LIMIT, NEAR_ZERO, TRIAL};
-use stickslip::contact::{ContactState::*, Kinetic, SLIP_ITERATIONS};
+use stickslip::contact::{ContactState::*, Kinetic, SlipSolver};
 use stickslip::friction::{ExponentialLaw, FrictionLaw};
 use stickslip::scene::{HoldingForce, Scheme};
 
@@ -94,31 +94,44 @@ fn a_steep_continuous_law_gets_its_root_where_the_fixed_point_iteration_diverges
     assert!(r.force.abs() > 1.0 && r.force.abs() < 49.0, "{}", r.force);
 }
 
+/// Coulomb's law jumps by 2 mu_k F_n = 40 N at v = 0, and the force-free step ends at
+/// v_rel = -1e-4 m/s: -20 N gives v_rel > 0, +20 N gives v_rel < 0. There is no root;
+/// the set-valued law's solution is the force at which the law's argument is 0,
+/// v_rel(F) = -1e-4 - 2e-5 F = 0 at F = -5 N, inside the jump. The fixed-point
+/// iteration swings between the two sides, and its last iterate (either side's 20 N,
+/// by parity) put the full force of one side on a tip that only reached the belt's
+/// speed (issue 37); both solvers now take -5 N, bit for bit the same.
 #[test]
-fn a_law_with_a_jump_keeps_the_last_iterate_when_the_step_crosses_it() {
-    // Coulomb's law jumps by 2 mu_k F_n = 40 N at v = 0, and the force-free step
-    // ends at v_rel = -1e-4 m/s: -20 N gives v_rel > 0, +20 N gives v_rel < 0.
-    // There is no root; the iteration swings and its 50th iterate is kept.
-    let c = contact(Scheme::GeneralizedAlpha, HoldingForce::Reaction);
-    let start = 20.0;
-    let mut law = coulomb();
-    let r = c.resolve(
-        &NEAR_ZERO,
-        previous(Slip, 0.0, start),
-        BELT,
-        LOW_LIMIT,
-        Kinetic::Law {
-            law: &mut law,
-            normal_force: 100.0,
-        },
-    );
-    let mut check = coulomb();
-    let mut force = start;
-    for _ in 0..SLIP_ITERATIONS {
-        force = check.sliding_force(level(&NEAR_ZERO, 0.0, force), 100.0);
+fn a_law_with_a_jump_takes_the_reversal_force_when_the_step_crosses_it() {
+    let mut forces = Vec::new();
+    for solver in [SlipSolver::Newton, SlipSolver::FixedPoint] {
+        let mut c = contact(Scheme::GeneralizedAlpha, HoldingForce::Reaction);
+        c.set_slip_solver(solver);
+        let mut law = coulomb();
+        let r = c.resolve(
+            &NEAR_ZERO,
+            previous(Slip, 0.0, 20.0),
+            BELT,
+            LOW_LIMIT,
+            Kinetic::Law {
+                law: &mut law,
+                normal_force: 100.0,
+            },
+        );
+        // LOW_LIMIT makes re-stick inadmissible: the step slips with that force.
+        assert_eq!(r.state, Slip, "{solver:?}");
+        assert_eq!(r.slip.map(|s| s.solved), Some(false), "{solver:?}");
+        // -5 N to rounding: 1e-4 / 2e-5 carries a relative error of a few ulp.
+        assert!(
+            (r.force + 5.0).abs() < 1e-12,
+            "{solver:?}: F = {} N",
+            r.force
+        );
+        // The argument at that force is 0 to the rounding of 1e-4 m/s.
+        assert!(level(&NEAR_ZERO, 0.0, r.force).abs() < 1e-18, "{solver:?}");
+        forces.push(r.force);
     }
-    assert_eq!(r.force, force);
-    assert_eq!(r.force.abs(), 20.0);
+    assert_eq!(forces[0], forces[1]);
 }
 
 #[test]

@@ -130,8 +130,8 @@ fn resolve(contact: &Contact, step: &Step, law: &mut dyn FrictionLaw, start: f64
 /// root: the fixed point returns F_law(x(F_k)) with |F_law(x(F_k)) - F_k| <= tol, so
 /// its error is q tol / (1 - q) at contraction q < 1/2, and Newton's correction
 /// bounds its own; they agree to 2 tol (1 + |F|). Where it does not converge, the
-/// equation has no solution (Newton then returns the fixed point's number, bit for
-/// bit, and the residuals just beside the reversal have opposite signs) or Newton
+/// equation has no solution (the residuals just beside the reversal have opposite
+/// signs, and both return the reversal force, bit for bit: `contact::jump`) or Newton
 /// found a root, |r| / r' <= tol.
 fn sweep(law: &mut dyn FrictionLaw) -> Met {
     let mut met = Met::default();
@@ -194,6 +194,12 @@ fn sweep(law: &mut dyn FrictionLaw) -> Met {
                                 reversal - law.sliding_force(x, 100.0)
                             };
                             assert!(side(false) * side(true) < 0.0, "{case}");
+                            // This test's reversal force, computed its own way: to
+                            // rounding.
+                            assert!(
+                                (force - reversal).abs() <= 1e-12 * (1.0 + reversal.abs()),
+                                "{case}: reversal {reversal}"
+                            );
                             met.jump += 1;
                             if sliding_velocity == SlidingVelocity::Relative {
                                 met.relative_jump += 1;

@@ -1,19 +1,23 @@
-//! The fixed-point iteration of earlier versions, kept as the reference solver and as
-//! the answer where the slip equation has no solution.
+//! The fixed-point iteration of earlier versions, kept as the reference solver.
 
 use super::argument::SlipArgument;
+use super::jump::inside_jump;
 use super::kinetic::CountedLaw;
 use super::limits::{SLIP_ITERATIONS, SLIP_TOLERANCE};
 
 /// The fixed-point iteration F <- F_law(x(F)) from `start` (N), stopped when an update
 /// is below the slip tolerance or after [`SLIP_ITERATIONS`] passes: the slip solve of
-/// earlier versions, bit for bit ([`SlipSolver::FixedPoint`](super::SlipSolver::FixedPoint)).
+/// earlier versions ([`SlipSolver::FixedPoint`](super::SlipSolver::FixedPoint)), bit for
+/// bit where it converges.
 ///
 /// Where the equation has no solution (zero in the law's jump) the iteration settles on
-/// a cycle between the two sides and runs all its passes. The map is deterministic, so
-/// once an iterate repeats one p passes before, the sequence repeats with period p and
-/// its last value is known; none of the passes in that cycle converged, so none of the
-/// repeats would have either. The shortcut gives the number the full run gives.
+/// a cycle between the two sides. The map is deterministic, so once an iterate repeats
+/// one p passes before, the sequence repeats with period p and none of its passes
+/// would converge: the cycle is detected rather than run to [`SLIP_ITERATIONS`]
+/// passes. An iteration that did not converge takes the reversal force F_j where zero
+/// lies in the jump (as the Newton solve does, [`super::jump`]); elsewhere (a law
+/// steeper than the tip's response, |F_law' x'| > 1) its last iterate, as the full run
+/// of passes gives it.
 pub(super) fn fixed_point(
     argument: &SlipArgument,
     start: f64,
@@ -34,11 +38,20 @@ pub(super) fn fixed_point(
         for period in 2..CYCLE.min(m + 1) {
             if next == history[(m - period) % CYCLE] {
                 let rest = (SLIP_ITERATIONS - m) % period;
-                return (history[(m - period + rest) % CYCLE], false);
+                return unconverged(argument, history[(m - period + rest) % CYCLE], kinetic);
             }
         }
         history[m % CYCLE] = next;
         force = next;
     }
-    (force, false)
+    unconverged(argument, force, kinetic)
+}
+
+/// The answer of an iteration that stopped at `last` (N) without converging.
+fn unconverged(
+    argument: &SlipArgument,
+    last: f64,
+    kinetic: &mut CountedLaw<'_, '_>,
+) -> (f64, bool) {
+    (inside_jump(argument, kinetic).unwrap_or(last), false)
 }

@@ -23,7 +23,8 @@
 //!   magnitude): there r jumps up by twice the force at v -> 0, and when zero lies in
 //!   that jump the equation has no solution on either side. The slip force is then the
 //!   F at which x = 0, inside [F_law(0-), F_law(0+)]: the solution of the set-valued law
-//!   (Filippov), and the switch decides. Newton converges quadratically, 2 evaluations
+//!   (Filippov), and the switch decides (`jump`; either side's force instead put a
+//!   spurious -mu_s F_n on the tip for a step, issue 37). Newton converges quadratically, 2 evaluations
 //!   for a typical slip step, 3 at the reversals, where the fixed-point iteration
 //!   F <- F_law(x(F)) of earlier versions ([`SlipSolver::FixedPoint`], kept as the
 //!   reference) took 6 to 7 with the analytical law at the paper's step and did not
@@ -78,11 +79,13 @@
 //! slip between steps), `stick` (the reaction and F_hold), `switch` (the two schemes'
 //! rules), `kinetic` (where the kinetic force comes from), `slip` (the solve and its
 //! choice of solver) with `argument` (x(F)), `limits`, `newton`, `fixed_point` and
-//! `tangent` (the solvers), and `memory` (the step of a law with state). Imports run
-//! one way, from here down to those parts.
+//! `tangent` (the solvers) and `jump` (the force where the equation has no solution),
+//! and `memory` (the step of a law with state). Imports run one way, from here down to
+//! those parts.
 
 mod argument;
 mod fixed_point;
+mod jump;
 mod kinetic;
 mod limits;
 mod memory;

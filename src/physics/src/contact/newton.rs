@@ -1,7 +1,6 @@
 //! The safeguarded Newton solve of the slip force (see the module notes of `contact`).
 
 use super::argument::{Point, SlipArgument};
-use super::fixed_point::fixed_point;
 use super::kinetic::CountedLaw;
 use super::limits::{SLIP_ITERATIONS, SLIP_TOLERANCE};
 
@@ -41,8 +40,8 @@ impl Residual {
 /// open, by the fixed-point step). The first iterate that would change the direction of
 /// sliding, where the law jumps, is replaced by a look at both sides of the reversal
 /// force F_j: r(F_j-) <= r(F_j+), so the root lies below (r(F_j-) > 0), above
-/// (r(F_j+) < 0) or in the jump, where the equation has no solution and the fixed-point
-/// iteration's answer is kept (see the module notes).
+/// (r(F_j+) < 0) or in the jump, where the equation has no solution and F_j itself is
+/// the answer (see [`super::jump`]).
 ///
 /// Converged when the Newton correction is below [`SLIP_TOLERANCE`] (or the law's
 /// resolution, if coarser: [`FrictionLaw::resolution`](crate::friction::FrictionLaw::resolution)), or when two
@@ -124,8 +123,9 @@ pub(super) fn newton(
                         return (reversal, true);
                     }
                     if (second.value < 0.0) == first_above || !second.law.is_finite() {
-                        // r(F_j-) < 0 < r(F_j+): zero lies in the jump, no solution.
-                        return (fixed_point(argument, start, law).0, false);
+                        // r(F_j-) < 0 < r(F_j+): zero lies in the jump, no solution
+                        // of the single-valued equation; the set-valued law's is F_j.
+                        return (reversal, false);
                     }
                     if first_above {
                         above = reversal;

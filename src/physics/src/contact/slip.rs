@@ -27,8 +27,8 @@ pub struct SlipSolve {
     /// Evaluations of the law (value, or value and slope: one pass each).
     pub evaluations: usize,
     /// Whether F = F_law(x(F)) was solved. False when it has no solution (zero in the
-    /// law's jump; the force is then the fixed-point iteration's, see the module notes)
-    /// or the solver stopped at its limit of evaluations.
+    /// law's jump; the force is then the reversal force, the set-valued law's solution,
+    /// see `contact::jump`) or the solver stopped at its limit of evaluations.
     pub solved: bool,
 }
 
