@@ -43,6 +43,16 @@ pub const LOG_CATEGORIES: [LogCategory; 4] = [
     },
 ];
 
+/// A scalar variable's `initial` attribute, the same in both versions: a parameter
+/// exact, an output calculated, an input none (the standard's default).
+pub(super) fn initial_attribute(causality: Causality) -> &'static str {
+    match causality {
+        Causality::Parameter => r#" initial="exact""#,
+        Causality::Input => "",
+        Causality::Output => r#" initial="calculated""#,
+    }
+}
+
 /// The `name` of the `<Tool>` under `<VendorAnnotations>` that lists the choices:
 ///
 /// ```xml
