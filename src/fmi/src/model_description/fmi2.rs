@@ -2,7 +2,7 @@
 
 use super::parts::{
     choice_variables, dependency_attributes, description, initial_attribute, output_dependencies,
-    write_units_categories_experiment, CHOICES_TOOL,
+    start_attribute, write_units_categories_experiment, CHOICES_TOOL,
 };
 use crate::model::Model;
 use crate::variables::{Access, Causality, DependencyKind, Variability, Variable};
@@ -73,13 +73,7 @@ fn write_variables<M>(w: &mut String, variables: &[Variable<M>], defaults: &M) {
 /// its codes.
 fn type_element<M>(v: &Variable<M>, defaults: &M) -> String {
     let with_start = v.causality != Causality::Output;
-    let start = |value: String| {
-        if with_start {
-            format!(r#" start="{value}""#)
-        } else {
-            String::new()
-        }
-    };
+    let start = |value: String| start_attribute(v, value);
     match &v.access {
         Access::Real { unit, get, .. } => {
             let unit = optional_attribute("unit", *unit);

@@ -1,7 +1,7 @@
 //! The FMI 3.0 modelDescription.xml (FMI 3.0 standard, section 2.4).
 
 use super::parts::{
-    dependency_attributes, description, initial_attribute, output_dependencies,
+    dependency_attributes, description, initial_attribute, output_dependencies, start_attribute,
     write_units_categories_experiment,
 };
 use crate::model::Model;
@@ -79,13 +79,7 @@ pub(super) fn body3<M: Model>(token: &str) -> String {
 /// choice is an `<Int32>` of its codes.
 fn write_scalar<M>(w: &mut String, v: &Variable<M>, defaults: &M) {
     let with_start = v.causality != Causality::Output;
-    let start = |value: String| {
-        if with_start {
-            format!(r#" start="{value}""#)
-        } else {
-            String::new()
-        }
-    };
+    let start = |value: String| start_attribute(v, value);
     let (element, attributes, children) = match &v.access {
         Access::Real { unit, get, .. } => (
             "Float64",

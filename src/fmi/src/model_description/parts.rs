@@ -53,6 +53,16 @@ pub(super) fn initial_attribute(causality: Causality) -> &'static str {
     }
 }
 
+/// A variable's `start` attribute with `value`, or nothing for an output, whose
+/// initial is calculated: the same in both versions.
+pub(super) fn start_attribute<M>(v: &Variable<M>, value: String) -> String {
+    if v.causality == Causality::Output {
+        String::new()
+    } else {
+        format!(r#" start="{value}""#)
+    }
+}
+
 /// The `name` of the `<Tool>` under `<VendorAnnotations>` that lists the choices:
 ///
 /// ```xml
