@@ -435,12 +435,8 @@ impl Case<'_> {
 
     /// A case whose choice was refused: it fails; its Markdown row and CSV line.
     fn refused(&self, reason: &AutoError) -> (bool, String, String) {
-        let Case {
-            name,
-            end,
-            reference_error,
-            tolerance,
-        } = *self;
+        let (name, end) = (self.name, self.end);
+        let (reference_error, tolerance) = (self.reference_error, self.tolerance);
         let row = format!(
             "| {name} | {:.3} | {:.3} | refused: {reason} | | | | | | | | | | | NO |",
             reference_error * 1e6,
