@@ -25,19 +25,12 @@
 
 use fmu_build::platform::{self, Platform};
 use fmu_build::{glibc, BuildError};
+use std::path::PathBuf;
 use std::process::ExitCode;
 use stickslip_fmi::FmuKind;
 
 fn run() -> Result<(), BuildError> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let mut host_toolchain = false;
-    for arg in &args {
-        match arg.as_str() {
-            "--update-model-descriptions" => fmu_build::update_descriptions()?,
-            "--host-toolchain" => host_toolchain = true,
-            _ => return Err(BuildError::Usage(args)),
-        }
-    }
+    let host_toolchain = options()?;
     let drifted = fmu_build::drifted_descriptions();
     if !drifted.is_empty() {
         return Err(BuildError::Drift(drifted));
@@ -59,9 +52,49 @@ fn run() -> Result<(), BuildError> {
     if !foreign.is_empty() {
         platform::check_tools()?;
     }
-    // The host build: the reference the tests compare the packaged library with.
+    let library = linux_library(zigbuild.as_ref())?;
+    let mut binaries = vec![(Platform::X86_64Linux, library)];
+    if let Some(zigbuild) = &zigbuild {
+        for platform in foreign {
+            let library = platform::build(platform, zigbuild)?;
+            if platform == Platform::Aarch64Linux {
+                check_portable(&library)?;
+            }
+            println!("{}: {}", platform.rust_target(), library.display());
+            binaries.push((platform, library));
+        }
+    }
+    if binaries.len() == 1 && zigbuild.is_some() {
+        println!(
+            "{}: the FMUs carry the x86_64 Linux binary only",
+            platform::HOST_ONLY_VAR
+        );
+    }
+    write_packages(&binaries)
+}
+
+/// The command line: `--update-model-descriptions` rewrites the checked-in
+/// descriptions at once; returns whether `--host-toolchain` was given.
+fn options() -> Result<bool, BuildError> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut host_toolchain = false;
+    for arg in &args {
+        match arg.as_str() {
+            "--update-model-descriptions" => fmu_build::update_descriptions()?,
+            "--host-toolchain" => host_toolchain = true,
+            _ => return Err(BuildError::Usage(args)),
+        }
+    }
+    Ok(host_toolchain)
+}
+
+/// The x86_64 Linux library the FMUs carry: the host build (the reference the tests
+/// compare the packaged library with) always, and with `zigbuild` the portable build,
+/// which must load on glibc [`glibc::FLOOR`]; without it the host build, with a warning
+/// that names the glibc it needs.
+fn linux_library(zigbuild: Option<&fmu_build::Zigbuild>) -> Result<PathBuf, BuildError> {
     let host_library = fmu_build::build_library()?;
-    let library = match &zigbuild {
+    let library = match zigbuild {
         Some(zigbuild) => {
             println!(
                 "portable build: {} (zig: {})",
@@ -107,23 +140,13 @@ fn run() -> Result<(), BuildError> {
             problems.join(", ")
         );
     }
-    let mut binaries = vec![(Platform::X86_64Linux, library)];
-    if let Some(zigbuild) = &zigbuild {
-        for platform in foreign {
-            let library = platform::build(platform, zigbuild)?;
-            if platform == Platform::Aarch64Linux {
-                check_portable(&library)?;
-            }
-            println!("{}: {}", platform.rust_target(), library.display());
-            binaries.push((platform, library));
-        }
-    }
-    if binaries.len() == 1 && zigbuild.is_some() {
-        println!(
-            "{}: the FMUs carry the x86_64 Linux binary only",
-            platform::HOST_ONLY_VAR
-        );
-    }
+    Ok(library)
+}
+
+/// Writes both FMUs in both versions with `binaries` (platform and library), then the
+/// SSP systems and their link lists; first removes what an older fmu-build left at the
+/// top of `target/fmu/`.
+fn write_packages(binaries: &[(Platform, PathBuf)]) -> Result<(), BuildError> {
     for path in fmu_build::remove_old_layout(&fmu_build::fmu_root())? {
         println!(
             "removed {} (the FMI 2.0 files are in 2.0/ now)",
@@ -131,9 +154,9 @@ fn run() -> Result<(), BuildError> {
         );
     }
     for kind in FmuKind::ALL {
-        let path = fmu_build::package(kind, &binaries, &fmu_build::fmu_dir())?;
+        let path = fmu_build::package(kind, binaries, &fmu_build::fmu_dir())?;
         println!("wrote {} (GUID {})", path.display(), kind.guid());
-        let path = fmu_build::package3(kind, &binaries, &fmu_build::fmu3_dir())?;
+        let path = fmu_build::package3(kind, binaries, &fmu_build::fmu3_dir())?;
         println!("wrote {} (FMI 3.0)", path.display());
     }
     let dir = fmu_build::fmu_dir();

@@ -493,39 +493,35 @@ impl System {
                 });
             }
         }
-        let component = |name: &'static str| {
-            self.components
-                .iter()
-                .find(|c| c.name == name)
-                .ok_or(SspError::UnknownComponent {
-                    system,
-                    component: name,
-                })
-        };
-        let port =
-            |(c, v): (&'static str, &'static str), expected: Causality| {
-                let fmu = component(c)?.fmu;
-                let port = ports(fmu).into_iter().find(|p| p.name == v).ok_or(
-                    SspError::UnknownVariable {
-                        system,
-                        fmu: fmu.model_identifier(),
-                        variable: v,
-                    },
-                )?;
-                if port.causality != expected {
-                    return Err(SspError::WrongCausality {
-                        system,
-                        component: c,
-                        variable: v,
-                        causality: port.causality.as_str(),
-                        expected: expected.as_str(),
-                    });
-                }
-                Ok(port)
-            };
+        self.check_connections()?;
+        let components = self
+            .components
+            .iter()
+            .map(|c| self.checked_component(c))
+            .collect::<Result<Vec<_>, SspError>>()?;
+        let info = self
+            .components
+            .first()
+            .map(|c| c.fmu.info())
+            .unwrap_or(FmuKind::StickSlipBeam.info());
+        Ok(CheckedSystem {
+            name: self.name,
+            description: self.description,
+            components,
+            connections: self.connections.clone(),
+            start_time: info.start_time,
+            stop_time: info.stop_time,
+            step_size: info.step_size,
+        })
+    }
+
+    /// Every connection runs from an output to an input of the same type, and no input
+    /// is fed twice.
+    fn check_connections(&self) -> Result<(), SspError> {
+        let system = self.name;
         for (k, link) in self.connections.iter().enumerate() {
-            let from = port(link.from, Causality::Output)?;
-            let to = port(link.to, Causality::Input)?;
+            let from = self.port(link.from, Causality::Output)?;
+            let to = self.port(link.to, Causality::Input)?;
             if from.kind != to.kind {
                 return Err(SspError::TypeMismatch {
                     system,
@@ -543,49 +539,64 @@ impl System {
                 });
             }
         }
-        let components = self
+        Ok(())
+    }
+
+    /// The port `variable` of `component`, which must have causality `expected`.
+    fn port(
+        &self,
+        (component, variable): (&'static str, &'static str),
+        expected: Causality,
+    ) -> Result<Port, SspError> {
+        let system = self.name;
+        let fmu = self
             .components
             .iter()
-            .map(|c| {
-                let parameters =
-                    parameter_values(c.fmu, &c.set).map_err(|r| SspError::Refused {
-                        system,
-                        component: c.name,
-                        variable: r.variable,
-                        setting: r.setting,
-                        reason: r.reason,
-                    })?;
-                let connectors = ports(c.fmu)
-                    .into_iter()
-                    .filter(|p| match p.causality {
-                        Causality::Output => true,
-                        Causality::Input => {
-                            self.connections.iter().any(|l| l.to == (c.name, p.name))
-                        }
-                        Causality::Parameter => false,
-                    })
-                    .collect();
-                Ok(CheckedComponent {
-                    name: c.name,
-                    fmu: c.fmu,
-                    parameters,
-                    connectors,
-                })
+            .find(|c| c.name == component)
+            .ok_or(SspError::UnknownComponent { system, component })?
+            .fmu;
+        let port = ports(fmu).into_iter().find(|p| p.name == variable).ok_or(
+            SspError::UnknownVariable {
+                system,
+                fmu: fmu.model_identifier(),
+                variable,
+            },
+        )?;
+        if port.causality != expected {
+            return Err(SspError::WrongCausality {
+                system,
+                component,
+                variable,
+                causality: port.causality.as_str(),
+                expected: expected.as_str(),
+            });
+        }
+        Ok(port)
+    }
+
+    /// `c` with its parameter values resolved and its connectors: every output, and the
+    /// inputs a connection feeds.
+    fn checked_component(&self, c: &Component) -> Result<CheckedComponent, SspError> {
+        let parameters = parameter_values(c.fmu, &c.set).map_err(|r| SspError::Refused {
+            system: self.name,
+            component: c.name,
+            variable: r.variable,
+            setting: r.setting,
+            reason: r.reason,
+        })?;
+        let connectors = ports(c.fmu)
+            .into_iter()
+            .filter(|p| match p.causality {
+                Causality::Output => true,
+                Causality::Input => self.connections.iter().any(|l| l.to == (c.name, p.name)),
+                Causality::Parameter => false,
             })
-            .collect::<Result<Vec<_>, SspError>>()?;
-        let info = self
-            .components
-            .first()
-            .map(|c| c.fmu.info())
-            .unwrap_or(FmuKind::StickSlipBeam.info());
-        Ok(CheckedSystem {
-            name: self.name,
-            description: self.description,
-            components,
-            connections: self.connections.clone(),
-            start_time: info.start_time,
-            stop_time: info.stop_time,
-            step_size: info.step_size,
+            .collect();
+        Ok(CheckedComponent {
+            name: c.name,
+            fmu: c.fmu,
+            parameters,
+            connectors,
         })
     }
 }
@@ -625,6 +636,56 @@ fn component_units(c: &CheckedComponent) -> Vec<&'static str> {
     used
 }
 
+/// A component's `<ssd:Component>`: its connectors and its parameter set, which
+/// declares the units its values use (SSP 1.0, ssv:Units).
+fn write_component(w: &mut String, c: &CheckedComponent) {
+    let _ = writeln!(
+        w,
+        r#"      <ssd:Component name="{}" type="application/x-fmu-sharedlibrary" source="{}">"#,
+        escape(c.name),
+        source(c.fmu)
+    );
+    let _ = writeln!(w, "        <ssd:Connectors>");
+    for p in &c.connectors {
+        let _ = writeln!(
+            w,
+            r#"          <ssd:Connector name="{}" kind="{}">{}</ssd:Connector>"#,
+            escape(p.name),
+            p.causality.as_str(),
+            p.kind.ssc()
+        );
+    }
+    let _ = writeln!(w, "        </ssd:Connectors>");
+    let _ = writeln!(w, "        <ssd:ParameterBindings>");
+    let _ = writeln!(w, "          <ssd:ParameterBinding>");
+    let _ = writeln!(w, "            <ssd:ParameterValues>");
+    let _ = writeln!(
+        w,
+        r#"              <ssv:ParameterSet version="1.0" name="{PARAMETER_SET}">"#
+    );
+    let _ = writeln!(w, "                <ssv:Parameters>");
+    for (name, value) in &c.parameters {
+        let _ = writeln!(
+            w,
+            r#"                  <ssv:Parameter name="{}">{}</ssv:Parameter>"#,
+            escape(name),
+            value.ssv()
+        );
+    }
+    let _ = writeln!(w, "                </ssv:Parameters>");
+    let used = parameter_units(c);
+    if !used.is_empty() {
+        let _ = writeln!(w, "                <ssv:Units>");
+        let _ = write!(w, "{}", units(&used, "                  "));
+        let _ = writeln!(w, "                </ssv:Units>");
+    }
+    let _ = writeln!(w, "              </ssv:ParameterSet>");
+    let _ = writeln!(w, "            </ssd:ParameterValues>");
+    let _ = writeln!(w, "          </ssd:ParameterBinding>");
+    let _ = writeln!(w, "        </ssd:ParameterBindings>");
+    let _ = writeln!(w, "      </ssd:Component>");
+}
+
 impl CheckedSystem {
     /// `SystemStructure.ssd`.
     pub fn ssd(&self) -> String {
@@ -645,52 +706,7 @@ impl CheckedSystem {
         );
         let _ = writeln!(w, "    <ssd:Elements>");
         for c in &self.components {
-            let _ = writeln!(
-                w,
-                r#"      <ssd:Component name="{}" type="application/x-fmu-sharedlibrary" source="{}">"#,
-                escape(c.name),
-                source(c.fmu)
-            );
-            let _ = writeln!(w, "        <ssd:Connectors>");
-            for p in &c.connectors {
-                let _ = writeln!(
-                    w,
-                    r#"          <ssd:Connector name="{}" kind="{}">{}</ssd:Connector>"#,
-                    escape(p.name),
-                    p.causality.as_str(),
-                    p.kind.ssc()
-                );
-            }
-            let _ = writeln!(w, "        </ssd:Connectors>");
-            let _ = writeln!(w, "        <ssd:ParameterBindings>");
-            let _ = writeln!(w, "          <ssd:ParameterBinding>");
-            let _ = writeln!(w, "            <ssd:ParameterValues>");
-            let _ = writeln!(
-                w,
-                r#"              <ssv:ParameterSet version="1.0" name="{PARAMETER_SET}">"#
-            );
-            let _ = writeln!(w, "                <ssv:Parameters>");
-            for (name, value) in &c.parameters {
-                let _ = writeln!(
-                    w,
-                    r#"                  <ssv:Parameter name="{}">{}</ssv:Parameter>"#,
-                    escape(name),
-                    value.ssv()
-                );
-            }
-            let _ = writeln!(w, "                </ssv:Parameters>");
-            // A parameter set declares the units its values use (SSP 1.0, ssv:Units).
-            let used = parameter_units(c);
-            if !used.is_empty() {
-                let _ = writeln!(w, "                <ssv:Units>");
-                let _ = write!(w, "{}", units(&used, "                  "));
-                let _ = writeln!(w, "                </ssv:Units>");
-            }
-            let _ = writeln!(w, "              </ssv:ParameterSet>");
-            let _ = writeln!(w, "            </ssd:ParameterValues>");
-            let _ = writeln!(w, "          </ssd:ParameterBinding>");
-            let _ = writeln!(w, "        </ssd:ParameterBindings>");
-            let _ = writeln!(w, "      </ssd:Component>");
+            write_component(w, c);
         }
         let _ = writeln!(w, "    </ssd:Elements>");
         if !self.connections.is_empty() {

@@ -6,9 +6,12 @@ use crate::choice::parser;
 use crate::error::CliError;
 use clap::Args;
 use std::path::PathBuf;
+use stickslip::auto::{AutoError, Verification};
 use stickslip::files::{write_atomically, Outputs};
 use stickslip::scene::{Inference, Scene, Scheme};
-use stickslip::study::{front_of, front_points, Law, Progress, Study, StudyError};
+use stickslip::study::{
+    csv_line, front_of, front_points, Grid, Law, Progress, Study, StudyError, CSV_HEADER,
+};
 
 /// Arguments of `stickslip study`.
 #[derive(Args, Debug, Clone)]
@@ -90,7 +93,6 @@ fn law(text: &str) -> Result<Law, String> {
 
 /// `stickslip study`: the grid, each law's reference, the CSV and the fronts.
 pub fn study(args: &StudyArgs) -> Result<(), CliError> {
-    use stickslip::study::{csv_line, run, Grid, CSV_HEADER};
     let mut scene = match &args.scene {
         Some(path) => Scene::load(path)?.into_scene(),
         None => Scene::default(),
@@ -98,30 +100,13 @@ pub fn study(args: &StudyArgs) -> Result<(), CliError> {
     if let Some(t) = args.t_end {
         scene.time.end = t;
     }
-    let full = Grid::full();
-    let grid = Grid {
-        modes: args.modes.clone().unwrap_or(full.modes),
-        beam_elements: args.elements.clone().unwrap_or(full.beam_elements),
-        element_sizes: args.element_sizes.clone().unwrap_or(full.element_sizes),
-        plane_stress_modal: args
-            .plane_stress_modal
-            .clone()
-            .unwrap_or(full.plane_stress_modal),
-        time_steps: args.dts.clone().unwrap_or(full.time_steps),
-        schemes: match &args.integrators {
-            Some(list) => list.clone(),
-            None => full.schemes,
-        },
-        inferences: args.inferences.clone().unwrap_or(full.inferences),
-        laws: args.laws.clone().unwrap_or(full.laws),
-    };
+    let grid = grid_of(args);
     let reference_configuration = grid.finest().ok_or(CliError::EmptyGrid)?;
     // front.json (and --write-front, what `auto` reads) is the scene law's front; a law
     // axis without the scene's law has none.
     let scene_law = Law::of_scene(&scene).map_err(study_error)?;
     let laws = grid.laws_or(scene_law.clone());
-    let has_scene_law = laws.contains(&scene_law);
-    if !has_scene_law && args.write_front.is_some() {
+    if !laws.contains(&scene_law) && args.write_front.is_some() {
         return Err(CliError::WriteFrontWithoutSceneLaw {
             law: scene_law.to_string(),
         });
@@ -138,67 +123,19 @@ pub fn study(args: &StudyArgs) -> Result<(), CliError> {
         laws.len(),
         scene.time.end
     );
-    let study = run(&scene, &grid, |progress| match progress {
-        Progress::Reference(r) => eprintln!(
-            "reference of {}: {}: {:.3} s",
-            r.law, r.measured.configuration, r.measured.seconds
-        ),
-        Progress::Row { index, total, row } => eprintln!(
-            "[{index}/{total}] {} {}: {:.3} s, RMS error {:.3e} m",
-            row.law, row.measured.configuration, row.measured.seconds, row.errors.rms
-        ),
-        Progress::Failed {
-            index,
-            total,
-            law,
-            failed,
-        } => eprintln!(
-            "[{index}/{total}] {law} {}: failed: {}",
-            failed.configuration, failed.reason
-        ),
-    })
-    .map_err(study_error)?;
-    let csv_path = args.out.join("study.csv");
-    let mut csv = String::from(CSV_HEADER);
-    csv.push('\n');
-    for row in &study.rows {
-        csv += &csv_line(row, scene.time.end);
-        csv.push('\n');
-    }
-    // The table and the fronts together, or none of them.
-    let mut outputs = Outputs::new();
-    outputs.add(&csv_path, csv)?;
-    let mut written = Vec::new();
+    let study = stickslip::study::run(&scene, &grid, print_progress).map_err(study_error)?;
+    let end = scene.time.end;
+    let written = write_study(args, &study, &grid, &laws, &scene_law, end)?;
     for law in &laws {
-        let mut paths = Vec::new();
-        if *law == scene_law {
-            paths.push(args.out.join("front.json"));
-            paths.extend(args.write_front.clone());
-        }
-        if !grid.laws.is_empty() {
-            paths.push(args.out.join(format!("front-{}.json", law.slug())));
-        }
-        let points = front_points(&front_of(&study.rows, law));
-        for path in paths {
-            let json = serde_json::to_string_pretty(&points).map_err(|source| CliError::Json {
-                path: path.clone(),
-                source,
-            })?;
-            outputs.add(&path, &json)?;
-            written.push(path);
-        }
-    }
-    outputs.commit()?;
-    for law in &laws {
-        print_front(&study, law, scene.time.end);
+        print_front(&study, law, end);
     }
     println!(
         "{} runs in {}, {} on the fronts, {} failed; fronts in {}",
         study.rows.len() + study.references.len(),
-        csv_path.display(),
+        written[0].display(),
         study.rows.iter().filter(|r| r.on_front).count(),
         study.failures.len(),
-        written
+        written[1..]
             .iter()
             .map(|p| p.display().to_string())
             .collect::<Vec<_>>()
@@ -216,14 +153,100 @@ pub fn study(args: &StudyArgs) -> Result<(), CliError> {
             &args.out,
         )
         .map_err(|source| CliError::AfterWritten {
-            written: std::iter::once(&csv_path)
-                .chain(&written)
-                .map(|p| p.display().to_string())
-                .collect(),
+            written: written.iter().map(|p| p.display().to_string()).collect(),
             source: Box::new(source),
         })?;
     }
     Ok(())
+}
+
+/// The grid of the arguments, [`Grid::full`]'s axis where an argument is not given.
+fn grid_of(args: &StudyArgs) -> Grid {
+    let full = Grid::full();
+    Grid {
+        modes: args.modes.clone().unwrap_or(full.modes),
+        beam_elements: args.elements.clone().unwrap_or(full.beam_elements),
+        element_sizes: args.element_sizes.clone().unwrap_or(full.element_sizes),
+        plane_stress_modal: args
+            .plane_stress_modal
+            .clone()
+            .unwrap_or(full.plane_stress_modal),
+        time_steps: args.dts.clone().unwrap_or(full.time_steps),
+        schemes: match &args.integrators {
+            Some(list) => list.clone(),
+            None => full.schemes,
+        },
+        inferences: args.inferences.clone().unwrap_or(full.inferences),
+        laws: args.laws.clone().unwrap_or(full.laws),
+    }
+}
+
+/// One line on stderr per reference, run and failure as the study makes them.
+fn print_progress(progress: Progress<'_>) {
+    match progress {
+        Progress::Reference(r) => eprintln!(
+            "reference of {}: {}: {:.3} s",
+            r.law, r.measured.configuration, r.measured.seconds
+        ),
+        Progress::Row { index, total, row } => eprintln!(
+            "[{index}/{total}] {} {}: {:.3} s, RMS error {:.3e} m",
+            row.law, row.measured.configuration, row.measured.seconds, row.errors.rms
+        ),
+        Progress::Failed {
+            index,
+            total,
+            law,
+            failed,
+        } => eprintln!(
+            "[{index}/{total}] {law} {}: failed: {}",
+            failed.configuration, failed.reason
+        ),
+    }
+}
+
+/// Writes study.csv (every run, `end` (s) the runs' end time) and the fronts: the scene
+/// law's to front.json and `--write-front`, and with a law axis each law's to
+/// front-LAW.json; the table and the fronts together, or none of them. Returns the
+/// paths written, the table first.
+fn write_study(
+    args: &StudyArgs,
+    study: &Study,
+    grid: &Grid,
+    laws: &[Law],
+    scene_law: &Law,
+    end: f64,
+) -> Result<Vec<PathBuf>, CliError> {
+    let csv_path = args.out.join("study.csv");
+    let mut csv = String::from(CSV_HEADER);
+    csv.push('\n');
+    for row in &study.rows {
+        csv += &csv_line(row, end);
+        csv.push('\n');
+    }
+    let mut outputs = Outputs::new();
+    outputs.add(&csv_path, csv)?;
+    let mut written = vec![csv_path];
+    for law in laws {
+        let mut paths = Vec::new();
+        if law == scene_law {
+            paths.push(args.out.join("front.json"));
+            paths.extend(args.write_front.clone());
+        }
+        if !grid.laws.is_empty() {
+            paths.push(args.out.join(format!("front-{}.json", law.slug())));
+        }
+        let points = front_points(&front_of(&study.rows, law));
+        for path in paths {
+            let json = serde_json::to_string_pretty(&points).map_err(|source| CliError::Json {
+                path: path.clone(),
+                source,
+            })?;
+            outputs.add(&path, &json)?;
+            written.push(path);
+        }
+    }
+    outputs.commit()?;
+    Ok(written)
 }
 
 fn study_error(e: impl Into<StudyError>) -> CliError {
@@ -323,64 +346,20 @@ fn verify_auto(
             reference_error * 1e6
         );
         for &tolerance in tolerances {
-            match verify(&scene, &law, tolerance, &front, &reference) {
-                Ok(v) => {
-                    let holds = v.holds(tolerance);
-                    failures += usize::from(!holds);
-                    let (cheaper, cheaper_error) = match v.cheaper {
-                        Some((c, e)) => (c.to_string(), format!("{:.3}", e * 1e6)),
-                        None => ("(none: the cheapest point)".into(), "-".into()),
-                    };
-                    let over = format!("{:?}", v.choice.reach);
-                    let drift = v
-                        .choice
-                        .drift_rate
-                        .map_or("-".into(), |r| format!("{:.3}", r * 1e3));
-                    println!(
-                        "| {name} | {:.3} | {:.3} | {} | {over} | {:.3} | {:.3} | {:.3} | {:.3} | {drift} | {cheaper} | {cheaper_error} | {:.2} | {} to {} | {} |",
-                        reference_error * 1e6,
-                        tolerance * 1e6,
-                        v.choice.configuration,
-                        v.choice.estimated_error * 1e6,
-                        v.true_error * 1e6,
-                        v.true_rms * 1e6,
-                        v.seconds,
-                        v.choice.calibration_seconds,
-                        v.choice.runs,
-                        v.choice.window,
-                        if holds { "yes" } else { "NO" }
-                    );
-                    csv += &format!(
-                        "{name},{},{reference_error:e},{tolerance:e},{},{},{:e},{:e},{:e},{:.4},{},{},{},{:.3},{},{},{}\n",
-                        base.time.end,
-                        csv_field(&v.choice.configuration.to_string()),
-                        csv_field(&over),
-                        v.choice.estimated_error,
-                        v.true_error,
-                        v.true_rms,
-                        v.seconds,
-                        v.choice.drift_rate.map_or(String::new(), |r| format!("{r:e}")),
-                        csv_field(&cheaper),
-                        v.cheaper.map_or(String::new(), |(_, e)| format!("{e:e}")),
-                        v.choice.calibration_seconds,
-                        v.choice.runs,
-                        v.choice.window,
-                        holds as u8
-                    );
-                }
-                Err(reason) => {
-                    failures += 1;
-                    println!(
-                        "| {name} | {:.3} | {:.3} | refused: {reason} | | | | | | | | | | | NO |",
-                        reference_error * 1e6,
-                        tolerance * 1e6
-                    );
-                    csv += &format!(
-                        "{name},{},{reference_error:e},{tolerance:e},refused,,,,,,,,,,,,0\n",
-                        base.time.end
-                    );
-                }
-            }
+            let verified = verify(&scene, &law, tolerance, &front, &reference);
+            let case = Case {
+                name,
+                end: base.time.end,
+                reference_error,
+                tolerance,
+            };
+            let (holds, row, line) = match &verified {
+                Ok(v) => case.verified(v),
+                Err(reason) => case.refused(reason),
+            };
+            failures += usize::from(!holds);
+            println!("{row}");
+            csv += &line;
         }
     }
     let path = out.join("auto_verification.csv");
@@ -391,4 +370,79 @@ fn verify_auto(
         path.display()
     );
     Ok(())
+}
+
+/// One case of `--verify-auto`: a scene, its end time (s), its reference's deviation
+/// from the finer run (m) and a tolerance (m).
+struct Case<'a> {
+    name: &'a str,
+    end: f64,
+    reference_error: f64,
+    tolerance: f64,
+}
+
+impl Case<'_> {
+    /// Whether the verification holds, its Markdown row and its CSV line.
+    fn verified(&self, v: &Verification) -> (bool, String, String) {
+        let Case {
+            name,
+            end,
+            reference_error,
+            tolerance,
+        } = *self;
+        let holds = v.holds(tolerance);
+        let (cheaper, cheaper_error) = match v.cheaper {
+            Some((c, e)) => (c.to_string(), format!("{:.3}", e * 1e6)),
+            None => ("(none: the cheapest point)".into(), "-".into()),
+        };
+        let over = format!("{:?}", v.choice.reach);
+        let drift = v
+            .choice
+            .drift_rate
+            .map_or("-".into(), |r| format!("{:.3}", r * 1e3));
+        let row = format!(
+            "| {name} | {:.3} | {:.3} | {} | {over} | {:.3} | {:.3} | {:.3} | {:.3} | {drift} | {cheaper} | {cheaper_error} | {:.2} | {} to {} | {} |",
+            reference_error * 1e6,
+            tolerance * 1e6,
+            v.choice.configuration,
+            v.choice.estimated_error * 1e6,
+            v.true_error * 1e6,
+            v.true_rms * 1e6,
+            v.seconds,
+            v.choice.calibration_seconds,
+            v.choice.runs,
+            v.choice.window,
+            if holds { "yes" } else { "NO" }
+        );
+        let line = format!(
+            "{name},{end},{reference_error:e},{tolerance:e},{},{},{:e},{:e},{:e},{:.4},{},{},{},{:.3},{},{},{}\n",
+            csv_field(&v.choice.configuration.to_string()),
+            csv_field(&over),
+            v.choice.estimated_error,
+            v.true_error,
+            v.true_rms,
+            v.seconds,
+            v.choice.drift_rate.map_or(String::new(), |r| format!("{r:e}")),
+            csv_field(&cheaper),
+            v.cheaper.map_or(String::new(), |(_, e)| format!("{e:e}")),
+            v.choice.calibration_seconds,
+            v.choice.runs,
+            v.choice.window,
+            holds as u8
+        );
+        (holds, row, line)
+    }
+
+    /// A case whose choice was refused: it fails; its Markdown row and CSV line.
+    fn refused(&self, reason: &AutoError) -> (bool, String, String) {
+        let (name, end) = (self.name, self.end);
+        let (reference_error, tolerance) = (self.reference_error, self.tolerance);
+        let row = format!(
+            "| {name} | {:.3} | {:.3} | refused: {reason} | | | | | | | | | | | NO |",
+            reference_error * 1e6,
+            tolerance * 1e6
+        );
+        let line = format!("{name},{end},{reference_error:e},{tolerance:e},refused,,,,,,,,,,,,0\n");
+        (false, row, line)
+    }
 }

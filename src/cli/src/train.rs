@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use crate::error::CliError;
 use stickslip::choice::Choice;
 use stickslip::files::{write_atomically, OutputFileError, Outputs};
-use stickslip::neural::{Activation, SyntheticPreset, SyntheticSpec, Variant};
+use stickslip::neural::{Activation, NeuralModel, SyntheticPreset, SyntheticSpec, Variant};
 use stickslip_train::csv::{read_csv_file, ColumnSelection};
 use stickslip_train::data::{Split, Synthetic, NORMAL_FORCE, SLIDING_VELOCITY};
 use stickslip_train::search::{format_table, grid_search, SearchConfig, SearchRow};
@@ -276,13 +276,26 @@ pub fn run_train(args: &TrainArgs) -> Result<TrainReport, CliError> {
     if progress {
         eprintln!();
     }
-    // Every output after training, all or none: a report without its weights (or data
-    // exported for a run that failed) would be taken for a finished run.
+    write_training(args, &model, &report, &split)?;
+    print_training(args, &model, &report, &source);
+    println!("  wrote {}", args.out.display());
+    Ok(report)
+}
+
+/// Writes the weights and, as asked, the report, the history and the split's data:
+/// every output after training, all or none, as a report without its weights (or data
+/// exported for a run that failed) would be taken for a finished run.
+fn write_training(
+    args: &TrainArgs,
+    model: &NeuralModel,
+    report: &TrainReport,
+    split: &Split,
+) -> Result<(), CliError> {
     let mut outputs = Outputs::new();
     model.validate(&args.out.display().to_string())?;
     outputs.add(&args.out, model.to_json()?)?;
     if let Some(path) = &args.report {
-        let text = serde_json::to_string_pretty(&report).map_err(|source| CliError::Json {
+        let text = serde_json::to_string_pretty(report).map_err(|source| CliError::Json {
             path: path.clone(),
             source,
         })?;
@@ -300,6 +313,16 @@ pub fn run_train(args: &TrainArgs) -> Result<TrainReport, CliError> {
         outputs.add(&dir.join("test.csv"), split.test.to_csv())?;
     }
     outputs.commit()?;
+    Ok(())
+}
+
+/// The network trained, how the training stopped and its errors on both sets.
+fn print_training(
+    args: &TrainArgs,
+    model: &NeuralModel,
+    report: &TrainReport,
+    source: &DataSource,
+) {
     let unit = if model.target.unit.is_empty() {
         String::new()
     } else {
@@ -327,8 +350,6 @@ pub fn run_train(args: &TrainArgs) -> Result<TrainReport, CliError> {
         "  test  ({:>5} samples): MSE {:.4}{unit}  R2 {:.5}",
         report.test_samples, report.mse_test, report.r2_test
     );
-    println!("  wrote {}", args.out.display());
-    Ok(report)
 }
 
 /// Runs `stickslip search`; prints the table and returns its rows.

@@ -16,7 +16,7 @@ use crate::banded::{dot, dots, SymBandMatrix};
 use crate::elementary;
 use crate::scene::FidelityLevel;
 use crate::structure::{ModelError, StructuralModel};
-use nalgebra::{DMatrix, SymmetricEigen};
+use nalgebra::{DMatrix, Dyn, SymmetricEigen};
 
 /// The lowest eigenpairs, ascending; vectors are M-normalised (phi^T M phi = 1).
 #[derive(Clone, Debug)]
@@ -238,63 +238,22 @@ pub fn lanczos_modes(model: &StructuralModel, count: usize) -> Result<Modes, Mod
         m_basis.push(mq);
         let j = basis.len() - 1;
         alpha.push(dot(&w, &m_basis[j]));
-        // Full reorthogonalisation (classical Gram-Schmidt, twice): it subtracts the
-        // three-term recurrence's alpha_j q_j + beta_(j-1) q_(j-1) and the round-off
-        // components along every earlier vector, which would otherwise bring back
-        // copies of converged modes.
-        for _ in 0..2 {
-            let projections = dots(&w, &m_basis);
-            for (p, v) in projections.iter().zip(&basis) {
-                w.iter_mut().zip(v).for_each(|(wi, vi)| *wi -= p * vi);
-            }
-        }
+        reorthogonalise(&mut w, &basis, &m_basis);
         let b = model.mass.bilinear(&w, &w, &mut scratch).sqrt();
         let steps = basis.len();
         // A NaN b (a broken factor) counts as exhausted too.
         let exhausted = steps == n || b.is_nan() || b <= 1e-14 * alpha[0].abs();
         if steps >= count {
-            let t = DMatrix::from_fn(steps, steps, |r, c| {
-                if r == c {
-                    alpha[r]
-                } else if r.abs_diff(c) == 1 {
-                    beta[r.min(c)]
-                } else {
-                    0.0
-                }
-            });
-            let eig = SymmetricEigen::new(t);
-            let mut order: Vec<usize> = (0..steps).collect();
-            // Largest theta first: the lowest omega^2.
-            order.sort_by(|&a, &c| eig.eigenvalues[c].total_cmp(&eig.eigenvalues[a]));
+            let (eig, order) = ritz_values(&alpha, &beta);
             let converged = order[..count].iter().all(|&i| {
                 b * eig.eigenvectors[(steps - 1, i)].abs()
                     <= RITZ_TOLERANCE * eig.eigenvalues[i].abs()
             });
-            if converged || exhausted {
-                if !converged {
-                    return Err(ModelError::NoConvergence { iterations: steps });
-                }
-                let mut eigenvalues = Vec::with_capacity(count);
-                let mut vectors = Vec::with_capacity(count);
-                for &i in &order[..count] {
-                    let theta = eig.eigenvalues[i];
-                    if theta.is_nan() || theta <= 0.0 {
-                        return Err(ModelError::NoConvergence { iterations: steps });
-                    }
-                    let mut x = vec![0.0; n];
-                    for (r, v) in basis.iter().enumerate() {
-                        let s = eig.eigenvectors[(r, i)];
-                        x.iter_mut().zip(v).for_each(|(xi, vi)| *xi += s * vi);
-                    }
-                    let norm = model.mass.bilinear(&x, &x, &mut scratch).sqrt();
-                    x.iter_mut().for_each(|e| *e /= norm);
-                    eigenvalues.push(1.0 / theta);
-                    vectors.push(x);
-                }
-                return Ok(Modes {
-                    eigenvalues,
-                    vectors,
-                });
+            if converged {
+                return ritz_modes(model, &basis, &eig, &order[..count]);
+            }
+            if exhausted {
+                return Err(ModelError::NoConvergence { iterations: steps });
             }
         } else if exhausted {
             return Err(ModelError::NoConvergence { iterations: steps });
@@ -303,6 +262,75 @@ pub fn lanczos_modes(model: &StructuralModel, count: usize) -> Result<Modes, Mod
         w.iter_mut().for_each(|e| *e /= b);
         q = w;
     }
+}
+
+/// Full reorthogonalisation of the next Lanczos vector `w` against the `basis` (with
+/// `m_basis` its products with M), by classical Gram-Schmidt in the M inner product,
+/// twice: it subtracts the three-term recurrence's alpha_j q_j + beta_(j-1) q_(j-1) and
+/// the round-off components along every earlier vector, which would otherwise bring back
+/// copies of converged modes.
+fn reorthogonalise(w: &mut [f64], basis: &[Vec<f64>], m_basis: &[Vec<f64>]) {
+    for _ in 0..2 {
+        let projections = dots(w, m_basis);
+        for (p, v) in projections.iter().zip(basis) {
+            w.iter_mut().zip(v).for_each(|(wi, vi)| *wi -= p * vi);
+        }
+    }
+}
+
+/// The eigenpairs (theta_i, s_i) of the Lanczos tridiagonal T_m (diagonal `alpha`,
+/// off-diagonal `beta`), and their indices largest theta first: the lowest omega^2.
+fn ritz_values(alpha: &[f64], beta: &[f64]) -> (SymmetricEigen<f64, Dyn>, Vec<usize>) {
+    let steps = alpha.len();
+    let t = DMatrix::from_fn(steps, steps, |r, c| {
+        if r == c {
+            alpha[r]
+        } else if r.abs_diff(c) == 1 {
+            beta[r.min(c)]
+        } else {
+            0.0
+        }
+    });
+    let eig = SymmetricEigen::new(t);
+    let mut order: Vec<usize> = (0..steps).collect();
+    order.sort_by(|&a, &c| eig.eigenvalues[c].total_cmp(&eig.eigenvalues[a]));
+    (eig, order)
+}
+
+/// The modes of the converged Ritz pairs `wanted` (indices into `eig`): eigenvalue
+/// omega^2 = 1 / theta_i, vector Q_m s_i normalised in M. A theta that is not positive
+/// (no mode of a clamped structure) is no convergence.
+fn ritz_modes(
+    model: &StructuralModel,
+    basis: &[Vec<f64>],
+    eig: &SymmetricEigen<f64, Dyn>,
+    wanted: &[usize],
+) -> Result<Modes, ModelError> {
+    let n = basis[0].len();
+    let mut scratch = vec![0.0; n];
+    let mut eigenvalues = Vec::with_capacity(wanted.len());
+    let mut vectors = Vec::with_capacity(wanted.len());
+    for &i in wanted {
+        let theta = eig.eigenvalues[i];
+        if theta.is_nan() || theta <= 0.0 {
+            return Err(ModelError::NoConvergence {
+                iterations: basis.len(),
+            });
+        }
+        let mut x = vec![0.0; n];
+        for (r, v) in basis.iter().enumerate() {
+            let s = eig.eigenvectors[(r, i)];
+            x.iter_mut().zip(v).for_each(|(xi, vi)| *xi += s * vi);
+        }
+        let norm = model.mass.bilinear(&x, &x, &mut scratch).sqrt();
+        x.iter_mut().for_each(|e| *e /= norm);
+        eigenvalues.push(1.0 / theta);
+        vectors.push(x);
+    }
+    Ok(Modes {
+        eigenvalues,
+        vectors,
+    })
 }
 
 /// The eigen solver for a model: shift-invert Lanczos for the plane-stress mesh, and

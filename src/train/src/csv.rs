@@ -178,24 +178,63 @@ pub fn parse_csv(
         .iter()
         .map(|field| parse_header_field(field_text(field)))
         .collect();
+    check_header(&columns).map_err(|message| error(header_line, message))?;
+    let selected = selected_columns(selection, &columns, |message| error(header_line, message))?;
+    let roles = feature_roles(selection)?;
+    let mut values: Vec<f64> = Vec::new();
+    let mut targets: Vec<f64> = Vec::new();
+    while let Some(line_number) = next_record(&mut record)? {
+        read_row(&record, &columns, &selected, &mut values, &mut targets)
+            .map_err(|message| error(line_number, message))?;
+    }
+    if targets.is_empty() {
+        return Err(error(
+            header_line,
+            "the file has a header but no data rows".to_string(),
+        ));
+    }
+    let n_features = selection.features.len();
+    let quantity = |column: usize| Quantity::new(&columns[column].0, &columns[column].1);
+    Ok(Dataset {
+        features: selected[..n_features]
+            .iter()
+            .map(|&c| quantity(c))
+            .collect(),
+        roles,
+        target: quantity(selected[n_features]),
+        inputs: DMatrix::from_vec(n_features, targets.len(), values),
+        targets,
+    })
+}
+
+/// Every column has a name, and no name appears twice; else why not.
+fn check_header(columns: &[(String, String)]) -> Result<(), String> {
     for (i, (name, _)) in columns.iter().enumerate() {
         if name.is_empty() {
-            return Err(error(header_line, format!("column {} has no name", i + 1)));
+            return Err(format!("column {} has no name", i + 1));
         }
         if columns[..i].iter().any(|(other, _)| other == name) {
-            return Err(error(header_line, format!("column '{name}' appears twice")));
+            return Err(format!("column '{name}' appears twice"));
         }
     }
-    let find = |name: &str| -> Result<usize, TrainError> {
+    Ok(())
+}
+
+/// The columns of the selected features, in selection order, then the target's; a
+/// name the header lacks is refused through `header_error`, which places the message
+/// on the header line.
+fn selected_columns(
+    selection: &ColumnSelection,
+    columns: &[(String, String)],
+    header_error: impl Fn(String) -> TrainError,
+) -> Result<Vec<usize>, TrainError> {
+    let find = |name: &str| {
         columns.iter().position(|(n, _)| n == name).ok_or_else(|| {
             let known: Vec<&str> = columns.iter().map(|(n, _)| n.as_str()).collect();
-            error(
-                header_line,
-                format!(
-                    "no column named '{name}' in the header (columns: {})",
-                    known.join(", ")
-                ),
-            )
+            header_error(format!(
+                "no column named '{name}' in the header (columns: {})",
+                known.join(", ")
+            ))
         })
     };
     if selection.features.is_empty() {
@@ -218,7 +257,12 @@ pub fn parse_csv(
         selected.push(find(name)?);
     }
     selected.push(find(&selection.target)?);
+    Ok(selected)
+}
 
+/// Each selected feature's role: the sliding velocity and the normal force where the
+/// selection names them (each a feature, and not both the same), else other.
+fn feature_roles(selection: &ColumnSelection) -> Result<Vec<FeatureRole>, TrainError> {
     let mut roles = vec![FeatureRole::Other; selection.features.len()];
     for (role, wanted) in [
         (FeatureRole::SlidingVelocity, &selection.sliding_velocity),
@@ -242,62 +286,43 @@ pub fn parse_csv(
             roles[index] = role;
         }
     }
+    Ok(roles)
+}
 
-    let mut values: Vec<f64> = Vec::new();
-    let mut targets: Vec<f64> = Vec::new();
-    while let Some(line_number) = next_record(&mut record)? {
-        if record.len() != columns.len() {
-            return Err(error(
-                line_number,
-                format!(
-                    "{} field(s), but the header has {} columns",
-                    record.len(),
-                    columns.len()
-                ),
-            ));
-        }
-        for (k, &column) in selected.iter().enumerate() {
-            let text = field_text(&record[column]);
-            let value: f64 = text.parse().map_err(|_| {
-                error(
-                    line_number,
-                    format!("column '{}': '{text}' is not a number", columns[column].0),
-                )
-            })?;
-            if !value.is_finite() {
-                return Err(error(
-                    line_number,
-                    format!(
-                        "column '{}': '{text}' is not a finite number",
-                        columns[column].0
-                    ),
-                ));
-            }
-            if k + 1 == selected.len() {
-                targets.push(value);
-            } else {
-                values.push(value);
-            }
-        }
-    }
-    if targets.is_empty() {
-        return Err(error(
-            header_line,
-            "the file has a header but no data rows".to_string(),
+/// Appends a data row's selected values: the features' to `values`, the target's (the
+/// last selected column) to `targets`; else why the row is refused.
+fn read_row(
+    record: &csv::StringRecord,
+    columns: &[(String, String)],
+    selected: &[usize],
+    values: &mut Vec<f64>,
+    targets: &mut Vec<f64>,
+) -> Result<(), String> {
+    if record.len() != columns.len() {
+        return Err(format!(
+            "{} field(s), but the header has {} columns",
+            record.len(),
+            columns.len()
         ));
     }
-    let n_features = selection.features.len();
-    let quantity = |column: usize| Quantity::new(&columns[column].0, &columns[column].1);
-    Ok(Dataset {
-        features: selected[..n_features]
-            .iter()
-            .map(|&c| quantity(c))
-            .collect(),
-        roles,
-        target: quantity(selected[n_features]),
-        inputs: DMatrix::from_vec(n_features, targets.len(), values),
-        targets,
-    })
+    for (k, &column) in selected.iter().enumerate() {
+        let text = field_text(&record[column]);
+        let value: f64 = text
+            .parse()
+            .map_err(|_| format!("column '{}': '{text}' is not a number", columns[column].0))?;
+        if !value.is_finite() {
+            return Err(format!(
+                "column '{}': '{text}' is not a finite number",
+                columns[column].0
+            ));
+        }
+        if k + 1 == selected.len() {
+            targets.push(value);
+        } else {
+            values.push(value);
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

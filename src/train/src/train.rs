@@ -39,7 +39,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::data::{seeded_rng, Dataset, Split, Synthetic, INIT_STREAM};
 use crate::error::TrainError;
-use crate::lbfgs::{minimize, LbfgsOptions, StopReason};
+use crate::lbfgs::{minimize, LbfgsOptions, LbfgsResult, StopReason};
 use crate::objective::{initial_parameters, Objective};
 use stickslip::neural::network::{Activation, Network, Workspace};
 use stickslip::neural::weights::{
@@ -225,32 +225,212 @@ pub fn train(
     split: &Split,
     config: &TrainConfig,
     source: &DataSource,
-    mut on_iteration: impl FnMut(&HistoryRecord),
+    on_iteration: impl FnMut(&HistoryRecord),
 ) -> Result<(NeuralModel, TrainReport), TrainError> {
     let data = &split.train;
     check_config(config, data)?;
-    let d = data.features.len();
-    let mut layer_sizes = vec![d];
-    layer_sizes.extend_from_slice(&config.hidden_layers);
-    layer_sizes.push(1);
+    let layer_sizes: Vec<usize> = std::iter::once(data.features.len())
+        .chain(config.hidden_layers.iter().copied())
+        .chain([1])
+        .collect();
     let network = Network::new(&layer_sizes, config.activation)?;
 
-    let velocity = data.feature_with_role(FeatureRole::SlidingVelocity);
+    // The signed variant's velocity feature, fitted through |v|.
     let signed_velocity = match config.variant {
-        Variant::Signed => velocity,
+        Variant::Signed => data.feature_with_role(FeatureRole::SlidingVelocity),
         Variant::Plain => None,
     };
-    // The fitted quantity: the force, or (signed) the force projected on sign(v). The
-    // projection keeps zero-mean noise zero-mean, where |F| would bias it near F = 0.
+    let fitted = fitted_targets(data, signed_velocity);
+    let (output_mean, output_std) = mean_and_std(fitted.iter().copied());
+    let target = target_spec(data, output_mean, output_std);
+    let features = feature_specs(data, signed_velocity);
+    let mut model = untrained_model(config, &layer_sizes, features, target, source, split);
+
+    // Standardised training inputs use the same mapping as inference (clamping is a
+    // no-op inside the training range).
+    let (train_inputs, _) = model.network_inputs(&data.inputs);
+    let train_targets: Vec<f64> = fitted
+        .iter()
+        .map(|y| (y - output_mean) / output_std)
+        .collect();
+    let (test_inputs, test_signs) = model.network_inputs(&split.test.inputs);
+    let penalties = penalties(config.lambda, output_std, network.layers().len());
+    let mut objective = Objective::new(
+        &network,
+        &train_inputs,
+        &train_targets,
+        &penalties,
+        config.blocks,
+    )?;
+
+    let started = Instant::now();
+    let (params, result, history) = optimise(
+        &network,
+        &mut objective,
+        &model,
+        config,
+        (&test_inputs, &test_signs),
+        &split.test,
+        on_iteration,
+    )?;
+    let seconds = started.elapsed().as_secs_f64();
+
+    model.layers = NeuralModel::layers_from_parameters(&network, &params);
+    model.training.iterations = result.iterations;
+    model.training.evaluations = result.evaluations;
+    model.training.stop_reason = result.stop;
+    model.metrics = metrics(&model, split)?;
+    let report = TrainReport {
+        history,
+        seconds,
+        ..report(config, split, layer_sizes, &model.metrics, &result)
+    };
+    Ok((model, report))
+}
+
+/// The training report of a run with `config` on `split`: its metrics, L-BFGS's
+/// `result`, and no history and no time yet.
+fn report(
+    config: &TrainConfig,
+    split: &Split,
+    layer_sizes: Vec<usize>,
+    metrics: &Metrics,
+    result: &LbfgsResult,
+) -> TrainReport {
+    TrainReport {
+        mse_train: metrics.mse_train,
+        mse_test: metrics.mse_test,
+        r2_train: metrics.r2_train,
+        r2_test: metrics.r2_test,
+        iterations: result.iterations,
+        evaluations: result.evaluations,
+        stop_reason: result.stop,
+        seconds: 0.0,
+        variant: config.variant,
+        layer_sizes,
+        lambda: config.lambda,
+        seed: config.seed,
+        train_samples: split.train.len(),
+        test_samples: split.test.len(),
+        history: Vec::new(),
+    }
+}
+
+/// Minimises `objective` by L-BFGS from the seeded initial weights; returns the
+/// parameters, L-BFGS's result and the history, each record (with the test MSE of
+/// `test`, whose network inputs and signs are `test_prepared`) also handed to
+/// `on_iteration`.
+fn optimise(
+    network: &Network,
+    objective: &mut Objective,
+    model: &NeuralModel,
+    config: &TrainConfig,
+    test_prepared: (&[f64], &[f64]),
+    test: &Dataset,
+    mut on_iteration: impl FnMut(&HistoryRecord),
+) -> Result<(Vec<f64>, LbfgsResult, Vec<HistoryRecord>), TrainError> {
+    let mut params = initial_parameters(network, &mut seeded_rng(config.seed, INIT_STREAM));
+    let options = LbfgsOptions {
+        history: config.history,
+        max_iterations: config.max_iterations,
+        ..LbfgsOptions::default()
+    };
+    let variance = model.target.output_std * model.target.output_std;
+    let mut history: Vec<HistoryRecord> = Vec::new();
+    let mut test_workspace = Workspace::default();
+    // The objective's last evaluation is always at the accepted iterate (the line search
+    // ends on it), so its data term is the training MSE the callback reports.
+    let last_train_mse = std::cell::Cell::new(f64::NAN);
+    let result = minimize(
+        |x, g| {
+            let value = objective.value_and_gradient(x, g);
+            last_train_mse.set(objective.last_mean_squared_error);
+            value
+        },
+        &mut params,
+        &options,
+        |info, x| {
+            let mse_test = test_mse(model, network, x, test_prepared, test, &mut test_workspace);
+            let record = HistoryRecord {
+                iteration: info.iteration,
+                objective: info.value,
+                mse_train: variance * last_train_mse.get(),
+                mse_test,
+                evaluations: info.evaluations,
+            };
+            on_iteration(&record);
+            history.push(record);
+        },
+    )?;
+    Ok((params, result, history))
+}
+
+/// The fitted quantity per sample: the force, or for the signed variant (velocity
+/// feature `signed_velocity`) the force projected on sign(v). The projection keeps
+/// zero-mean noise zero-mean, where |F| would bias it near F = 0.
+fn fitted_targets(data: &Dataset, signed_velocity: Option<usize>) -> Vec<f64> {
     let direction = |sample: usize| match signed_velocity {
         Some(k) if data.inputs[(k, sample)] < 0.0 => -1.0,
         _ => 1.0,
     };
-    let fitted: Vec<f64> = (0..data.len())
+    (0..data.len())
         .map(|i| direction(i) * data.targets[i])
-        .collect();
+        .collect()
+}
 
-    let features: Vec<FeatureSpec> = (0..d)
+/// The target's description: name, unit, the fitted quantity's mean and standard
+/// deviation (N) and the training range.
+fn target_spec(data: &Dataset, output_mean: f64, output_std: f64) -> TargetSpec {
+    let (min, max) = data.target_range();
+    TargetSpec {
+        name: data.target.name.clone(),
+        unit: data.target.unit.clone(),
+        output_mean,
+        output_std,
+        min,
+        max,
+    }
+}
+
+/// The L2 penalty per layer of the standardised problem, L / s_y^2: hidden weights get
+/// lambda / s_y^2, the output weights (standardised units, W_L = W_L,raw / s_y) lambda.
+fn penalties(lambda: f64, output_std: f64, layers: usize) -> Vec<f64> {
+    let mut penalties = vec![lambda / (output_std * output_std); layers];
+    if let Some(last) = penalties.last_mut() {
+        *last = lambda;
+    }
+    penalties
+}
+
+/// The test MSE (N^2) of the network with parameters `x` on `test`, whose network
+/// inputs and signs are `prepared`; NaN on an empty test set.
+fn test_mse(
+    model: &NeuralModel,
+    network: &Network,
+    x: &[f64],
+    prepared: (&[f64], &[f64]),
+    test: &Dataset,
+    workspace: &mut Workspace,
+) -> f64 {
+    if test.is_empty() {
+        return f64::NAN;
+    }
+    let (inputs, signs) = prepared;
+    let outputs = network.forward(x, inputs, test.len(), workspace);
+    outputs
+        .iter()
+        .zip(signs)
+        .zip(&test.targets)
+        .map(|((&z, &s), y)| (model.force_from_output(z, s) - y).powi(2))
+        .sum::<f64>()
+        / test.len() as f64
+}
+
+/// The feature descriptions of `data`: names, units and roles, the network inputs'
+/// mean and standard deviation (of |v| for the signed variant's velocity
+/// `signed_velocity`) and the training range.
+fn feature_specs(data: &Dataset, signed_velocity: Option<usize>) -> Vec<FeatureSpec> {
+    (0..data.features.len())
         .map(|k| {
             let network_input = |i: usize| {
                 let v = data.inputs[(k, i)];
@@ -272,24 +452,27 @@ pub fn train(
                 max,
             }
         })
-        .collect();
-    let (output_mean, output_std) = mean_and_std(fitted.iter().copied());
-    let (min, max) = data.target_range();
-    let mut model = NeuralModel {
+        .collect()
+}
+
+/// The model file before training: its shape, scaling and training record, no layers
+/// yet, the counts and metrics zero until the training fills them in.
+fn untrained_model(
+    config: &TrainConfig,
+    layer_sizes: &[usize],
+    features: Vec<FeatureSpec>,
+    target: TargetSpec,
+    source: &DataSource,
+    split: &Split,
+) -> NeuralModel {
+    NeuralModel {
         format: FORMAT_NAME.to_string(),
         version: FORMAT_VERSION,
         variant: config.variant,
         activation: config.activation,
-        layer_sizes: layer_sizes.clone(),
+        layer_sizes: layer_sizes.to_vec(),
         features,
-        target: TargetSpec {
-            name: data.target.name.clone(),
-            unit: data.target.unit.clone(),
-            output_mean,
-            output_std,
-            min,
-            max,
-        },
+        target,
         layers: Vec::new(),
         training: TrainingInfo {
             data: source.description.clone(),
@@ -313,83 +496,15 @@ pub fn train(
             r2_train: 0.0,
             r2_test: 0.0,
         },
-    };
-
-    // Standardised training inputs use the same mapping as inference (clamping is a
-    // no-op inside the training range).
-    let (train_inputs, _) = model.network_inputs(&data.inputs);
-    let train_targets: Vec<f64> = fitted
-        .iter()
-        .map(|y| (y - output_mean) / output_std)
-        .collect();
-    let (test_inputs, test_signs) = model.network_inputs(&split.test.inputs);
-    // L / s_y^2: hidden weights get lambda / s_y^2, the output weights (standardised
-    // units, W_L = W_L,raw / s_y) get lambda.
-    let mut penalties = vec![config.lambda / (output_std * output_std); network.layers().len()];
-    if let Some(last) = penalties.last_mut() {
-        *last = config.lambda;
     }
-    let mut objective = Objective::new(
-        &network,
-        &train_inputs,
-        &train_targets,
-        &penalties,
-        config.blocks,
-    )?;
+}
 
-    let mut params = initial_parameters(&network, &mut seeded_rng(config.seed, INIT_STREAM));
-    let options = LbfgsOptions {
-        history: config.history,
-        max_iterations: config.max_iterations,
-        ..LbfgsOptions::default()
-    };
-    let variance = output_std * output_std;
-    let mut history: Vec<HistoryRecord> = Vec::new();
-    let mut test_workspace = Workspace::default();
-    // The objective's last evaluation is always at the accepted iterate (the line search
-    // ends on it), so its data term is the training MSE the callback reports.
-    let last_train_mse = std::cell::Cell::new(f64::NAN);
-    let started = Instant::now();
-    let result = minimize(
-        |x, g| {
-            let value = objective.value_and_gradient(x, g);
-            last_train_mse.set(objective.last_mean_squared_error);
-            value
-        },
-        &mut params,
-        &options,
-        |info, x| {
-            let mse_test = if split.test.is_empty() {
-                f64::NAN
-            } else {
-                let outputs =
-                    network.forward(x, &test_inputs, split.test.len(), &mut test_workspace);
-                outputs
-                    .iter()
-                    .zip(&test_signs)
-                    .zip(&split.test.targets)
-                    .map(|((&z, &s), y)| (model.force_from_output(z, s) - y).powi(2))
-                    .sum::<f64>()
-                    / split.test.len() as f64
-            };
-            let record = HistoryRecord {
-                iteration: info.iteration,
-                objective: info.value,
-                mse_train: variance * last_train_mse.get(),
-                mse_test,
-                evaluations: info.evaluations,
-            };
-            on_iteration(&record);
-            history.push(record);
-        },
-    )?;
-    let seconds = started.elapsed().as_secs_f64();
-
-    model.layers = NeuralModel::layers_from_parameters(&network, &params);
-    model.training.iterations = result.iterations;
-    model.training.evaluations = result.evaluations;
-    model.training.stop_reason = result.stop;
-    let (mse_train, r2_train) = mse_and_r2(&model.predict_columns(&data.inputs)?, &data.targets);
+/// The trained model's MSE and R^2 on both sets (NaN on an empty test set).
+fn metrics(model: &NeuralModel, split: &Split) -> Result<Metrics, TrainError> {
+    let (mse_train, r2_train) = mse_and_r2(
+        &model.predict_columns(&split.train.inputs)?,
+        &split.train.targets,
+    );
     let (mse_test, r2_test) = if split.test.is_empty() {
         (f64::NAN, f64::NAN)
     } else {
@@ -398,30 +513,12 @@ pub fn train(
             &split.test.targets,
         )
     };
-    model.metrics = Metrics {
+    Ok(Metrics {
         mse_train,
         mse_test,
         r2_train,
         r2_test,
-    };
-    let report = TrainReport {
-        mse_train,
-        mse_test,
-        r2_train,
-        r2_test,
-        iterations: result.iterations,
-        evaluations: result.evaluations,
-        stop_reason: result.stop,
-        seconds,
-        variant: config.variant,
-        layer_sizes,
-        lambda: config.lambda,
-        seed: config.seed,
-        train_samples: split.train.len(),
-        test_samples: split.test.len(),
-        history,
-    };
-    Ok((model, report))
+    })
 }
 
 /// Trains on the paper's synthetic data: generate with `seed`, split, train with

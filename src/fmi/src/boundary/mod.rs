@@ -6,6 +6,7 @@
 //!
 //! Rooms:
 //! - here: the component, instantiation and freeing, panics, C arguments, failures;
+//! - `logger`: the importer's logging callback as an instance's logger;
 //! - `values`: the gets and sets whose C types are the same in both versions;
 //! - `states`: the FMU-state handles (get, set, free, serialize, deserialize).
 
@@ -39,6 +40,7 @@ macro_rules! each {
 pub(crate) use each;
 
 // Declared after `each!`, which they use by its textual scope.
+pub(crate) mod logger;
 pub(crate) mod states;
 pub(crate) mod values;
 

@@ -23,48 +23,33 @@ pub use step::*;
 pub use types::*;
 pub use values::*;
 
+use crate::boundary::logger::{Callback, ImporterLogger, Message};
 use crate::boundary::{
-    self, c_string, component_at, each, into_pointer, mode_change, new_component, text,
-    unknown_guid, with_component,
+    self, component_at, each, into_pointer, mode_change, new_component, text, unknown_guid,
+    with_component,
 };
-use crate::instance::{FmiVersion, Logger, Status};
+use crate::instance::{FmiVersion, Status};
 use crate::FmuKind;
 use libc::size_t;
-use std::ffi::{c_char, CString};
+use std::ffi::{c_char, c_void};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 
-/// The importer's logger with its environment pointer. The importer guarantees that the
-/// callback may be called from the thread that calls the instance (FMI 2.0, 2.1.5); the
-/// instance is used from one thread at a time.
-struct ImporterLogger {
-    callback: Option<fmi2CallbackLogger>,
-    environment: fmi2ComponentEnvironment,
-    instance_name: CString,
-}
-
-// SAFETY: the environment pointer is only handed back to the importer's own callback,
-// which the importer lets the FMU call from the thread that calls the instance.
-unsafe impl Send for ImporterLogger {}
-
-impl ImporterLogger {
-    fn log(&self, status: Status, category: &str, message: &str) {
-        let Some(callback) = self.callback else {
-            return;
-        };
-        let category = c_string(category);
-        let message = c_string(message);
-        // SAFETY: the importer supplied the callback for exactly this call signature, and
-        // every string passed is a NUL-terminated CString that outlives the call.
+impl Callback for fmi2CallbackLogger {
+    /// FMI 2.0's logger takes the instance's name and a printf format: "%s" with the
+    /// message, so that a '%' in it is printed as it is.
+    unsafe fn deliver(self, environment: *mut c_void, message: &Message) {
+        // SAFETY: the caller's obligation: the importer's callback of this signature for
+        // this environment; the strings are NUL-terminated.
         unsafe {
-            callback(
-                self.environment,
-                self.instance_name.as_ptr(),
-                status as fmi2Status,
-                category.as_ptr(),
+            self(
+                environment,
+                message.instance_name.as_ptr(),
+                message.status as fmi2Status,
+                message.category.as_ptr(),
                 c"%s".as_ptr(),
-                message.as_ptr(),
-            );
+                message.text.as_ptr(),
+            )
         }
     }
 }
@@ -162,11 +147,10 @@ pub unsafe extern "C" fn fmi2Instantiate(
         let callbacks = unsafe { &*functions };
         // SAFETY: NULL or NUL-terminated, the importer's obligation.
         let name = unsafe { text(instanceName) }.unwrap_or_default();
-        let logger = ImporterLogger {
-            callback: callbacks.logger,
-            environment: callbacks.componentEnvironment,
-            instance_name: c_string(&name),
-        };
+        // SAFETY: the importer's obligation: its logger may be called with its
+        // environment.
+        let logger =
+            unsafe { ImporterLogger::new(callbacks.logger, callbacks.componentEnvironment, &name) };
         let fail = |reason: String| {
             logger.log(
                 Status::Error,
@@ -196,15 +180,13 @@ pub unsafe extern "C" fn fmi2Instantiate(
             Some(Err(reason)) => return fail(reason),
         };
         let logging_on = loggingOn != FMI2_FALSE;
-        let boxed_logger: Logger =
-            Box::new(move |status, category, message| logger.log(status, category, message));
         new_component(
             FmiVersion::V2,
             kind,
             &name,
             resources,
             logging_on,
-            boxed_logger,
+            logger.into_logger(),
         )
         .map_or(std::ptr::null_mut(), into_pointer)
     }));

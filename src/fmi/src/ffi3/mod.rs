@@ -46,45 +46,32 @@ pub use step::*;
 pub use types::*;
 pub use values::*;
 
+use crate::boundary::logger::{Callback, ImporterLogger, Message};
 use crate::boundary::{
-    self, c_string, component_at, each, into_pointer, mode_change, new_component, null_argument,
-    status, text, unknown_guid, with_component,
+    self, component_at, each, into_pointer, mode_change, new_component, null_argument, status,
+    text, unknown_guid, with_component,
 };
-use crate::instance::{EventOptions, FmiVersion, Logger, Status};
+use crate::instance::{EventOptions, FmiVersion, Status};
 use crate::FmuKind;
 use libc::size_t;
-use std::ffi::c_char;
+use std::ffi::{c_char, c_void};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 
-/// The importer's fmi3LogMessageCallback with its environment. FMI 3.0 passes the
-/// message as a plain string (no format, no instance name).
-struct Logger3 {
-    callback: Option<fmi3LogMessageCallback>,
-    environment: fmi3InstanceEnvironment,
-}
-
-// SAFETY: the environment pointer is only handed back to the importer's own callback,
-// which the importer lets the FMU call from the thread that calls the instance.
-unsafe impl Send for Logger3 {}
-
-impl Logger3 {
-    fn log(&self, status: Status, category: &str, message: &str) {
-        let Some(callback) = self.callback else {
-            return;
-        };
-        let category = c_string(category);
-        let message = c_string(message);
-        // SAFETY: the importer supplied the callback for exactly this signature, and both
-        // strings are NUL-terminated CStrings that outlive the call.
+impl Callback for fmi3LogMessageCallback {
+    /// FMI 3.0's callback takes the message as a plain string (no format, no instance
+    /// name).
+    unsafe fn deliver(self, environment: *mut c_void, message: &Message) {
+        // SAFETY: the caller's obligation: the importer's callback of this signature for
+        // this environment; the strings are NUL-terminated.
         unsafe {
-            callback(
-                self.environment,
-                status as fmi3Status,
-                category.as_ptr(),
-                message.as_ptr(),
+            self(
+                environment,
+                message.status as fmi3Status,
+                message.category.as_ptr(),
+                message.text.as_ptr(),
             )
-        };
+        }
     }
 }
 
@@ -148,10 +135,8 @@ unsafe fn refuse_instantiation(
     call: &str,
     reason: &str,
 ) -> fmi3Instance {
-    let logger = Logger3 {
-        callback: logMessage,
-        environment,
-    };
+    // SAFETY: the caller's obligation on `logMessage` and `environment`.
+    let logger = unsafe { ImporterLogger::new(logMessage, environment, "") };
     let _ = catch_unwind(AssertUnwindSafe(|| {
         logger.log(
             Status::Error,
@@ -269,19 +254,16 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
             Some(Ok(dir)) => Some(dir),
             Some(Err(reason)) => return refuse(reason),
         };
-        let logger = Logger3 {
-            callback: logMessage,
-            environment: instanceEnvironment,
-        };
-        let boxed_logger: Logger =
-            Box::new(move |status, category, message| logger.log(status, category, message));
+        // SAFETY: the importer's obligation: its callback may be called with its
+        // environment.
+        let logger = unsafe { ImporterLogger::new(logMessage, instanceEnvironment, &name) };
         new_component(
             FmiVersion::V3,
             kind,
             &name,
             resources,
             is_true(loggingOn),
-            boxed_logger,
+            logger.into_logger(),
         )
         .map_or(std::ptr::null_mut(), |mut c| {
             each!(&mut c.instance, i => i.set_events(events));

@@ -275,34 +275,41 @@ pub unsafe extern "C" fn fmi3SetString(
     })
 }
 
-/// A get or set of a value type that has no variables in these FMUs: legal in the
-/// modes of `call` with no value references, an error naming the first one otherwise.
+/// A get or set (`name`, of kind `call`) of a value type that has no variables in
+/// these FMUs, on the instance at `instance`: legal in the modes of `call` with no value
+/// references, an error naming the first one otherwise.
 ///
 /// # Safety
 ///
-/// `vrs` is NULL or `nvr` value references.
+/// `instance` is NULL or a live instance of fmi3InstantiateCoSimulation that no other
+/// call uses meanwhile; `vrs` is NULL or `nvr` value references.
 unsafe fn no_variables_of_type(
-    component: &mut Component,
-    name: &str,
+    instance: fmi3Instance,
+    name: &'static str,
     call: Call,
     vrs: *const fmi3ValueReference,
     nvr: size_t,
     type_name: &str,
-) -> Status {
-    if each!(&mut component.instance, i => i.check(call)).is_err() {
-        return Status::Error;
-    }
-    if nvr == 0 {
-        return Status::Ok;
-    }
-    // SAFETY: NULL gives None; otherwise nvr value references by the caller's obligation.
-    let first = unsafe { slice(vrs, nvr) }.and_then(|v| v.first().copied());
-    let which = first.map_or("NULL".into(), |vr| vr.to_string());
-    fail(
-        component,
-        name,
-        &format!("value reference {which} is not a {type_name} variable: this FMU has no {type_name} variables"),
-    )
+) -> fmi3Status {
+    // SAFETY: the caller's obligation on `instance`.
+    let component = unsafe { component_at(instance) };
+    with_component(component, name, |component| {
+        if each!(&mut component.instance, i => i.check(call)).is_err() {
+            return Status::Error;
+        }
+        if nvr == 0 {
+            return Status::Ok;
+        }
+        // SAFETY: NULL gives None; otherwise nvr value references by the caller's
+        // obligation.
+        let first = unsafe { slice(vrs, nvr) }.and_then(|v| v.first().copied());
+        let which = first.map_or("NULL".into(), |vr| vr.to_string());
+        fail(
+            component,
+            name,
+            &format!("value reference {which} is not a {type_name} variable: this FMU has no {type_name} variables"),
+        )
+    })
 }
 
 macro_rules! no_variables {
@@ -320,21 +327,17 @@ macro_rules! no_variables {
             _values: *mut $c_type,
             _nValues: size_t,
         ) -> fmi3Status {
-            // SAFETY: the importer's obligation on `instance` above.
-            let component = unsafe { component_at(instance) };
-            with_component(component, stringify!($get), |component| {
-                // SAFETY: the importer's obligation on `valueReferences` above.
-                unsafe {
-                    no_variables_of_type(
-                        component,
-                        stringify!($get),
-                        Call::Get,
-                        valueReferences,
-                        nValueReferences,
-                        $type_name,
-                    )
-                }
-            })
+            // SAFETY: the importer's obligations on `instance` and `valueReferences` above.
+            unsafe {
+                no_variables_of_type(
+                    instance,
+                    stringify!($get),
+                    Call::Get,
+                    valueReferences,
+                    nValueReferences,
+                    $type_name,
+                )
+            }
         }
 
         /// # Safety
@@ -350,21 +353,17 @@ macro_rules! no_variables {
             _values: *const $c_type,
             _nValues: size_t,
         ) -> fmi3Status {
-            // SAFETY: the importer's obligation on `instance` above.
-            let component = unsafe { component_at(instance) };
-            with_component(component, stringify!($set), |component| {
-                // SAFETY: the importer's obligation on `valueReferences` above.
-                unsafe {
-                    no_variables_of_type(
-                        component,
-                        stringify!($set),
-                        Call::Set,
-                        valueReferences,
-                        nValueReferences,
-                        $type_name,
-                    )
-                }
-            })
+            // SAFETY: the importer's obligations on `instance` and `valueReferences` above.
+            unsafe {
+                no_variables_of_type(
+                    instance,
+                    stringify!($set),
+                    Call::Set,
+                    valueReferences,
+                    nValueReferences,
+                    $type_name,
+                )
+            }
         }
     };
 }
@@ -392,21 +391,17 @@ pub unsafe extern "C" fn fmi3GetBinary(
     _values: *mut fmi3Binary,
     _nValues: size_t,
 ) -> fmi3Status {
-    // SAFETY: the importer's obligation on `instance` above.
-    let component = unsafe { component_at(instance) };
-    with_component(component, "fmi3GetBinary", |component| {
-        // SAFETY: the importer's obligation on `valueReferences` above.
-        unsafe {
-            no_variables_of_type(
-                component,
-                "fmi3GetBinary",
-                Call::Get,
-                valueReferences,
-                nValueReferences,
-                "Binary",
-            )
-        }
-    })
+    // SAFETY: the importer's obligations on `instance` and `valueReferences` above.
+    unsafe {
+        no_variables_of_type(
+            instance,
+            "fmi3GetBinary",
+            Call::Get,
+            valueReferences,
+            nValueReferences,
+            "Binary",
+        )
+    }
 }
 
 /// # Safety
@@ -423,21 +418,17 @@ pub unsafe extern "C" fn fmi3SetBinary(
     _values: *const fmi3Binary,
     _nValues: size_t,
 ) -> fmi3Status {
-    // SAFETY: the importer's obligation on `instance` above.
-    let component = unsafe { component_at(instance) };
-    with_component(component, "fmi3SetBinary", |component| {
-        // SAFETY: the importer's obligation on `valueReferences` above.
-        unsafe {
-            no_variables_of_type(
-                component,
-                "fmi3SetBinary",
-                Call::Set,
-                valueReferences,
-                nValueReferences,
-                "Binary",
-            )
-        }
-    })
+    // SAFETY: the importer's obligations on `instance` and `valueReferences` above.
+    unsafe {
+        no_variables_of_type(
+            instance,
+            "fmi3SetBinary",
+            Call::Set,
+            valueReferences,
+            nValueReferences,
+            "Binary",
+        )
+    }
 }
 
 /// # Safety
@@ -452,21 +443,17 @@ pub unsafe extern "C" fn fmi3GetClock(
     nValueReferences: size_t,
     _values: *mut fmi3Clock,
 ) -> fmi3Status {
-    // SAFETY: the importer's obligation on `instance` above.
-    let component = unsafe { component_at(instance) };
-    with_component(component, "fmi3GetClock", |component| {
-        // SAFETY: the importer's obligation on `valueReferences` above.
-        unsafe {
-            no_variables_of_type(
-                component,
-                "fmi3GetClock",
-                Call::Get,
-                valueReferences,
-                nValueReferences,
-                "Clock",
-            )
-        }
-    })
+    // SAFETY: the importer's obligations on `instance` and `valueReferences` above.
+    unsafe {
+        no_variables_of_type(
+            instance,
+            "fmi3GetClock",
+            Call::Get,
+            valueReferences,
+            nValueReferences,
+            "Clock",
+        )
+    }
 }
 
 /// # Safety
@@ -481,19 +468,15 @@ pub unsafe extern "C" fn fmi3SetClock(
     nValueReferences: size_t,
     _values: *const fmi3Clock,
 ) -> fmi3Status {
-    // SAFETY: the importer's obligation on `instance` above.
-    let component = unsafe { component_at(instance) };
-    with_component(component, "fmi3SetClock", |component| {
-        // SAFETY: the importer's obligation on `valueReferences` above.
-        unsafe {
-            no_variables_of_type(
-                component,
-                "fmi3SetClock",
-                Call::Set,
-                valueReferences,
-                nValueReferences,
-                "Clock",
-            )
-        }
-    })
+    // SAFETY: the importer's obligations on `instance` and `valueReferences` above.
+    unsafe {
+        no_variables_of_type(
+            instance,
+            "fmi3SetClock",
+            Call::Set,
+            valueReferences,
+            nValueReferences,
+            "Clock",
+        )
+    }
 }

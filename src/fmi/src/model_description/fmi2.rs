@@ -1,8 +1,8 @@
 //! The FMI 2.0 modelDescription.xml (FMI 2.0 standard, section 2.2).
 
 use super::parts::{
-    choice_variables, dependency_attributes, description, output_dependencies,
-    write_units_categories_experiment, CHOICES_TOOL,
+    choice_variables, dependency_attributes, description, initial_attribute, output_dependencies,
+    start_attribute, write_units_categories_experiment, CHOICES_TOOL,
 };
 use crate::model::Model;
 use crate::variables::{Access, Causality, DependencyKind, Variability, Variable};
@@ -10,6 +10,7 @@ use crate::version::FmiVersion;
 use crate::xml::{attribute, escape, optional_attribute, real};
 use std::fmt::Write;
 
+/// The FMI 2.0 modelDescription.xml of model `M`'s table, with `guid` as its GUID.
 pub(super) fn body<M: Model>(guid: &str) -> String {
     let info = &M::INFO;
     let defaults = M::with_defaults();
@@ -36,71 +37,74 @@ pub(super) fn body<M: Model>(guid: &str) -> String {
 
     write_choices(w, variables);
 
+    write_variables(w, variables, &defaults);
+    write_structure(w, variables);
+    let _ = writeln!(w, "</fmiModelDescription>");
+    debug_assert!(variables.iter().all(|v| match v.causality {
+        Causality::Parameter => v.variability == Variability::Fixed,
+        _ => v.variability != Variability::Fixed,
+    }));
+    x
+}
+
+/// `<ModelVariables>`: one `<ScalarVariable>` per row of the table, in table order
+/// (its index is the row's place, counted from 1), with the defaults as start values.
+fn write_variables<M>(w: &mut String, variables: &[Variable<M>], defaults: &M) {
     let _ = writeln!(w, "  <ModelVariables>");
     for v in variables {
-        let initial = match v.causality {
-            Causality::Parameter => r#" initial="exact""#,
-            Causality::Input => "",
-            Causality::Output => r#" initial="calculated""#,
-        };
         let _ = writeln!(
             w,
-            r#"    <ScalarVariable name="{}" valueReference="{}" description="{}" causality="{}" variability="{}"{initial}>"#,
+            r#"    <ScalarVariable name="{}" valueReference="{}" description="{}" causality="{}" variability="{}"{}>"#,
             escape(v.name),
             v.value_reference,
             escape(&description(v)),
             v.causality.as_str(),
-            v.variability.as_str()
+            v.variability.as_str(),
+            initial_attribute(v.causality)
         );
-        let with_start = v.causality != Causality::Output;
-        let element = match &v.access {
-            Access::Real { unit, get, .. } => {
-                let unit = optional_attribute("unit", *unit);
-                let start = if with_start {
-                    format!(r#" start="{}""#, real(get(&defaults)))
-                } else {
-                    String::new()
-                };
-                format!("<Real{unit}{start}/>")
-            }
-            Access::Integer { min, max, get, .. } => {
-                let start = if with_start {
-                    format!(r#" start="{}""#, get(&defaults))
-                } else {
-                    String::new()
-                };
-                format!(r#"<Integer min="{min}" max="{max}"{start}/>"#)
-            }
-            Access::Boolean { get, .. } => {
-                let start = if with_start {
-                    format!(r#" start="{}""#, get(&defaults))
-                } else {
-                    String::new()
-                };
-                format!("<Boolean{start}/>")
-            }
-            Access::Choice { kind, get, .. } => {
-                let start = if with_start {
-                    format!(r#" start="{}""#, get(&defaults))
-                } else {
-                    String::new()
-                };
-                format!(r#"<Integer min="1" max="{}"{start}/>"#, kind.len)
-            }
-            Access::String { get, .. } => {
-                let start = if with_start {
-                    attribute("start", &get(&defaults))
-                } else {
-                    String::new()
-                };
-                format!("<String{start}/>")
-            }
-        };
-        let _ = writeln!(w, "      {element}");
+        let _ = writeln!(w, "      {}", type_element(v, defaults));
         let _ = writeln!(w, "    </ScalarVariable>");
     }
     let _ = writeln!(w, "  </ModelVariables>");
+}
 
+/// The type element inside a `<ScalarVariable>`, with the default as its start value
+/// except for an output (whose initial is calculated). A choice is an `<Integer>` of
+/// its codes.
+fn type_element<M>(v: &Variable<M>, defaults: &M) -> String {
+    let with_start = v.causality != Causality::Output;
+    let start = |value: String| start_attribute(v, value);
+    match &v.access {
+        Access::Real { unit, get, .. } => {
+            let unit = optional_attribute("unit", *unit);
+            format!("<Real{unit}{}/>", start(real(get(defaults))))
+        }
+        Access::Integer { min, max, get, .. } => {
+            format!(
+                r#"<Integer min="{min}" max="{max}"{}/>"#,
+                start(get(defaults).to_string())
+            )
+        }
+        Access::Boolean { get, .. } => format!("<Boolean{}/>", start(get(defaults).to_string())),
+        Access::Choice { kind, get, .. } => format!(
+            r#"<Integer min="1" max="{}"{}/>"#,
+            kind.len,
+            start(get(defaults).to_string())
+        ),
+        Access::String { get, .. } => {
+            let start = if with_start {
+                attribute("start", &get(defaults))
+            } else {
+                String::new()
+            };
+            format!("<String{start}/>")
+        }
+    }
+}
+
+/// `<ModelStructure>`: each output's step dependencies under `<Outputs>` and its
+/// initial ones under `<InitialUnknowns>`, by variable index.
+fn write_structure<M>(w: &mut String, variables: &[Variable<M>]) {
     let _ = writeln!(w, "  <ModelStructure>");
     let _ = writeln!(w, "    <Outputs>");
     let dependencies = output_dependencies(variables);
@@ -123,12 +127,6 @@ pub(super) fn body<M: Model>(guid: &str) -> String {
     }
     let _ = writeln!(w, "    </InitialUnknowns>");
     let _ = writeln!(w, "  </ModelStructure>");
-    let _ = writeln!(w, "</fmiModelDescription>");
-    debug_assert!(variables.iter().all(|v| match v.causality {
-        Causality::Parameter => v.variability == Variability::Fixed,
-        _ => v.variability != Variability::Fixed,
-    }));
-    x
 }
 
 /// The choices' codes and words for programs ([`CHOICES_TOOL`]), in FMI 2.0's

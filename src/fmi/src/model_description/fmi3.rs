@@ -1,7 +1,8 @@
 //! The FMI 3.0 modelDescription.xml (FMI 3.0 standard, section 2.4).
 
 use super::parts::{
-    dependency_attributes, description, output_dependencies, write_units_categories_experiment,
+    dependency_attributes, description, initial_attribute, output_dependencies, start_attribute,
+    write_units_categories_experiment,
 };
 use crate::model::Model;
 use crate::variables::{Access, ArrayVariable, Causality, DependencyKind, Variable};
@@ -56,78 +57,83 @@ pub(super) fn body3<M: Model>(token: &str) -> String {
     for v in variables {
         // An array's elements are rows of the table: the array is written in place of
         // its first element, the other elements not at all.
-        if let Some((array, index)) = ArrayVariable::containing(M::arrays(), v.value_reference) {
-            if index == 1 {
-                write_array(w, array, variables, &defaults);
-            }
-            continue;
+        match ArrayVariable::containing(M::arrays(), v.value_reference) {
+            Some((array, 1)) => write_array(w, array, variables, &defaults),
+            Some(_) => {}
+            None => write_scalar(w, v, &defaults),
         }
-        let initial = match v.causality {
-            Causality::Parameter => r#" initial="exact""#,
-            Causality::Input => "",
-            Causality::Output => r#" initial="calculated""#,
-        };
-        let with_start = v.causality != Causality::Output;
-        let start = |value: String| {
-            if with_start {
-                format!(r#" start="{value}""#)
-            } else {
-                String::new()
-            }
-        };
-        let (element, attributes, children) = match &v.access {
-            Access::Real { unit, get, .. } => (
-                "Float64",
-                format!(
-                    "{}{}",
-                    optional_attribute("declaredType", *unit),
-                    start(real(get(&defaults)))
-                ),
-                None,
-            ),
-            Access::Integer { min, max, get, .. } => (
-                "Int32",
-                format!(
-                    r#" min="{min}" max="{max}"{}"#,
-                    start(get(&defaults).to_string())
-                ),
-                None,
-            ),
-            Access::Choice { kind, get, .. } => (
-                "Int32",
-                format!(
-                    r#" min="1" max="{}"{}"#,
-                    kind.len,
-                    start(get(&defaults).to_string())
-                ),
-                None,
-            ),
-            Access::Boolean { get, .. } => ("Boolean", start(get(&defaults).to_string()), None),
-            // FMI 3.0 gives a String's start value as a child element.
-            Access::String { get, .. } => (
-                "String",
-                String::new(),
-                with_start.then(|| format!(r#"<Start value="{}"/>"#, escape(&get(&defaults)))),
-            ),
-        };
-        let head = format!(
-            r#"    <{element} name="{}" valueReference="{}" description="{}" causality="{}" variability="{}"{initial}{attributes}"#,
-            escape(v.name),
-            v.value_reference,
-            escape(&description(v)),
-            v.causality.as_str(),
-            v.variability.as_str()
-        );
-        let _ = match children {
-            None => writeln!(w, "{head}/>"),
-            Some(children) => writeln!(w, "{head}>\n      {children}\n    </{element}>"),
-        };
     }
     let _ = writeln!(w, "  </ModelVariables>");
+    write_structure::<M>(w, variables);
+    // No `stickslip` choices annotation here: FMI 3.0 allows any element inside an
+    // <Annotation>, but the `fmi` crate's reader refuses child elements there (it takes
+    // text only), and an importer that cannot read the file at all is worse than one
+    // that has the codes only in each choice's description. Programs read the codes and
+    // words from the FMI 2.0 description, generated from the same table.
+    let _ = writeln!(w, "</fmiModelDescription>");
+    x
+}
 
-    // The same dependencies as FMI 2.0's, named by value reference instead of index;
-    // an array element by its array (no per-element dependencies: the output depends
-    // on the whole array if on any element).
+/// A scalar variable: its type's element (Float64, Int32, Boolean, String) with the
+/// default as its start value except for an output (whose initial is calculated). A
+/// choice is an `<Int32>` of its codes.
+fn write_scalar<M>(w: &mut String, v: &Variable<M>, defaults: &M) {
+    let with_start = v.causality != Causality::Output;
+    let start = |value: String| start_attribute(v, value);
+    let (element, attributes, children) = match &v.access {
+        Access::Real { unit, get, .. } => (
+            "Float64",
+            format!(
+                "{}{}",
+                optional_attribute("declaredType", *unit),
+                start(real(get(defaults)))
+            ),
+            None,
+        ),
+        Access::Integer { min, max, get, .. } => (
+            "Int32",
+            format!(
+                r#" min="{min}" max="{max}"{}"#,
+                start(get(defaults).to_string())
+            ),
+            None,
+        ),
+        Access::Choice { kind, get, .. } => (
+            "Int32",
+            format!(
+                r#" min="1" max="{}"{}"#,
+                kind.len,
+                start(get(defaults).to_string())
+            ),
+            None,
+        ),
+        Access::Boolean { get, .. } => ("Boolean", start(get(defaults).to_string()), None),
+        // FMI 3.0 gives a String's start value as a child element.
+        Access::String { get, .. } => (
+            "String",
+            String::new(),
+            with_start.then(|| format!(r#"<Start value="{}"/>"#, escape(&get(defaults)))),
+        ),
+    };
+    let head = format!(
+        r#"    <{element} name="{}" valueReference="{}" description="{}" causality="{}" variability="{}"{}{attributes}"#,
+        escape(v.name),
+        v.value_reference,
+        escape(&description(v)),
+        v.causality.as_str(),
+        v.variability.as_str(),
+        initial_attribute(v.causality)
+    );
+    let _ = match children {
+        None => writeln!(w, "{head}/>"),
+        Some(children) => writeln!(w, "{head}>\n      {children}\n    </{element}>"),
+    };
+}
+
+/// `<ModelStructure>`: the same dependencies as FMI 2.0's, named by value reference
+/// instead of index; an array element by its array (no per-element dependencies: the
+/// output depends on the whole array if on any element).
+fn write_structure<M: Model>(w: &mut String, variables: &[Variable<M>]) {
     let vr_of = |k: usize| {
         let vr = variables[k - 1].value_reference;
         ArrayVariable::containing(M::arrays(), vr).map_or(vr, |(a, _)| a.value_reference) as usize
@@ -157,13 +163,6 @@ pub(super) fn body3<M: Model>(token: &str) -> String {
         );
     }
     let _ = writeln!(w, "  </ModelStructure>");
-    // No `stickslip` choices annotation here: FMI 3.0 allows any element inside an
-    // <Annotation>, but the `fmi` crate's reader refuses child elements there (it takes
-    // text only), and an importer that cannot read the file at all is worse than one
-    // that has the codes only in each choice's description. Programs read the codes and
-    // words from the FMI 2.0 description, generated from the same table.
-    let _ = writeln!(w, "</fmiModelDescription>");
-    x
 }
 
 /// An FMI 3.0 array variable: a `<Float64>` with the first element's causality,

@@ -43,6 +43,26 @@ pub const LOG_CATEGORIES: [LogCategory; 4] = [
     },
 ];
 
+/// A scalar variable's `initial` attribute, the same in both versions: a parameter
+/// exact, an output calculated, an input none (the standard's default).
+pub(super) fn initial_attribute(causality: Causality) -> &'static str {
+    match causality {
+        Causality::Parameter => r#" initial="exact""#,
+        Causality::Input => "",
+        Causality::Output => r#" initial="calculated""#,
+    }
+}
+
+/// A variable's `start` attribute with `value`, or nothing for an output, whose
+/// initial is calculated: the same in both versions.
+pub(super) fn start_attribute<M>(v: &Variable<M>, value: String) -> String {
+    if v.causality == Causality::Output {
+        String::new()
+    } else {
+        format!(r#" start="{value}""#)
+    }
+}
+
 /// The `name` of the `<Tool>` under `<VendorAnnotations>` that lists the choices:
 ///
 /// ```xml

@@ -89,144 +89,35 @@ pub fn choose_over(
     front: &[FrontPoint],
     progress: &mut dyn FnMut(&str),
 ) -> Result<Selection, AutoError> {
-    if !(tolerance.is_finite() && tolerance > 0.0) {
-        return Err(AutoError::Tolerance { tolerance });
-    }
-    if let Horizon::Until(end) = horizon {
-        if !(end.is_finite() && end > 0.0) {
-            return Err(AutoError::Horizon { end });
-        }
-    }
+    check_request(tolerance, horizon)?;
     check_front(front)?;
     let started = Instant::now();
     // The front's mode counts as this scene's spectrum asks for them (`transfer`).
     let front = &crate::transfer::front_for_scene(scene, front);
     let mut count = 0;
-    // A run within the direct limit is calibrated over its whole length; a longer or
-    // open one over the window of its first slips, which the pilot finds.
-    let window = match horizon {
-        Horizon::Until(end) if end <= DIRECT_LIMIT => end,
-        _ => {
-            let cap = match horizon {
-                Horizon::Until(end) => end.min(WINDOW_LIMIT),
-                Horizon::Open => WINDOW_LIMIT,
-            };
-            let mut pilot_scene = scene.clone();
-            pilot_scene.time.end = cap;
-            horizon_counted(
-                &pilot_scene,
-                law,
-                front[0].configuration,
-                cap,
-                started,
-                &mut count,
-                progress,
-            )?
-        }
-    };
+    let window = calibration_window(scene, law, horizon, front, started, &mut count, progress)?;
     let reach = Reach::of(horizon, window);
     let mut calibrated = scene.clone();
     calibrated.time.end = window;
-    let mut runs: Vec<Option<Measured>> = vec![None; front.len()];
-    let mut run = |k: usize, count: &mut usize| -> Result<Measured, AutoError> {
-        if runs[k].is_none() {
-            runs[k] = Some(calibration_run(
-                &calibrated,
-                law,
-                front[k].configuration,
-                "",
-                started,
-                count,
-                progress,
-            )?);
-        }
-        Ok(runs[k].clone().expect("just measured"))
+    let mut runs = Calibration {
+        scene: &calibrated,
+        law,
+        front,
+        measured: vec![None; front.len()],
+        started,
+        count,
+        progress,
     };
     let mut tried = Vec::new();
     for k in 0..front.len() {
         let Some(first) = partner(front, k) else {
             break;
         };
-        let candidate = run(k, &mut count)?;
-        let mut before = candidate.clone();
-        let mut chain: Vec<(Configuration, f64)> = Vec::new();
-        // d(k, deepest partner so far): e_k <= d(k, p) + e_p for any partner p; the
-        // same for the drift rate r.
-        let mut direct = f64::NAN;
-        let mut rates;
-        let mut deepest;
-        let mut link = first;
-        loop {
-            let linked = run(link, &mut count)?;
-            let d = window_deviation(&before.tip, &linked.tip);
-            let previous = direct;
-            direct = window_deviation(&candidate.tip, &linked.tip);
-            rates = (
-                drift_rate(&candidate, &linked),
-                drift_rate(&before, &linked),
-            );
-            chain.push((front[link].configuration, d));
-            deepest = linked.clone();
-            // The previous partner is verified when its deviation from its own partner
-            // is small against its deviation from the candidate; otherwise the chain
-            // goes on, where that is affordable.
-            let verified = chain.len() >= 2 && d <= previous / PARTNER_ACCURACY_RATIO;
-            match partner(front, link) {
-                Some(next) if !verified && affordable(front, next, first) => {
-                    before = linked;
-                    link = next;
-                }
-                _ => break,
-            }
-        }
-        let last = chain.last().map_or(f64::NAN, |(_, d)| *d);
-        let mut bound = direct + TAIL_FACTOR * last;
-        // Model refinement: beam and modal points can share a model error (shear on a
-        // stubby beam) that no chain among them sees. A chain without plane stress (full or
-        // modal, both have shear) is
-        // checked against the cheapest plane-stress point 5x more accurate on the paper
-        // scene, if any. With rho the paper-scene error ratio of k to m (>= 5) and
-        // e_m <= e_k / rho: e_k <= d(k, m) rho / (rho - 1).
-        let refined = |c: &Configuration| c.resolution.is_continuum();
-        if !refined(&front[k].configuration) && !chain.iter().any(|(c, _)| refined(c)) {
-            if let Some(m) = refinement(front, k) {
-                let d = window_deviation(&candidate.tip, &run(m, &mut count)?.tip);
-                chain.push((front[m].configuration, d));
-                let rho = front[k].rms_error / front[m].rms_error;
-                bound = bound.max(d * rho / (rho - 1.0));
-            }
-        }
-        let estimated_error = SAFETY_FACTOR * bound;
-        let drift_rate = match rates {
-            (Some(direct), Some(last)) => Some(SAFETY_FACTOR * (direct + TAIL_FACTOR * last)),
-            _ => None,
-        };
-        tried.push(Candidate {
-            configuration: front[k].configuration,
-            estimated_error,
-            drift_rate,
-            partner: front[first].configuration,
-            chain,
-        });
+        let (candidate, deepest) = bound_by_chain(&mut runs, k, first)?;
+        let (estimated_error, drift_rate) = (candidate.estimated_error, candidate.drift_rate);
+        tried.push(candidate);
         if estimated_error <= tolerance {
-            let holds_until = match (reach, drift_rate) {
-                (Reach::Window { .. }, Some(rate)) => {
-                    // The extra shift the tolerance leaves room for, at the drift rate.
-                    let room = tolerance - estimated_error;
-                    let limit = 1e3 * window;
-                    let shift = shift_within(&deepest.tip, room, limit);
-                    if rate > 0.0 && shift < limit {
-                        window + shift / rate
-                    } else {
-                        f64::INFINITY
-                    }
-                }
-                (Reach::Window { .. }, None) => window,
-                (_, _) => match horizon {
-                    Horizon::Until(end) => end,
-                    Horizon::Open => window,
-                },
-            };
+            let room = tolerance - estimated_error;
             return Ok(Selection {
                 index: k,
                 configuration: front[k].configuration,
@@ -234,10 +125,10 @@ pub fn choose_over(
                 asked: horizon,
                 reach,
                 drift_rate,
-                holds_until,
+                holds_until: holds_until(horizon, reach, window, drift_rate, room, &deepest),
                 tried,
                 calibration_seconds: started.elapsed().as_secs_f64(),
-                runs: count,
+                runs: runs.count,
                 window,
             });
         }
@@ -251,4 +142,199 @@ pub fn choose_over(
         best,
         over: super::resolve::span(reach, window),
     })
+}
+
+/// The tolerance (m) must be positive and a bounded horizon's end (s) too.
+fn check_request(tolerance: f64, horizon: Horizon) -> Result<(), AutoError> {
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(AutoError::Tolerance { tolerance });
+    }
+    if let Horizon::Until(end) = horizon {
+        if !(end.is_finite() && end > 0.0) {
+            return Err(AutoError::Horizon { end });
+        }
+    }
+    Ok(())
+}
+
+/// The calibration window (s): a run within the direct limit is calibrated over its
+/// whole length; a longer or open one over the window of its first slips, which the
+/// pilot (the cheapest front point) finds, its runs counted into `count`.
+fn calibration_window(
+    scene: &Scene,
+    law: &LawSource,
+    horizon: Horizon,
+    front: &[FrontPoint],
+    started: Instant,
+    count: &mut usize,
+    progress: &mut dyn FnMut(&str),
+) -> Result<f64, AutoError> {
+    let cap = match horizon {
+        Horizon::Until(end) if end <= DIRECT_LIMIT => return Ok(end),
+        Horizon::Until(end) => end.min(WINDOW_LIMIT),
+        Horizon::Open => WINDOW_LIMIT,
+    };
+    let mut pilot_scene = scene.clone();
+    pilot_scene.time.end = cap;
+    horizon_counted(
+        &pilot_scene,
+        law,
+        front[0].configuration,
+        cap,
+        started,
+        count,
+        progress,
+    )
+}
+
+/// The calibration runs over the window, each front point run at most once.
+struct Calibration<'a, 'p> {
+    /// The scene cut to the calibration window.
+    scene: &'a Scene,
+    law: &'a LawSource,
+    front: &'a [FrontPoint],
+    /// The run of each front point, once made.
+    measured: Vec<Option<Measured>>,
+    started: Instant,
+    /// Calibration runs made, the pilot's included.
+    count: usize,
+    progress: &'a mut (dyn FnMut(&str) + 'p),
+}
+
+impl Calibration<'_, '_> {
+    /// Front point `k` run over the window, made on first use.
+    fn run(&mut self, k: usize) -> Result<Measured, AutoError> {
+        if self.measured[k].is_none() {
+            self.measured[k] = Some(calibration_run(
+                self.scene,
+                self.law,
+                self.front[k].configuration,
+                "",
+                self.started,
+                &mut self.count,
+                self.progress,
+            )?);
+        }
+        Ok(self.measured[k].clone().expect("just measured"))
+    }
+}
+
+/// Front point `k` bounded by its chain of partners from `first`, with the model
+/// refinement where the chain needs one; also the deepest partner's run, from which
+/// the drift's room is read.
+///
+/// The chain: e_k <= d(k, p) + e_p for any partner p, so the bound is
+/// d(k, last) + [`TAIL_FACTOR`] d_last, the same for the drift rate r, each times
+/// [`SAFETY_FACTOR`].
+fn bound_by_chain(
+    runs: &mut Calibration,
+    k: usize,
+    first: usize,
+) -> Result<(Candidate, Measured), AutoError> {
+    let front = runs.front;
+    let candidate = runs.run(k)?;
+    let mut before = candidate.clone();
+    let mut chain: Vec<(Configuration, f64)> = Vec::new();
+    // d(k, deepest partner so far).
+    let mut direct = f64::NAN;
+    let mut rates;
+    let mut deepest;
+    let mut link = first;
+    loop {
+        let linked = runs.run(link)?;
+        let d = window_deviation(&before.tip, &linked.tip);
+        let previous = direct;
+        direct = window_deviation(&candidate.tip, &linked.tip);
+        rates = (
+            drift_rate(&candidate, &linked),
+            drift_rate(&before, &linked),
+        );
+        chain.push((front[link].configuration, d));
+        deepest = linked.clone();
+        // The previous partner is verified when its deviation from its own partner
+        // is small against its deviation from the candidate; otherwise the chain
+        // goes on, where that is affordable.
+        let verified = chain.len() >= 2 && d <= previous / PARTNER_ACCURACY_RATIO;
+        match partner(front, link) {
+            Some(next) if !verified && affordable(front, next, first) => {
+                before = linked;
+                link = next;
+            }
+            _ => break,
+        }
+    }
+    let last = chain.last().map_or(f64::NAN, |(_, d)| *d);
+    let mut bound = direct + TAIL_FACTOR * last;
+    if let Some(refined) = refine(runs, k, &candidate, &mut chain)? {
+        bound = bound.max(refined);
+    }
+    let candidate = Candidate {
+        configuration: front[k].configuration,
+        estimated_error: SAFETY_FACTOR * bound,
+        drift_rate: match rates {
+            (Some(direct), Some(last)) => Some(SAFETY_FACTOR * (direct + TAIL_FACTOR * last)),
+            _ => None,
+        },
+        partner: front[first].configuration,
+        chain,
+    };
+    Ok((candidate, deepest))
+}
+
+/// The model-refinement bound (m) on front point `k`, its link pushed onto `chain`;
+/// `None` where the chain needs none or the front has no refinement point.
+///
+/// Beam and modal points can share a model error (shear on a stubby beam) that no
+/// chain among them sees. A chain without plane stress (full or modal, both have
+/// shear) is checked against the cheapest plane-stress point 5x more accurate on the
+/// paper scene, if any ([`refinement`]). With rho the paper-scene error ratio of k to
+/// m (>= 5) and e_m <= e_k / rho: e_k <= d(k, m) rho / (rho - 1).
+fn refine(
+    runs: &mut Calibration,
+    k: usize,
+    candidate: &Measured,
+    chain: &mut Vec<(Configuration, f64)>,
+) -> Result<Option<f64>, AutoError> {
+    let front = runs.front;
+    let refined = |c: &Configuration| c.resolution.is_continuum();
+    if refined(&front[k].configuration) || chain.iter().any(|(c, _)| refined(c)) {
+        return Ok(None);
+    }
+    let Some(m) = refinement(front, k) else {
+        return Ok(None);
+    };
+    let d = window_deviation(&candidate.tip, &runs.run(m)?.tip);
+    chain.push((front[m].configuration, d));
+    let rho = front[k].rms_error / front[m].rms_error;
+    Ok(Some(d * rho / (rho - 1.0)))
+}
+
+/// Until when (s) a choice within the tolerance holds ([`Selection::holds_until`]):
+/// with [`Reach::Window`] and a drift rate, the window plus the time the drift takes
+/// to use up `room` (m, the tolerance left above the estimate) on the deepest
+/// partner's tip (infinite without drift); else the horizon.
+fn holds_until(
+    horizon: Horizon,
+    reach: Reach,
+    window: f64,
+    drift_rate: Option<f64>,
+    room: f64,
+    deepest: &Measured,
+) -> f64 {
+    match (reach, drift_rate) {
+        (Reach::Window { .. }, Some(rate)) => {
+            let limit = 1e3 * window;
+            let shift = shift_within(&deepest.tip, room, limit);
+            if rate > 0.0 && shift < limit {
+                window + shift / rate
+            } else {
+                f64::INFINITY
+            }
+        }
+        (Reach::Window { .. }, None) => window,
+        (_, _) => match horizon {
+            Horizon::Until(end) => end,
+            Horizon::Open => window,
+        },
+    }
 }

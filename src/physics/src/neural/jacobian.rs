@@ -147,45 +147,15 @@ impl NeuralModel {
     /// sliding-velocity feature has slope 0 and a zero slope gradient. Refuses a wrong
     /// number of features and non-finite ones, as `NeuralLaw::evaluate` does.
     pub fn input_jacobian(&self, features: &[f64]) -> Result<LawJacobian, NeuralError> {
+        self.check_point(features)?;
         let d = self.features.len();
-        if features.len() != d {
-            return Err(NeuralError::FeatureCount {
-                expected: d,
-                got: features.len(),
-                names: self.feature_names().join(", "),
-            });
-        }
-        if let Some(k) = features.iter().position(|f| !f.is_finite()) {
-            return Err(NeuralError::NonFiniteInput {
-                feature: self.features[k].name.clone(),
-                value: features[k],
-            });
-        }
         let velocity = self.feature_with_role(FeatureRole::SlidingVelocity);
         let signed = self.variant == Variant::Signed && velocity.is_some();
         let sign = match velocity {
             Some(v) if signed => signum_or_zero(features[v]),
             _ => 1.0,
         };
-        // Network inputs and dx_k/df_k.
-        let mut x = Vec::with_capacity(d);
-        let mut scale = Vec::with_capacity(d);
-        for (k, spec) in self.features.iter().enumerate() {
-            let raw = if signed && Some(k) == velocity {
-                features[k].abs()
-            } else {
-                features[k]
-            };
-            let (lo, hi) = network_input_range(spec, self.variant);
-            x.push((raw.clamp(lo, hi) - spec.input_mean) / spec.input_std);
-            let inside = (lo..=hi).contains(&raw);
-            let chain = if signed && Some(k) == velocity {
-                magnitude_slope(features[k])
-            } else {
-                1.0
-            };
-            scale.push(if inside { chain / spec.input_std } else { 0.0 });
-        }
+        let (x, scale) = self.inputs_and_scales(features, velocity, signed);
         let z = self.output_jet(&x, velocity)?;
         let (mean, std) = (self.target.output_mean, self.target.output_std);
         let y = mean + std * z.value();
@@ -230,6 +200,56 @@ impl NeuralModel {
             force_gradient,
             slope_gradient,
         })
+    }
+
+    /// Refuses a wrong number of features and non-finite ones.
+    fn check_point(&self, features: &[f64]) -> Result<(), NeuralError> {
+        let d = self.features.len();
+        if features.len() != d {
+            return Err(NeuralError::FeatureCount {
+                expected: d,
+                got: features.len(),
+                names: self.feature_names().join(", "),
+            });
+        }
+        if let Some(k) = features.iter().position(|f| !f.is_finite()) {
+            return Err(NeuralError::NonFiniteInput {
+                feature: self.features[k].name.clone(),
+                value: features[k],
+            });
+        }
+        Ok(())
+    }
+
+    /// The network inputs x_k (clamped to the network's input range, standardised) and
+    /// dx_k/df_k: 1 / std inside the range, 0 where the clamp holds x_k still; for the
+    /// signed variant's velocity, x_v follows |v| and carries d|v|/dv.
+    fn inputs_and_scales(
+        &self,
+        features: &[f64],
+        velocity: Option<usize>,
+        signed: bool,
+    ) -> (Vec<f64>, Vec<f64>) {
+        let d = self.features.len();
+        let mut x = Vec::with_capacity(d);
+        let mut scale = Vec::with_capacity(d);
+        for (k, spec) in self.features.iter().enumerate() {
+            let raw = if signed && Some(k) == velocity {
+                features[k].abs()
+            } else {
+                features[k]
+            };
+            let (lo, hi) = network_input_range(spec, self.variant);
+            x.push((raw.clamp(lo, hi) - spec.input_mean) / spec.input_std);
+            let inside = (lo..=hi).contains(&raw);
+            let chain = if signed && Some(k) == velocity {
+                magnitude_slope(features[k])
+            } else {
+                1.0
+            };
+            scale.push(if inside { chain / spec.input_std } else { 0.0 });
+        }
+        (x, scale)
     }
 
     /// The network's output z (one value) as a jet over the inputs `x`.

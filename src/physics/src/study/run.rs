@@ -95,35 +95,20 @@ pub fn run(
     grid: &Grid,
     mut progress: impl FnMut(Progress<'_>),
 ) -> Result<Study, StudyError> {
-    let laws = grid.laws_or(Law::of_scene(scene)?);
-    let mut plan: Vec<(Law, Configuration, Configuration, LawSource)> = Vec::new();
-    for law in &laws {
-        let reference = grid.finest_for(law).ok_or(StudyError::EmptyGrid)?;
-        let scene = law.apply(scene);
-        // The law's source is resolved once (a weights file read once) on the scene
-        // as its reference runs it: any configuration would do, but the scene's own
-        // level may be `auto`, which a law with state refuses.
-        let checked = reference
-            .apply(&scene)
-            .check()
-            .map_err(|source| StudyError::Scene {
-                law: law.clone(),
-                source,
-            })?;
-        let source = LawSource::resolve(&checked).map_err(|source| StudyError::Source {
-            law: law.clone(),
-            source,
-        })?;
-        for configuration in grid.configurations_for(law) {
-            plan.push((law.clone(), configuration, reference, source.clone()));
-        }
-    }
+    let plan = plan(scene, grid)?;
     let mut references: Vec<Reference> = Vec::new();
     let mut rows = Vec::new();
     let mut failures = Vec::new();
     let total = plan.len();
-    for (index, (law, configuration, reference_configuration, source)) in
-        plan.into_iter().enumerate()
+    for (
+        index,
+        Planned {
+            law,
+            configuration,
+            reference: reference_configuration,
+            source,
+        },
+    ) in plan.into_iter().enumerate()
     {
         let law_scene = law.apply(scene);
         if !references.iter().any(|r| r.law == law) {
@@ -180,4 +165,47 @@ pub fn run(
         rows,
         failures,
     })
+}
+
+/// One run of the study as planned: a law, the configuration to run, the law's
+/// reference configuration and the law's source, resolved once per law.
+struct Planned {
+    law: Law,
+    configuration: Configuration,
+    reference: Configuration,
+    source: LawSource,
+}
+
+/// Every run of the study, law by law (the grid's, or the scene's own), each law's
+/// configurations in the grid's order.
+fn plan(scene: &Scene, grid: &Grid) -> Result<Vec<Planned>, StudyError> {
+    let laws = grid.laws_or(Law::of_scene(scene)?);
+    let mut plan = Vec::new();
+    for law in &laws {
+        let reference = grid.finest_for(law).ok_or(StudyError::EmptyGrid)?;
+        let scene = law.apply(scene);
+        // The law's source is resolved once (a weights file read once) on the scene
+        // as its reference runs it: any configuration would do, but the scene's own
+        // level may be `auto`, which a law with state refuses.
+        let checked = reference
+            .apply(&scene)
+            .check()
+            .map_err(|source| StudyError::Scene {
+                law: law.clone(),
+                source,
+            })?;
+        let source = LawSource::resolve(&checked).map_err(|source| StudyError::Source {
+            law: law.clone(),
+            source,
+        })?;
+        for configuration in grid.configurations_for(law) {
+            plan.push(Planned {
+                law: law.clone(),
+                configuration,
+                reference,
+                source: source.clone(),
+            });
+        }
+    }
+    Ok(plan)
 }
