@@ -13,7 +13,8 @@ use std::collections::BTreeMap;
 use std::process::Command;
 
 use stickslip::choice::Choice;
-use stickslip::scene::{FidelityLevel, FrictionLawKind, Inference, Scene};
+use stickslip::friction::FrictionLawKind;
+use stickslip::scene::{FidelityLevel, Inference, Scene};
 use stickslip::simulation::Simulator;
 use stickslip_tests::law_of;
 

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use stickslip::files::WEIGHTS_FILE;
-use stickslip::neural::memory::{LearnedStateLaw, StateLawFile};
+use stickslip::friction::learned_state::{LearnedStateLaw, StateLawFile};
 use stickslip::neural::{NeuralError, NeuralLaw};
 
 /// The weights read at instantiation (the paper's network, see `neural`).

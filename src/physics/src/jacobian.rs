@@ -13,7 +13,7 @@
 //! gives the slope): dF/dv = g'(0+) and dS/dv = g''(0+), while the derivatives with respect
 //! to the other inputs are 0, since F(0, ...) = 0 for every value of them.
 
-use crate::friction::{signum_or_zero, ExponentialLaw};
+use crate::friction::{exponential::ExponentialLaw, signum_or_zero};
 
 /// A law's force and slope at one point, and their gradients over the law's inputs (in the
 /// law's input order: for the exponential law (v, F_n), for a network its features).

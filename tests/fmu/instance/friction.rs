@@ -104,7 +104,7 @@ fn neural_friction_outputs_follow_the_inputs() {
     let mut f = Instance::<NeuralFriction>::new("f", Some(&resources()), false, logger).unwrap();
     f.set_integer(
         &[vr::<NeuralFriction>("law")],
-        &[LawChoice::Exponential.code()],
+        &[NeuralFrictionLaw::EXPONENTIAL.code()],
     )
     .unwrap();
     f.setup_experiment(0.0, None).unwrap();

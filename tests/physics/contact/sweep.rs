@@ -4,7 +4,9 @@
 
 use super::{previous, BELT};
 use stickslip::contact::{Contact, ContactState, Kinetic, Resolution, SlipSolver, SLIP_TOLERANCE};
-use stickslip::friction::{signum_or_zero, CoulombLaw, ExponentialLaw, FrictionLaw};
+use stickslip::friction::{
+    coulomb::CoulombLaw, exponential::ExponentialLaw, signum_or_zero, FrictionLaw,
+};
 use stickslip::integrator::{Coefficients, TrialStep};
 use stickslip::neural::NeuralLaw;
 use stickslip::scene::{CheckedScene, Scheme, SlidingVelocity};

@@ -537,7 +537,7 @@ impl Inputs<'_> {
 
 impl FrictionLaw for NeuralLaw {
     fn name(&self) -> &str {
-        crate::choice::Choice::name(crate::scene::FrictionLawKind::Neural)
+        crate::choice::Choice::name(crate::friction::FrictionLawKind::Neural)
     }
 
     /// Signed force (N) in the direction of `sliding_velocity` (m/s) under

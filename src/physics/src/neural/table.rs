@@ -447,7 +447,7 @@ fn refine_nodes(exact: &mut Exact<'_>, lo: f64, hi: f64, rows: &[f64]) -> Vec<f6
 
 impl FrictionLaw for TableLaw {
     fn name(&self) -> &str {
-        crate::choice::Choice::name(crate::scene::FrictionLawKind::Neural)
+        crate::choice::Choice::name(crate::friction::FrictionLawKind::Neural)
     }
 
     fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {

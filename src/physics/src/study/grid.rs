@@ -3,7 +3,8 @@
 
 use super::configuration::{Configuration, Resolution};
 use super::law::Law;
-use crate::scene::{FrictionLawKind, Inference, Scheme};
+use crate::friction::FrictionLawKind;
+use crate::scene::{Inference, Scheme};
 
 /// The axes of a study grid.
 #[derive(Clone, Debug, PartialEq)]
