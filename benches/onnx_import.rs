@@ -24,8 +24,9 @@ use stickslip::choice::Choice;
 use stickslip::friction::FrictionLaw;
 use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::LawSource;
+use stickslip::neural::inference::Inference;
 use stickslip::neural::NeuralModel;
-use stickslip::scene::{Inference, Scene};
+use stickslip::scene::Scene;
 use stickslip_tests::bench::{ratio, shown, table_note, Samples};
 use stickslip_tests::onnx::{export, Exporter};
 

@@ -19,8 +19,9 @@ use std::time::{Duration, Instant};
 
 use criterion::{Criterion, SamplingMode};
 use stickslip::choice::Choice;
+use stickslip::elementary::signum_or_zero;
 use stickslip::friction::FrictionLawKind;
-use stickslip::friction::{exponential::ExponentialLaw, signum_or_zero, FrictionLaw};
+use stickslip::friction::{exponential::ExponentialLaw, FrictionLaw};
 use stickslip::neural::forward::Forward;
 use stickslip::neural::NeuralLaw;
 use stickslip::scene::{CheckedScene, FidelityLevel, Scene};

@@ -5,9 +5,10 @@ use std::collections::HashSet;
 use stickslip::choice::Choice;
 use stickslip::friction::rate_and_state::StateEvolution;
 use stickslip::friction::FrictionLawKind;
+use stickslip::neural::inference::Inference;
 use stickslip::scene::{
-    Clamp, DampingPhase, FidelityLevel, FirstSlipStep, HoldingForce, Inference, InitialState,
-    ModalBasis, Scheme, SlidingVelocity, SlipForce, TipVelocity,
+    Clamp, DampingPhase, FidelityLevel, FirstSlipStep, HoldingForce, InitialState, ModalBasis,
+    Scheme, SlidingVelocity, SlipForce, TipVelocity,
 };
 use stickslip::simulation::ExternalCoupling;
 use stickslip_fmi::beam::StickSlipBeam;

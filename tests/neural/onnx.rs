@@ -8,12 +8,13 @@
 use std::sync::Arc;
 use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::{LawSource, NetworkOrigin};
+use stickslip::neural::inference::Inference;
 use stickslip::neural::onnx::{
     import_onnx, read_onnx, FeatureInfo, OnnxError, OnnxImport, Precision,
 };
 use stickslip::neural::weights::LayerWeights;
 use stickslip::neural::{FeatureRole, NeuralLaw, NeuralModel};
-use stickslip::scene::{Inference, Scene};
+use stickslip::scene::Scene;
 use stickslip_tests::onnx::{
     export, Attribute, Data, Exporter, Node, Onnx, Value, DOUBLE, FLOAT16,
 };

@@ -6,11 +6,11 @@
 use stickslip::choice::Choice;
 use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::LawSource;
+use stickslip::neural::inference::Inference;
 use stickslip::neural::{Activation, Variant};
 use stickslip::run::{run_scene, RunError};
 use stickslip::scene::{
-    Clamp, FidelityLevel, HoldingForce, Inference, InitialState, ModalBasis, Scene, Scheme,
-    SlidingVelocity,
+    Clamp, FidelityLevel, HoldingForce, InitialState, ModalBasis, Scene, Scheme, SlidingVelocity,
 };
 use stickslip::structure::{ModelError, StructuralModel};
 use stickslip_fmi::friction::NeuralFrictionLaw;

@@ -14,7 +14,8 @@ use std::process::Command;
 
 use stickslip::choice::Choice;
 use stickslip::friction::FrictionLawKind;
-use stickslip::scene::{FidelityLevel, Inference, Scene};
+use stickslip::neural::inference::Inference;
+use stickslip::scene::{FidelityLevel, Scene};
 use stickslip::simulation::Simulator;
 use stickslip_tests::law_of;
 

@@ -12,10 +12,10 @@ use std::path::PathBuf;
 use stickslip::friction::rate_and_state::StateEvolution;
 use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::LawSource;
+use stickslip::neural::inference::Inference;
 use stickslip::run::RunError;
 use stickslip::scene::{
-    CheckedScene, DampingPhase, FidelityLevel, FirstSlipStep, Inference, Scene, Scheme, SlipForce,
-    TipVelocity,
+    CheckedScene, DampingPhase, FidelityLevel, FirstSlipStep, Scene, Scheme, SlipForce, TipVelocity,
 };
 use stickslip::scene_preset::ScenePreset;
 

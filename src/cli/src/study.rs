@@ -7,7 +7,8 @@ use crate::error::CliError;
 use clap::Args;
 use std::path::PathBuf;
 use stickslip::files::{write_atomically, Outputs};
-use stickslip::scene::{Inference, Scene, Scheme};
+use stickslip::neural::inference::Inference;
+use stickslip::scene::{Scene, Scheme};
 use stickslip::study::{front_of, front_points, Law, Progress, Study, StudyError};
 
 /// Arguments of `stickslip study`.

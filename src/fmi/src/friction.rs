@@ -23,10 +23,10 @@ use crate::networks::{NetworkError, Networks, DEFAULT_WEIGHTS};
 use serde::{Deserialize, Serialize};
 use stickslip::friction::lugre::LuGreParameters;
 use stickslip::friction::rate_and_state::RateStateParameters;
-use stickslip::friction::state::{StatefulLaw, STATE_VARIABLES};
-use stickslip::friction::{exponential::ExponentialLaw, FrictionLaw, FrictionLawKind};
+use stickslip::friction::state::STATE_VARIABLES;
+use stickslip::friction::{FrictionLaw, FrictionLawKind};
 use stickslip::neural::{FeatureRole, NeuralError, NeuralModel};
-use stickslip::scene::{Scene, SceneError};
+use stickslip::scene::{Friction, Loading, Scene, SceneError};
 use stickslip::short::Short;
 
 mod derivatives;
@@ -60,6 +60,21 @@ struct Settings {
 }
 
 impl Settings {
+    /// These settings as the scene's friction section (`friction.law` the law chosen,
+    /// no weights: NeuralFriction reads its networks itself), the one form every law is
+    /// built and checked from (`LawSource`, `Friction::check`).
+    fn friction(&self) -> Friction {
+        Friction {
+            law: self.law.kind(),
+            static_coefficient: self.static_coefficient,
+            kinetic_coefficient: self.kinetic_coefficient,
+            decay: self.decay,
+            lugre: self.lugre.clone(),
+            rate_and_state: self.rate_and_state.clone(),
+            ..Friction::default()
+        }
+    }
+
     /// The value of input `vr` (one of the inputs' value references).
     fn input(&self, vr: u32) -> f64 {
         match vr {
@@ -171,7 +186,7 @@ pub struct NeuralFriction {
     /// importer asks column by column, one input at a time, at the same inputs.
     derivatives_at: Option<(Settings, Vec<f64>, PartialDerivatives)>,
     /// The law with state last built (`state_laws`).
-    built: Option<(Settings, Box<dyn StatefulLaw>)>,
+    built: Option<(Settings, Box<dyn FrictionLaw>)>,
     /// The committed state of a law with state (`state_laws`); empty otherwise.
     law_state: Vec<f64>,
     /// Where the model is (s): the start time, then the end of the last step.
@@ -199,17 +214,16 @@ impl NeuralFriction {
         Ok(())
     }
 
-    /// Checks the analytical parameters with the scene's rules and messages.
+    /// Checks the analytical parameters with the scene's rules and messages, in the
+    /// scene's order: the normal force (`loading`), then the friction section every law
+    /// is built from ([`Settings::friction`]).
     fn check(&self) -> Result<(), SceneError> {
-        let mut scene = Scene::default();
-        let s = &self.settings;
-        scene.friction.static_coefficient = s.static_coefficient;
-        scene.friction.kinetic_coefficient = s.kinetic_coefficient;
-        scene.friction.decay = s.decay;
-        scene.friction.lugre = s.lugre.clone();
-        scene.friction.rate_and_state = s.rate_and_state.clone();
-        scene.loading.normal_force = s.normal_force;
-        scene.check().map(|_| ())
+        let loading = Loading {
+            normal_force: self.settings.normal_force,
+            ..Loading::default()
+        };
+        loading.check()?;
+        self.settings.friction().check()
     }
 
     fn evaluate(&mut self) -> Result<Outputs, EvaluateError> {
@@ -218,11 +232,7 @@ impl NeuralFriction {
         let mut state = [0.0; STATE_VARIABLES.len()];
         let (force, slope) = match s.law.kind() {
             FrictionLawKind::Exponential => {
-                let mut law = ExponentialLaw {
-                    static_coefficient: s.static_coefficient,
-                    kinetic_coefficient: s.kinetic_coefficient,
-                    decay: s.decay,
-                };
+                let mut law = s.friction().exponential_law();
                 (
                     law.sliding_force(s.sliding_velocity, s.normal_force),
                     law.slope(s.sliding_velocity, s.normal_force),

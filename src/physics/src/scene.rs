@@ -22,8 +22,10 @@
 //! dt = 1e-4 s, t_end = 1.2 s. The paper does not give Poisson's ratio; 0.3 (steel) is used.
 
 use crate::friction::lugre::LuGreParameters;
+use crate::friction::parameters::ParameterProblem;
 use crate::friction::rate_and_state::RateStateParameters;
 use crate::friction::{exponential::ExponentialLaw, FrictionLawKind};
+use crate::neural::inference::Inference;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -87,22 +89,6 @@ impl Default for Loading {
             belt_speed: 0.02,
             normal_force: 100.0,
         }
-    }
-}
-
-crate::choice! {
-    /// How the neural law is evaluated in the time loop (ignored by the other laws).
-    #[choice(name = "Inference", description = "How the network of a neural law is evaluated")]
-    #[derive(Default)]
-    pub enum Inference {
-        /// The network in f64, as trained.
-        #[default]
-        Exact = "exact": "the network in f64, as trained",
-        /// The network in f32 (`neural::NeuralLaw::in_f32`).
-        F32 = "f32": "the network in single precision (its largest deviation measured at build)",
-        /// A table of the network over its training range, built at initialisation
-        /// (`neural::table`).
-        Table = "table": "a table of the network over its training range, built at initialisation (largest error verified at build)",
     }
 }
 
@@ -659,7 +645,7 @@ impl Material {
 
 impl Loading {
     /// A finite belt speed (either sign) and a normal force not negative.
-    fn check(&self) -> Result<(), SceneError> {
+    pub fn check(&self) -> Result<(), SceneError> {
         if !self.belt_speed.is_finite() {
             return Err(invalid(
                 "loading.belt_speed",
@@ -682,9 +668,24 @@ impl Friction {
         }
     }
 
+    /// The first parameter out of range of the law `law` names, among those it is built
+    /// from besides the coefficients (`[friction.lugre]`, `[friction.rate_and_state]`).
+    /// [`Friction::check`] asks it of every law's table; a caller that builds a law
+    /// from parameters no check has seen (NeuralFriction's outputs read before
+    /// initialisation) asks it of the one law it builds.
+    pub fn law_problem(&self) -> Option<ParameterProblem> {
+        match self.law {
+            FrictionLawKind::Lugre => self.lugre.problem(),
+            FrictionLawKind::RateAndState => self.rate_and_state.problem(),
+            _ => None,
+        }
+    }
+
     /// The coefficients (kinetic at most static), the exponential law's decay, the stick
-    /// threshold, the weights path when given, then the laws with state's parameters.
-    fn check(&self) -> Result<(), SceneError> {
+    /// threshold, the weights path when given, then the laws with state's parameters:
+    /// every parameter a law is built from ([`crate::law_source::LawSource`]), so that a
+    /// law built from a checked section needs no check of its own.
+    pub fn check(&self) -> Result<(), SceneError> {
         non_negative("friction.static_coefficient", self.static_coefficient, "1")?;
         non_negative(
             "friction.kinetic_coefficient",

@@ -4,9 +4,8 @@
 
 use super::{previous, BELT};
 use stickslip::contact::{Contact, ContactState, Kinetic, Resolution, SlipSolver, SLIP_TOLERANCE};
-use stickslip::friction::{
-    coulomb::CoulombLaw, exponential::ExponentialLaw, signum_or_zero, FrictionLaw,
-};
+use stickslip::elementary::signum_or_zero;
+use stickslip::friction::{coulomb::CoulombLaw, exponential::ExponentialLaw, FrictionLaw};
 use stickslip::integrator::{Coefficients, TrialStep};
 use stickslip::neural::NeuralLaw;
 use stickslip::scene::{CheckedScene, Scheme, SlidingVelocity};

@@ -13,9 +13,10 @@ use crate::variables::{
     Access, Causality, Dependencies, InitialDependencies, Variability, Variable,
 };
 use stickslip::friction::FrictionLawKind;
+use stickslip::neural::inference::Inference;
 use stickslip::scene::{
-    Clamp, DampingPhase, FidelityLevel, FirstSlipStep, HoldingForce, Inference, InitialState,
-    ModalBasis, Scheme, SlidingVelocity, SlipForce, TipVelocity,
+    Clamp, DampingPhase, FidelityLevel, FirstSlipStep, HoldingForce, InitialState, ModalBasis,
+    Scheme, SlidingVelocity, SlipForce, TipVelocity,
 };
 use stickslip::short::Short;
 use stickslip::simulation::ExternalCoupling;

@@ -10,7 +10,8 @@
 //! - static_limit mu_s F_n (0 for lugre): mu_s (0) along F_n; evaluated_velocity v: 1 along v.
 
 use super::*;
-use stickslip::friction::{signum_or_zero, FrictionLawKind};
+use stickslip::elementary::signum_or_zero;
+use stickslip::friction::FrictionLawKind;
 use stickslip::jacobian::LawJacobian;
 
 /// The FMU's inputs, in the order of the rows below.
@@ -33,11 +34,7 @@ impl NeuralFriction {
         match self.settings.law.kind() {
             FrictionLawKind::Exponential => {
                 let s = &self.settings;
-                let law = ExponentialLaw {
-                    static_coefficient: s.static_coefficient,
-                    kinetic_coefficient: s.kinetic_coefficient,
-                    decay: s.decay,
-                };
+                let law = s.friction().exponential_law();
                 let jacobian = law.jacobian(s.sliding_velocity, s.normal_force);
                 Ok((jacobian, vec![SLIDING_VELOCITY, NORMAL_FORCE]))
             }

@@ -25,13 +25,10 @@ use super::{EvaluateError, InitialiseError, NeuralFriction, Outputs, Settings};
 use crate::instance::{check_as_set, parse_saved};
 use crate::model::{Model, Restoring};
 use serde::{Deserialize, Serialize};
-use stickslip::friction::learned_state::LearnedStateFriction;
-use stickslip::friction::lugre::LuGreLaw;
-use stickslip::friction::parameters::ParameterProblem;
-use stickslip::friction::rate_and_state::RateStateLaw;
 use stickslip::friction::state::{LawStep, StatefulLaw, STATE_VARIABLES};
-use stickslip::friction::{exponential::ExponentialLaw, FrictionLawKind};
+use stickslip::friction::{FrictionLaw, FrictionLawKind};
 use stickslip::jacobian::LawJacobian;
+use stickslip::law_source::LawSource;
 
 /// The first FMU state version whose NeuralFriction state holds the law's state.
 pub(super) const LAW_STATE_VERSION: u32 = 4;
@@ -97,7 +94,11 @@ impl NeuralFriction {
         if fresh {
             self.built = self.build_law()?.map(|law| (self.settings.clone(), law));
         }
-        let Some((_, law)) = self.built.as_mut() else {
+        let Some(law) = self
+            .built
+            .as_mut()
+            .and_then(|(_, law)| law.as_stateful_mut())
+        else {
             return Ok(None);
         };
         if self.law_state.is_empty() {
@@ -106,41 +107,31 @@ impl NeuralFriction {
             law.set_state(&self.law_state)
                 .map_err(|e| EvaluateError::Parameter(e.to_string()))?;
         }
-        Ok(Some(law.as_mut()))
+        Ok(Some(law))
     }
 
-    /// A new law with state for the settings, its parameters checked first (the laws'
-    /// constructors take checked parameters only).
-    fn build_law(&mut self) -> Result<Option<Box<dyn StatefulLaw>>, EvaluateError> {
+    /// A new law for the settings if it has state, built where every law is built
+    /// (`LawSource`) from the settings as the scene's friction section, its parameters
+    /// checked first (outputs may be read before initialisation, whose check has then not
+    /// run). The neural law has state when its weights file is of the learned law's
+    /// format; `None` for a memoryless law.
+    fn build_law(&mut self) -> Result<Option<Box<dyn FrictionLaw>>, EvaluateError> {
         let s = &self.settings;
-        let refuse = |problem: ParameterProblem| EvaluateError::Parameter(problem.to_string());
-        Ok(match s.law.kind() {
-            FrictionLawKind::Lugre => {
-                if let Some(problem) = s.lugre.problem() {
-                    return Err(refuse(problem));
-                }
-                let g = ExponentialLaw {
-                    static_coefficient: s.static_coefficient,
-                    kinetic_coefficient: s.kinetic_coefficient,
-                    decay: s.decay,
-                };
-                Some(Box::new(LuGreLaw::new(s.lugre.clone(), g)))
-            }
-            FrictionLawKind::RateAndState => {
-                if let Some(problem) = s.rate_and_state.problem() {
-                    return Err(refuse(problem));
-                }
-                Some(Box::new(RateStateLaw::new(s.rate_and_state.clone())))
-            }
-            FrictionLawKind::Neural => {
-                let weights = s.weights.clone();
-                self.networks
-                    .state_law(&weights)?
-                    .map(|law| Box::new(LearnedStateFriction::new(law)) as Box<dyn StatefulLaw>)
-            }
-            // The exponential law has no state.
-            _ => None,
-        })
+        let friction = s.friction();
+        if let Some(problem) = friction.law_problem() {
+            return Err(EvaluateError::Parameter(problem.to_string()));
+        }
+        let source = match LawSource::analytical(&friction) {
+            Some(source) => source,
+            None => match self.networks.state_law(&s.weights)? {
+                Some(law) => LawSource::LearnedState(law),
+                None => return Ok(None),
+            },
+        };
+        let law = source
+            .law()
+            .map_err(|e| EvaluateError::Parameter(e.to_string()))?;
+        Ok(law.as_stateful().is_some().then_some(law))
     }
 
     /// The force at the committed state and the current inputs with its Jacobian over
@@ -187,7 +178,11 @@ impl NeuralFriction {
             law.commit(step);
         }
         // The law just used (disjoint from `law_state`, so both borrows may live).
-        let state = self.built.as_ref().map_or(&[][..], |(_, law)| law.state());
+        let state = self
+            .built
+            .as_ref()
+            .and_then(|(_, law)| law.as_stateful())
+            .map_or(&[][..], |law| law.state());
         if let Some(&value) = state.iter().find(|x| !x.is_finite()) {
             return Err(EvaluateError::NonFiniteState {
                 sliding_velocity: step.sliding_velocity,

@@ -1,7 +1,8 @@
 //! Plain Coulomb friction: a coefficient mu_k independent of speed.
 
-use super::{signum_or_zero, FrictionLaw, FrictionLawKind};
+use super::{FrictionLaw, FrictionLawKind};
 use crate::choice::Choice;
+use crate::elementary::signum_or_zero;
 
 /// Plain Coulomb friction: F(v) = sign(v) mu_k F_n.
 #[derive(Clone, Debug, PartialEq)]

@@ -12,7 +12,8 @@ use super::exponential::ExponentialLaw;
 use super::parameters::{first_problem, ParameterProblem};
 use super::state::relaxation::Relaxation;
 use super::state::{set_checked, ForceAtState, LawStep, StateError, StateVariable, StatefulLaw};
-use super::{signum_or_zero, FrictionLaw};
+use super::FrictionLaw;
+use crate::elementary::signum_or_zero;
 use crate::jacobian::magnitude_slope;
 use serde::{Deserialize, Serialize};
 

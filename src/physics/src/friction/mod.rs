@@ -7,8 +7,8 @@
 //! The static limit mu_s F_n is not part of a law: it belongs to the contact. Which law
 //! a run uses is `crate::law_source::LawSource`.
 //!
-//! - memoryless: [`exponential`] (the paper's Eq. 6), [`coulomb`]; the trained network
-//!   is `crate::neural`;
+//! - memoryless: [`exponential`] (the paper's Eq. 6), [`coulomb`], and the trained
+//!   network ([`neural`], evaluated by `crate::neural`);
 //! - with state: [`lugre`], [`rate_and_state`] and the learned law [`learned_state`],
 //!   stepped by the time loop through [`state::StatefulLaw`] (their shared stepping);
 //! - [`parameters`]: how a law's parameter out of range is told;
@@ -19,6 +19,7 @@ pub mod coulomb;
 pub mod exponential;
 pub mod learned_state;
 pub mod lugre;
+pub mod neural;
 pub mod parameters;
 pub mod rate_and_state;
 pub mod state;
@@ -102,16 +103,5 @@ pub trait FrictionLaw: Send {
     /// [`FrictionLaw::as_stateful`], mutable.
     fn as_stateful_mut(&mut self) -> Option<&mut dyn StatefulLaw> {
         None
-    }
-}
-
-/// sign(v) with sign(0) = 0, so that a law at exactly zero speed exerts no force.
-pub fn signum_or_zero(v: f64) -> f64 {
-    if v > 0.0 {
-        1.0
-    } else if v < 0.0 {
-        -1.0
-    } else {
-        0.0
     }
 }

@@ -9,9 +9,10 @@ use std::sync::Arc;
 use crate::choice::Choice;
 use crate::friction::learned_state::{LearnedStateLaw, StateLawFile};
 use crate::friction::FrictionLawKind;
+use crate::neural::inference::Inference;
 use crate::neural::NeuralError;
 use crate::neural::SceneLawError;
-use crate::scene::{CheckedScene, FidelityLevel, Inference, Scene, SlidingVelocity};
+use crate::scene::{CheckedScene, FidelityLevel, Scene, SlidingVelocity};
 
 /// The learned state law a scene names, if it names one; refused with the reason when
 /// the file is corrupt or the scene asks for what a law with state cannot do (the same

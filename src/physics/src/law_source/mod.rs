@@ -13,9 +13,10 @@ use crate::friction::lugre::LuGreLaw;
 use crate::friction::rate_and_state::RateStateLaw;
 use crate::friction::FrictionLawKind;
 use crate::friction::{coulomb::CoulombLaw, exponential::ExponentialLaw, FrictionLaw};
+use crate::neural::inference::Inference;
 use crate::neural::table::TableLaw;
 use crate::neural::{NeuralError, NeuralLaw, SceneLawError};
-use crate::scene::{CheckedScene, Friction, Inference};
+use crate::scene::{CheckedScene, Friction};
 use std::hash::{Hash, Hasher};
 use std::path::Path;
 use std::sync::Arc;
@@ -136,13 +137,31 @@ impl NetworkOrigin {
 
 impl LawSource {
     /// The law `friction` names, with `network` asked for the network of the neural law
-    /// (and only for it): every other law is made from the coefficients.
+    /// (and only for it): every other law is made from the coefficients
+    /// ([`LawSource::analytical`]).
     pub fn with_network<E>(
         friction: &Friction,
         normal_force: f64,
         network: impl FnOnce() -> Result<(Arc<NeuralLaw>, NetworkOrigin), E>,
     ) -> Result<Self, E> {
-        Ok(match friction.law {
+        if let Some(source) = Self::analytical(friction) {
+            return Ok(source);
+        }
+        let (network, origin) = network()?;
+        Ok(LawSource::Network(NetworkSource::new(
+            network,
+            friction.inference,
+            normal_force,
+            origin,
+        )))
+    }
+
+    /// The one place where a friction section becomes a law made from its coefficients
+    /// and parameters: every law but the neural one (`None`), whose network the caller
+    /// loads. `friction` must have passed `Friction::check` (a scene's check, or
+    /// NeuralFriction's at initialisation), which checks every parameter read here.
+    pub fn analytical(friction: &Friction) -> Option<Self> {
+        Some(match friction.law {
             FrictionLawKind::Exponential => LawSource::Exponential(friction.exponential_law()),
             FrictionLawKind::Coulomb => LawSource::Coulomb(CoulombLaw {
                 kinetic_coefficient: friction.kinetic_coefficient,
@@ -157,15 +176,7 @@ impl LawSource {
             FrictionLawKind::RateAndState => {
                 LawSource::RateAndState(RateStateLaw::new(friction.rate_and_state.clone()))
             }
-            FrictionLawKind::Neural => {
-                let (network, origin) = network()?;
-                LawSource::Network(NetworkSource::new(
-                    network,
-                    friction.inference,
-                    normal_force,
-                    origin,
-                ))
-            }
+            FrictionLawKind::Neural => return None,
         })
     }
 

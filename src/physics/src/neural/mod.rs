@@ -8,6 +8,7 @@
 //! - `weights`: the self-describing JSON weights file (with `synthetic`'s
 //!   `SyntheticSpec`, the generator settings a trained model records); `law`: `NeuralLaw`, the trained
 //!   model as a `crate::friction::FrictionLaw`;
+//! - `inference`: `Inference`, how the time loop evaluates a network (exact, f32, table);
 //! - `table`: the network tabulated at initialisation, with its verified error (the
 //!   law as `friction.inference` asks is built by `crate::law_source`);
 //! - `onnx`: networks exported to ONNX (PyTorch, Keras, scikit-learn), read in pure Rust
@@ -58,6 +59,7 @@ mod error;
 pub(crate) mod file_checks;
 pub mod file_kind;
 pub mod forward;
+pub mod inference;
 pub mod jacobian;
 pub mod law;
 pub mod network;

@@ -4,7 +4,8 @@
 use super::configuration::{Configuration, Resolution};
 use super::law::Law;
 use crate::friction::FrictionLawKind;
-use crate::scene::{Inference, Scheme};
+use crate::neural::inference::Inference;
+use crate::scene::Scheme;
 
 /// The axes of a study grid.
 #[derive(Clone, Debug, PartialEq)]

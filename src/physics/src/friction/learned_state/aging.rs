@@ -58,7 +58,7 @@ pub fn step(state: f64, velocity: f64, step: f64, slip: f64, reference_velocity:
     let (w_kept, w_gained) = (kept_share / scale, gained_share / scale);
     // du/dx / u = -w_kept + w_gained phi'/phi.
     let du_dx = -w_kept + w_gained * phi_slope / phi;
-    let dx_dv = crate::friction::signum_or_zero(velocity) * step / slip;
+    let dx_dv = crate::elementary::signum_or_zero(velocity) * step / slip;
     StateStep {
         state: new_state,
         d_state: w_kept,

@@ -68,7 +68,7 @@ pub fn force(
     let log_scale =
         (level / direct - crate::elementary::ln(2.0 * reference_velocity)).min(LOG_SCALE_CAP);
     let inverse_scale = inverse_scale(level, direct, reference_velocity);
-    let sign = crate::friction::signum_or_zero(velocity);
+    let sign = crate::elementary::signum_or_zero(velocity);
     let d_velocity = normal_force * direct / root_sum_of_squares(inverse_scale, velocity);
     if velocity == 0.0 {
         return RegularisedForce {

@@ -49,7 +49,7 @@ pub fn step(state: f64, velocity: f64, step: f64, slip: f64, reference_velocity:
     StateStep {
         state: state - x * lost,
         d_state: decay,
-        d_velocity: crate::friction::signum_or_zero(velocity)
+        d_velocity: crate::elementary::signum_or_zero(velocity)
             * (-lost / speed - x * decay * step / slip),
         d_log_slip: x * s * decay,
     }
