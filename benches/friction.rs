@@ -15,7 +15,7 @@ use std::time::Duration;
 use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, Criterion, SamplingMode, Throughput};
 use nalgebra::DMatrix;
-use stickslip::friction::{ExponentialLaw, FrictionLaw};
+use stickslip::friction::{exponential::ExponentialLaw, FrictionLaw};
 use stickslip::neural::NeuralLaw;
 use stickslip_tests::bench::{ratio, shown, table_note, Samples};
 

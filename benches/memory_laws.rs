@@ -10,9 +10,10 @@ use std::time::Duration;
 
 use criterion::{Criterion, SamplingMode};
 use stickslip::choice::Choice;
+use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::LawSource;
 use stickslip::run::run_scene;
-use stickslip::scene::{FidelityLevel, FrictionLawKind, Scene};
+use stickslip::scene::{FidelityLevel, Scene};
 use stickslip_tests::bench::{ratio, shown, table_note, Samples};
 
 const SAMPLE_SIZE: usize = 10;

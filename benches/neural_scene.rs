@@ -25,10 +25,10 @@ use std::time::{Duration, Instant};
 use criterion::{Criterion, SamplingMode, Throughput};
 use std::sync::Arc;
 use stickslip::choice::Choice;
-use stickslip::friction::{ExponentialLaw, FrictionLaw};
+use stickslip::friction::FrictionLaw;
 use stickslip::law_source::{LawSource, NetworkOrigin};
+use stickslip::neural::inference::Inference;
 use stickslip::neural::NeuralLaw;
-use stickslip::scene::Inference;
 use stickslip::scene::{CheckedScene, FidelityLevel, Scene};
 use stickslip::simulation::Simulator;
 use stickslip_tests::bench::{ratio, shown, table_note, Samples};
@@ -72,7 +72,7 @@ impl Law {
 
     fn build(self, scene: &CheckedScene) -> Box<dyn FrictionLaw> {
         match self {
-            Law::Analytical => Box::new(ExponentialLaw::of(&scene.friction)),
+            Law::Analytical => Box::new(scene.friction.exponential_law()),
             Law::Neural { signed, inference } => {
                 let law = if signed {
                     NeuralLaw::paper_signed()

@@ -22,9 +22,11 @@ use std::time::Duration;
 use criterion::{Criterion, Throughput};
 use stickslip::choice::Choice;
 use stickslip::friction::FrictionLaw;
+use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::LawSource;
+use stickslip::neural::inference::Inference;
 use stickslip::neural::NeuralModel;
-use stickslip::scene::{FrictionLawKind, Inference, Scene};
+use stickslip::scene::Scene;
 use stickslip_tests::bench::{ratio, shown, table_note, Samples};
 use stickslip_tests::onnx::{export, Exporter};
 

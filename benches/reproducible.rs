@@ -19,10 +19,12 @@ use std::time::{Duration, Instant};
 
 use criterion::{Criterion, SamplingMode};
 use stickslip::choice::Choice;
-use stickslip::friction::{signum_or_zero, ExponentialLaw, FrictionLaw};
+use stickslip::elementary::signum_or_zero;
+use stickslip::friction::FrictionLawKind;
+use stickslip::friction::{exponential::ExponentialLaw, FrictionLaw};
 use stickslip::neural::forward::Forward;
 use stickslip::neural::NeuralLaw;
-use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Scene};
+use stickslip::scene::{CheckedScene, FidelityLevel, Scene};
 use stickslip::simulation::Simulator;
 use stickslip_tests::bench::{ratio, shown, table_note, Samples};
 
@@ -165,7 +167,7 @@ fn main() {
             b.iter_custom(|iters| {
                 let mut total = 0.0;
                 for _ in 0..iters {
-                    total += stepping(&scene, Box::new(ExponentialLaw::of(&scene.friction))).0;
+                    total += stepping(&scene, Box::new(scene.friction.exponential_law())).0;
                 }
                 times.record(&libm_id, total / iters.max(1) as f64);
                 Duration::from_secs_f64(total)
@@ -176,7 +178,7 @@ fn main() {
             b.iter_custom(|iters| {
                 let mut total = 0.0;
                 for _ in 0..iters {
-                    let law = PlatformExp(ExponentialLaw::of(&scene.friction));
+                    let law = PlatformExp(scene.friction.exponential_law());
                     total += stepping(&scene, Box::new(law)).0;
                 }
                 times.record(&platform_id, total / iters.max(1) as f64);

@@ -46,7 +46,7 @@ fn bad_rows_and_units_are_refused_with_the_line() {
 }
 
 /// Synthetic records exported, read back as measured data and trained on (a short fit:
-/// the point is the path, not the accuracy, which `tests/neural/memory.rs` asserts);
+/// the point is the path, not the accuracy, which `tests/neural/learned_state.rs` asserts);
 /// the weights file runs the paper scene.
 #[test]
 fn exported_records_train_again_and_the_weights_run_a_scene() {

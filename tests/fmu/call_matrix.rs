@@ -24,11 +24,11 @@
 use std::ffi::{c_char, c_void, CString};
 use std::ptr::null_mut;
 use stickslip::choice::Choice;
-use stickslip::friction::LawChoice;
 use stickslip::scene::FidelityLevel;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::ffi2::*;
 use stickslip_fmi::friction::NeuralFriction;
+use stickslip_fmi::friction::NeuralFrictionLaw;
 use stickslip_fmi::FmuKind;
 
 use stickslip_tests::fmi_log::{owned, record, Entry, Log};

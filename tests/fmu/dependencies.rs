@@ -12,11 +12,12 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use stickslip::choice::Choice;
-use stickslip::friction::LawChoice;
-use stickslip::scene::{FidelityLevel, FrictionLawKind};
+use stickslip::friction::FrictionLawKind;
+use stickslip::scene::FidelityLevel;
 use stickslip::simulation::ExternalCoupling;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
+use stickslip_fmi::friction::NeuralFrictionLaw;
 use stickslip_fmi::instance::{Instance, Mode};
 use stickslip_fmi::model::Model;
 use stickslip_fmi::variables::{Access, Causality};
@@ -169,15 +170,18 @@ fn neural_friction_outputs_change_with_exactly_the_inputs_and_parameters_declare
         declared(&FmuKind::NeuralFriction.model_description());
     let weights = stickslip_tests::six_feature_weights("dependencies");
     let weights = weights.to_str().unwrap().to_string();
-    let neural = LawChoice::Neural.code();
-    let exponential = LawChoice::Exponential.code();
-    let (lugre, rate_and_state) = (LawChoice::Lugre.code(), LawChoice::RateAndState.code());
+    let neural = NeuralFrictionLaw::NEURAL.code();
+    let exponential = NeuralFrictionLaw::EXPONENTIAL.code();
+    let (lugre, rate_and_state) = (
+        NeuralFrictionLaw::LUGRE.code(),
+        NeuralFrictionLaw::RATE_AND_STATE.code(),
+    );
     // Base values inside the networks' training ranges (inputs are clamped to them).
     // Rate-and-state is probed inside its regularisation core (|v K| ~ 1 at
     // v ~ 4e-25 m/s for the defaults), where its slope depends on mu_0 and V_0 as well:
     // at 0.05 m/s it is a F_n / |v| (to 1e-40 relative) and would hide them.
     let inputs = |law: i32| {
-        let v = if law == LawChoice::RateAndState.code() {
+        let v = if law == NeuralFrictionLaw::RATE_AND_STATE.code() {
             3e-25
         } else {
             0.05

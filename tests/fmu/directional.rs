@@ -21,8 +21,8 @@ mod fmu;
 
 use fmu::INPUTS;
 pub(crate) use fmu::{outputs, Fmu, ERROR, OK};
-use stickslip::friction::LawChoice;
 use stickslip::neural::NeuralModel;
+use stickslip_fmi::friction::NeuralFrictionLaw;
 use stickslip_fmi::friction::{NeuralFriction, EXTRA_FEATURE_ARRAY};
 use stickslip_fmi::model::Model;
 use stickslip_fmi::variables::Causality;
@@ -122,7 +122,7 @@ fn shipped_networks_match_central_differences_in_both_versions() {
     for (weights, seed) in [("paper-plain.json", 5), ("paper-signed.json", 9)] {
         let model = shipped(weights);
         for three in [false, true] {
-            let fmu = unsafe { Fmu::new(three, weights, LawChoice::Neural, true) };
+            let fmu = unsafe { Fmu::new(three, weights, NeuralFrictionLaw::NEURAL, true) };
             let (compared, worst) = unsafe { check(&fmu, &model, 2, 100, seed) };
             println!(
                 "{weights} FMI {}: {compared} derivatives, worst error / tolerance {worst:.3}",
@@ -139,10 +139,24 @@ fn every_extra_feature_and_the_exponential_law_match_central_differences() {
     let path = stickslip_tests::six_feature_weights("directional");
     let model = NeuralModel::load(&path).unwrap();
     for three in [false, true] {
-        let fmu = unsafe { Fmu::new(three, path.to_str().unwrap(), LawChoice::Neural, true) };
+        let fmu = unsafe {
+            Fmu::new(
+                three,
+                path.to_str().unwrap(),
+                NeuralFrictionLaw::NEURAL,
+                true,
+            )
+        };
         let (compared, _) = unsafe { check(&fmu, &model, 6, 30, 13) };
         assert!(compared > 900, "{compared}");
-        let fmu = unsafe { Fmu::new(three, "paper-plain.json", LawChoice::Exponential, true) };
+        let fmu = unsafe {
+            Fmu::new(
+                three,
+                "paper-plain.json",
+                NeuralFrictionLaw::EXPONENTIAL,
+                true,
+            )
+        };
         let (compared, _) = unsafe { check(&fmu, &shipped("paper-plain.json"), 2, 30, 17) };
         assert!(compared > 300, "{compared}");
     }
@@ -157,8 +171,8 @@ fn both_versions_agree_and_seeds_combine_linearly() {
     let weights = path.to_str().unwrap();
     let (two, three) = unsafe {
         (
-            Fmu::new(false, weights, LawChoice::Neural, true),
-            Fmu::new(true, weights, LawChoice::Neural, true),
+            Fmu::new(false, weights, NeuralFrictionLaw::NEURAL, true),
+            Fmu::new(true, weights, NeuralFrictionLaw::NEURAL, true),
         )
     };
     let x = [0.07, 101.0, 0.3, -0.2, 0.5, 0.1];
@@ -189,7 +203,7 @@ fn both_versions_agree_and_seeds_combine_linearly() {
 #[test]
 fn clamped_inputs_and_declared_dependencies() {
     let model = shipped("paper-plain.json");
-    let fmu = unsafe { Fmu::new(false, "paper-plain.json", LawChoice::Neural, true) };
+    let fmu = unsafe { Fmu::new(false, "paper-plain.json", NeuralFrictionLaw::NEURAL, true) };
     let column = |x: [f64; 6], j: usize| unsafe {
         fmu.set(&x);
         fmu.column(j)
@@ -207,7 +221,14 @@ fn clamped_inputs_and_declared_dependencies() {
     assert!((heavy[2] + y[0].abs() / (normal * normal)).abs() < 1e-15);
     assert_eq!(heavy[3], 0.5, "static limit: mu_s");
     let path = stickslip_tests::six_feature_weights("directional-deps");
-    let all = unsafe { Fmu::new(false, path.to_str().unwrap(), LawChoice::Neural, true) };
+    let all = unsafe {
+        Fmu::new(
+            false,
+            path.to_str().unwrap(),
+            NeuralFrictionLaw::NEURAL,
+            true,
+        )
+    };
     unsafe { all.set(&[0.05, 99.0, 0.1, 0.2, -0.3, 0.4]) };
     for (j, &input) in INPUTS.iter().enumerate() {
         let column = unsafe { all.column(j) };

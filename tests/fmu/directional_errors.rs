@@ -4,9 +4,9 @@
 
 use crate::directional::{outputs, Fmu, ERROR, OK};
 use std::ptr::{null, null_mut};
-use stickslip::friction::LawChoice;
 use stickslip_fmi::ffi2::*;
 use stickslip_fmi::ffi3::*;
+use stickslip_fmi::friction::NeuralFrictionLaw;
 use stickslip_fmi::friction::EXTRA_FEATURE_ARRAY;
 use stickslip_fmi::FmuKind;
 
@@ -28,7 +28,8 @@ const BAD: [Request; 6] = [
 fn wrong_references_and_seeds_are_refused_with_a_reason() {
     for three in [false, true] {
         for (unknowns, knowns, seed, reason) in BAD {
-            let fmu = unsafe { Fmu::new(three, "paper-plain.json", LawChoice::Neural, true) };
+            let fmu =
+                unsafe { Fmu::new(three, "paper-plain.json", NeuralFrictionLaw::NEURAL, true) };
             let (status, out) = unsafe { fmu.derivative(unknowns, knowns, seed) };
             assert_eq!(status, ERROR, "{unknowns:?} {knowns:?} {seed:?}");
             assert!(fmu.logged(reason), "{reason}: {:?}", fmu.log());
@@ -40,7 +41,7 @@ fn wrong_references_and_seeds_are_refused_with_a_reason() {
 #[test]
 fn before_initialisation_it_is_an_illegal_call_and_reset_recovers() {
     for three in [false, true] {
-        let fmu = unsafe { Fmu::new(three, "paper-plain.json", LawChoice::Neural, false) };
+        let fmu = unsafe { Fmu::new(three, "paper-plain.json", NeuralFrictionLaw::NEURAL, false) };
         let (status, _) = unsafe { fmu.derivative(&[20], &[10], &[1.0]) };
         assert_eq!(status, ERROR);
         assert!(fmu.logged("illegal call sequence"), "{:?}", fmu.log());
@@ -56,7 +57,7 @@ fn before_initialisation_it_is_an_illegal_call_and_reset_recovers() {
 
 #[test]
 fn null_pointers_with_elements_are_refused_and_empty_requests_succeed() {
-    let two = unsafe { Fmu::new(false, "paper-plain.json", LawChoice::Neural, true) };
+    let two = unsafe { Fmu::new(false, "paper-plain.json", NeuralFrictionLaw::NEURAL, true) };
     let Fmu::V2(c, ..) = &two else { unreachable!() };
     let mut d = 0.0;
     unsafe {
@@ -78,7 +79,7 @@ fn null_pointers_with_elements_are_refused_and_empty_requests_succeed() {
         );
     }
     assert!(two.logged("is NULL"));
-    let three = unsafe { Fmu::new(true, "paper-plain.json", LawChoice::Neural, true) };
+    let three = unsafe { Fmu::new(true, "paper-plain.json", NeuralFrictionLaw::NEURAL, true) };
     let Fmu::V3(c, _) = &three else {
         unreachable!()
     };
@@ -116,14 +117,14 @@ fn fmi3_buffer_lengths_elements_and_time_are_checked() {
         (&[0], &[10], 1, "time (value reference 0)"),
     ];
     for (unknowns, knowns, n_seed, reason) in cases {
-        let fmu = unsafe { Fmu::new(true, "paper-plain.json", LawChoice::Neural, true) };
+        let fmu = unsafe { Fmu::new(true, "paper-plain.json", NeuralFrictionLaw::NEURAL, true) };
         let seed = vec![1.0; n_seed];
         let (status, _) = unsafe { fmu.derivative(unknowns, knowns, &seed) };
         assert_eq!(status, ERROR, "{knowns:?}");
         assert!(fmu.logged(reason), "{reason}: {:?}", fmu.log());
     }
     // nSensitivity must match too.
-    let fmu = unsafe { Fmu::new(true, "paper-plain.json", LawChoice::Neural, true) };
+    let fmu = unsafe { Fmu::new(true, "paper-plain.json", NeuralFrictionLaw::NEURAL, true) };
     let Fmu::V3(c, _) = &fmu else { unreachable!() };
     let mut out = [0.0; 2];
     let status = unsafe {
@@ -204,7 +205,8 @@ fn arbitrary_requests_answer_ok_or_error_with_a_reason() {
             let seed: Vec<f64> = (0..knowns.len() + next(2) as usize * three as usize)
                 .map(|_| seeds[next(4) as usize])
                 .collect();
-            let fmu = unsafe { Fmu::new(three, "paper-signed.json", LawChoice::Neural, true) };
+            let fmu =
+                unsafe { Fmu::new(three, "paper-signed.json", NeuralFrictionLaw::NEURAL, true) };
             let (status, out) = unsafe { fmu.derivative(&unknowns, &knowns, &seed) };
             let log = fmu.log();
             assert!(!log.iter().any(|m| m.contains("panic")), "{log:?}");

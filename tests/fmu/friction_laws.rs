@@ -6,9 +6,10 @@
 
 use std::sync::{Arc, Mutex};
 use stickslip::choice::Choice;
-use stickslip::friction::{ExponentialLaw, LawChoice};
-use stickslip::memory::parameters::{RateStateParameters, StateEvolution};
+use stickslip::friction::exponential::ExponentialLaw;
+use stickslip::friction::rate_and_state::{RateStateParameters, StateEvolution};
 use stickslip_fmi::friction::NeuralFriction;
+use stickslip_fmi::friction::NeuralFrictionLaw;
 use stickslip_fmi::instance::{FmiVersion, Instance, SavedState};
 use stickslip_tests::vr;
 
@@ -20,7 +21,7 @@ pub(crate) type Log = Arc<Mutex<Vec<String>>>;
 /// refuses.
 pub(crate) fn initialised(
     version: FmiVersion,
-    law: LawChoice,
+    law: NeuralFrictionLaw,
     integers: &[(&str, i32)],
     reals: &[(&str, f64)],
 ) -> (Result<Instance<NeuralFriction>, String>, Log) {
@@ -90,7 +91,7 @@ const VERSIONS: [FmiVersion; 2] = [FmiVersion::V2, FmiVersion::V3];
 /// NeuralFriction's default exponential law, LuGre's g(v).
 fn exponential() -> ExponentialLaw {
     let scene = stickslip::scene::Scene::default();
-    ExponentialLaw::of(&scene.friction)
+    scene.friction.exponential_law()
 }
 
 /// Sliding at constant v for 0.1 s (1e-3 s steps), LuGre's force is g(v) sgn v + sigma2 v
@@ -106,7 +107,7 @@ fn lugre_at_constant_velocity_converges_to_its_steady_force() {
     for version in VERSIONS {
         let (f, _) = initialised(
             version,
-            LawChoice::Lugre,
+            NeuralFrictionLaw::LUGRE,
             &[],
             &[("friction.lugre.viscous_damping", sigma2)],
         );
@@ -143,7 +144,7 @@ fn rate_and_state_at_constant_velocity_converges_to_its_steady_force() {
         for &evolution in StateEvolution::ALL {
             let (f, _) = initialised(
                 version,
-                LawChoice::RateAndState,
+                NeuralFrictionLaw::RATE_AND_STATE,
                 &[("friction.rate_and_state.state_evolution", evolution.code())],
                 &[],
             );
@@ -176,7 +177,7 @@ fn rate_and_state_at_constant_velocity_converges_to_its_steady_force() {
 fn a_velocity_step_gives_the_direct_effect_at_once_then_the_new_steady_force() {
     let p = RateStateParameters::default();
     for version in VERSIONS {
-        let (f, _) = initialised(version, LawChoice::RateAndState, &[], &[]);
+        let (f, _) = initialised(version, NeuralFrictionLaw::RATE_AND_STATE, &[], &[]);
         let mut f = f.unwrap();
         set_velocity(&mut f, 1e-3);
         let t = steps(&mut f, version, 0.0, 1e-2, 20);
@@ -224,7 +225,7 @@ fn run_bits(f: &mut Instance<NeuralFriction>, version: FmiVersion, t: f64) -> Ve
 #[test]
 fn the_state_round_trips_bit_for_bit_for_both_laws() {
     for version in VERSIONS {
-        for law in [LawChoice::Lugre, LawChoice::RateAndState] {
+        for law in [NeuralFrictionLaw::LUGRE, NeuralFrictionLaw::RATE_AND_STATE] {
             let (f, _) = initialised(version, law, &[], &[]);
             let mut f = f.unwrap();
             set_velocity(&mut f, 2e-2);
@@ -249,7 +250,7 @@ fn the_state_round_trips_bit_for_bit_for_both_laws() {
             );
             // A state that does not fit the law is refused when set (theta must be > 0;
             // LuGre's z may be any finite value), and the instance runs on unchanged.
-            if law == LawChoice::RateAndState {
+            if law == NeuralFrictionLaw::RATE_AND_STATE {
                 let mut bad = saved.clone();
                 bad.model["law_state"] = serde_json::json!([-1.0]);
                 assert!(other.set_state(&bad).is_err());
@@ -313,46 +314,54 @@ fn a_version_4_state_from_before_these_laws_still_restores() {
 #[test]
 fn bad_parameters_are_refused_with_the_reason() {
     let cases = [
-        (LawChoice::Lugre, "friction.lugre.bristle_stiffness", -1e7),
         (
-            LawChoice::Lugre,
+            NeuralFrictionLaw::LUGRE,
+            "friction.lugre.bristle_stiffness",
+            -1e7,
+        ),
+        (
+            NeuralFrictionLaw::LUGRE,
             "friction.lugre.bristle_stiffness",
             f64::NAN,
         ),
-        (LawChoice::Lugre, "friction.lugre.bristle_damping", -1.0),
         (
-            LawChoice::RateAndState,
+            NeuralFrictionLaw::LUGRE,
+            "friction.lugre.bristle_damping",
+            -1.0,
+        ),
+        (
+            NeuralFrictionLaw::RATE_AND_STATE,
             "friction.rate_and_state.direct_effect",
             0.0,
         ),
         (
-            LawChoice::RateAndState,
+            NeuralFrictionLaw::RATE_AND_STATE,
             "friction.rate_and_state.direct_effect",
             -0.01,
         ),
         (
-            LawChoice::RateAndState,
+            NeuralFrictionLaw::RATE_AND_STATE,
             "friction.rate_and_state.characteristic_slip",
             0.0,
         ),
         (
-            LawChoice::RateAndState,
+            NeuralFrictionLaw::RATE_AND_STATE,
             "friction.rate_and_state.characteristic_slip",
             -1e-5,
         ),
         (
-            LawChoice::RateAndState,
+            NeuralFrictionLaw::RATE_AND_STATE,
             "friction.rate_and_state.reference_velocity",
             f64::NAN,
         ),
         (
-            LawChoice::RateAndState,
+            NeuralFrictionLaw::RATE_AND_STATE,
             "friction.rate_and_state.evolution_effect",
             f64::INFINITY,
         ),
         // Finite, but E = exp(mu_0 / a) / (2 V_0) overflows: no finite slope at rest.
         (
-            LawChoice::RateAndState,
+            NeuralFrictionLaw::RATE_AND_STATE,
             "friction.rate_and_state.direct_effect",
             1e-6,
         ),
@@ -384,7 +393,7 @@ fn a_rate_and_state_law_without_a_finite_slope_at_rest_is_refused_as_by_the_scen
     for version in VERSIONS {
         let (result, log) = initialised(
             version,
-            LawChoice::RateAndState,
+            NeuralFrictionLaw::RATE_AND_STATE,
             &[],
             &[("friction.rate_and_state.direct_effect", 1e-6)],
         );
@@ -413,7 +422,7 @@ fn lugre_slope_and_derivatives_at_rest_are_those_of_positive_velocity() {
     for version in VERSIONS {
         let (f, _) = initialised(
             version,
-            LawChoice::Lugre,
+            NeuralFrictionLaw::LUGRE,
             &[],
             &[("friction.lugre.viscous_damping", sigma2)],
         );
@@ -479,7 +488,7 @@ fn directional_derivatives_at_the_committed_state_match_central_differences() {
     ];
     let inputs = ["sliding_velocity", "normal_force"];
     for version in VERSIONS {
-        for law in [LawChoice::Lugre, LawChoice::RateAndState] {
+        for law in [NeuralFrictionLaw::LUGRE, NeuralFrictionLaw::RATE_AND_STATE] {
             let (f, _) = initialised(version, law, &[], &[]);
             let mut f = f.unwrap();
             set_velocity(&mut f, 2e-2);

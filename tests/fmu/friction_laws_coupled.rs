@@ -4,11 +4,12 @@
 
 use crate::friction_laws::initialised;
 use stickslip::choice::Choice;
-use stickslip::friction::LawChoice;
-use stickslip::scene::{FidelityLevel, FrictionLawKind};
+use stickslip::friction::FrictionLawKind;
+use stickslip::scene::FidelityLevel;
 use stickslip::simulation::ExternalCoupling;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
+use stickslip_fmi::friction::NeuralFrictionLaw;
 use stickslip_fmi::instance::{FmiVersion, Instance};
 use stickslip_tests::vr;
 
@@ -59,7 +60,7 @@ fn alone(law: FrictionLawKind, h: f64) -> Vec<f64> {
 /// v_rel(t_k) and its outputs (force, slope, evaluated velocity, static limit) go to the
 /// beam, which steps; NeuralFriction then gets v_rel(t_k+1) and steps its state with it
 /// held, as the embedded law's implicit step holds the step's end velocity.
-fn coupled(law: LawChoice, h: f64) -> Vec<f64> {
+fn coupled(law: NeuralFrictionLaw, h: f64) -> Vec<f64> {
     let mut b = beam(FrictionLawKind::External);
     let (f, _) = initialised(FmiVersion::V2, law, &[], &[]);
     let mut f = f.unwrap();
@@ -133,7 +134,7 @@ fn mid_corridor(tip: &[f64]) -> f64 {
 fn rate_and_state_through_the_coupling_follows_the_embedded_law() {
     let h = 1e-4;
     let reference = alone(FrictionLawKind::RateAndState, h);
-    let run = coupled(LawChoice::RateAndState, h);
+    let run = coupled(NeuralFrictionLaw::RATE_AND_STATE, h);
     assert_drop_and_period_agree(&reference, &run, h);
 }
 
@@ -180,7 +181,7 @@ fn lugre_through_the_coupling_converges_to_the_embedded_law() {
     let mut differences = Vec::new();
     for h in [1e-4, 1e-5] {
         let reference = alone(FrictionLawKind::Lugre, h);
-        let run = coupled(LawChoice::Lugre, h);
+        let run = coupled(NeuralFrictionLaw::LUGRE, h);
         if h == 1e-4 {
             assert_drop_and_period_agree(&reference, &run, h);
         }
@@ -196,8 +197,11 @@ fn lugre_through_the_coupling_converges_to_the_embedded_law() {
 #[ignore = "measurement"]
 fn measure_coupled_against_embedded() {
     for (law, kind) in [
-        (LawChoice::RateAndState, FrictionLawKind::RateAndState),
-        (LawChoice::Lugre, FrictionLawKind::Lugre),
+        (
+            NeuralFrictionLaw::RATE_AND_STATE,
+            FrictionLawKind::RateAndState,
+        ),
+        (NeuralFrictionLaw::LUGRE, FrictionLawKind::Lugre),
     ] {
         for h in [1e-3, 1e-4, 1e-5, 2e-6] {
             let reference = alone(kind, h);

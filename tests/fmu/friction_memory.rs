@@ -5,8 +5,8 @@
 //! 3 still read), in FMI 2.0 and 3.0 (one instance code, both entry points stepped).
 
 use std::sync::Arc;
+use stickslip::friction::learned_state::{LearnedStateFriction, StateLawFile};
 use stickslip::friction::FrictionLaw;
-use stickslip::neural::memory::{LearnedStateFriction, StateLawFile};
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::instance::{FmiVersion, Instance, SavedState, STATE_VERSION};
 use stickslip_tests::vr;
@@ -133,8 +133,9 @@ fn the_law_state_round_trips_bit_for_bit_and_old_states_are_read() {
 #[test]
 fn stick_slip_beam_runs_the_learned_law_as_the_library_does() {
     use stickslip::choice::Choice;
+    use stickslip::friction::FrictionLawKind;
     use stickslip::law_source::LawSource;
-    use stickslip::scene::{FidelityLevel, FrictionLawKind, Scene};
+    use stickslip::scene::{FidelityLevel, Scene};
     use stickslip::simulation::Simulator;
     use stickslip_fmi::beam::StickSlipBeam;
     let logger = Box::new(|_, _: &str, _: &str| {});

@@ -9,12 +9,13 @@
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 use stickslip::choice::Choice;
-use stickslip::friction::LawChoice;
+use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::LawSource;
-use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Scene};
+use stickslip::scene::{CheckedScene, FidelityLevel, Scene};
 use stickslip::simulation::Simulator;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
+use stickslip_fmi::friction::NeuralFrictionLaw;
 use stickslip_fmi::instance::{Instance, Logger, Mode, SavedState, Status, STATE_VERSION};
 use stickslip_fmi::model::Model;
 use stickslip_fmi::variables::Causality;

@@ -1,13 +1,14 @@
 //! StickSlipBeam's outputs of the friction law's state, one per entry of
-//! `stickslip::memory::STATE_VARIABLES`: their rows in both model descriptions, the
+//! `stickslip::friction::state::STATE_VARIABLES`: their rows in both model descriptions, the
 //! values against the command line's CSV column of the same scene, through the FMU
 //! state, and zeros for a memoryless law.
 
 use stickslip::choice::Choice;
+use stickslip::friction::state::STATE_VARIABLES;
+use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::LawSource;
-use stickslip::memory::STATE_VARIABLES;
 use stickslip::run::run_scene;
-use stickslip::scene::{FidelityLevel, FrictionLawKind, Scene};
+use stickslip::scene::{FidelityLevel, Scene};
 use stickslip_cli::scene_args::SceneArgs;
 use stickslip_cli::simulate::{simulate, SimulateArgs};
 use stickslip_fmi::beam::StickSlipBeam;

@@ -5,9 +5,10 @@
 
 use std::sync::{Arc, Mutex};
 use stickslip::choice::Choice;
+use stickslip::friction::rate_and_state::StateEvolution;
+use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::LawSource;
-use stickslip::memory::parameters::StateEvolution;
-use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind};
+use stickslip::scene::{CheckedScene, FidelityLevel};
 use stickslip::simulation::Simulator;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::instance::{Instance, STATE_VERSION};

@@ -3,15 +3,17 @@
 
 use std::collections::HashSet;
 use stickslip::choice::Choice;
-use stickslip::friction::LawChoice;
-use stickslip::memory::parameters::StateEvolution;
+use stickslip::friction::rate_and_state::StateEvolution;
+use stickslip::friction::FrictionLawKind;
+use stickslip::neural::inference::Inference;
 use stickslip::scene::{
-    Clamp, DampingPhase, FidelityLevel, FirstSlipStep, FrictionLawKind, HoldingForce, Inference,
-    InitialState, ModalBasis, Scheme, SlidingVelocity, SlipForce, TipVelocity,
+    Clamp, DampingPhase, FidelityLevel, FirstSlipStep, HoldingForce, InitialState, ModalBasis,
+    Scheme, SlidingVelocity, SlipForce, TipVelocity,
 };
 use stickslip::simulation::ExternalCoupling;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
+use stickslip_fmi::friction::NeuralFrictionLaw;
 use stickslip_fmi::model::Model;
 use stickslip_fmi::model_description::CHOICES_TOOL;
 use stickslip_fmi::variables::{
@@ -279,7 +281,7 @@ fn the_annotated_choices_are_the_scenes_choices() {
     assert_eq!(
         annotated_choices(&checked_in(FmuKind::NeuralFriction)),
         vec![
-            declared::<LawChoice>("law"),
+            declared::<NeuralFrictionLaw>("law"),
             declared::<StateEvolution>("friction.rate_and_state.state_evolution"),
         ]
     );

@@ -6,10 +6,11 @@
 
 use std::sync::{Arc, Mutex};
 use stickslip::choice::Choice;
-use stickslip::friction::LawChoice;
-use stickslip::scene::{FidelityLevel, FrictionLawKind};
+use stickslip::friction::FrictionLawKind;
+use stickslip::scene::FidelityLevel;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
+use stickslip_fmi::friction::NeuralFrictionLaw;
 use stickslip_fmi::instance::{FmiVersion, Instance, SavedState, STATE_VERSION};
 use stickslip_fmi::model::Model;
 use stickslip_tests::vr;
@@ -67,7 +68,7 @@ pub(crate) fn beam_at(
 /// 20 mm/s.
 pub(crate) fn friction_at(
     version: FmiVersion,
-    law: LawChoice,
+    law: NeuralFrictionLaw,
     weights: Option<&str>,
 ) -> (Instance<NeuralFriction>, Log) {
     let (mut f, log) = logged::<NeuralFriction>(version);
@@ -169,7 +170,7 @@ fn every_single_bit_flip_truncation_and_appendix_of_a_state_is_refused() {
             &format!("StickSlipBeam, LuGre, modal, t = 0.45 s, {tag}"),
             &state,
         ));
-        let (mut f, _) = friction_at(version, LawChoice::RateAndState, None);
+        let (mut f, _) = friction_at(version, NeuralFrictionLaw::RATE_AND_STATE, None);
         let state = f.get_state().unwrap();
         table.push(probe(
             &mut f,

@@ -6,8 +6,8 @@
 
 use super::state_corruption::{beam_at, friction_at, Log};
 use serde_json::Value;
-use stickslip::friction::LawChoice;
-use stickslip::scene::FrictionLawKind;
+use stickslip::friction::FrictionLawKind;
+use stickslip_fmi::friction::NeuralFrictionLaw;
 use stickslip_fmi::instance::{with_checksum, FmiVersion, Instance, SavedState};
 use stickslip_fmi::model::Model;
 
@@ -346,14 +346,14 @@ fn tampered_values_with_a_valid_checksum_are_refused_by_name_and_change_nothing(
             "beam, rate-and-state",
             &rate_state_beam_cases(),
         ));
-        let (mut f, log) = friction_at(version, LawChoice::Lugre, None);
+        let (mut f, log) = friction_at(version, NeuralFrictionLaw::LUGRE, None);
         rows.extend(check_refusals(
             &mut f,
             &log,
             "friction, LuGre",
             &friction_cases(),
         ));
-        let (mut f, log) = friction_at(version, LawChoice::RateAndState, None);
+        let (mut f, log) = friction_at(version, NeuralFrictionLaw::RATE_AND_STATE, None);
         rows.extend(check_refusals(
             &mut f,
             &log,
@@ -362,7 +362,7 @@ fn tampered_values_with_a_valid_checksum_are_refused_by_name_and_change_nothing(
         ));
         let (mut f, log) = friction_at(
             version,
-            LawChoice::Neural,
+            NeuralFrictionLaw::NEURAL,
             Some("rate-and-state-learned.json"),
         );
         rows.extend(check_refusals(

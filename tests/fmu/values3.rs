@@ -11,8 +11,8 @@
 use super::ffi3::{do_step3, instantiate_logging, Messages};
 use std::ffi::CString;
 use stickslip::choice::Choice;
-use stickslip::friction::LawChoice;
 use stickslip_fmi::ffi3::*;
+use stickslip_fmi::friction::NeuralFrictionLaw;
 use stickslip_fmi::friction::{NeuralFriction, EXTRA_FEATURE_ARRAY};
 use stickslip_fmi::instance::Instance;
 use stickslip_fmi::model_description::TIME_VALUE_REFERENCE;
@@ -87,7 +87,7 @@ fn friction3(weights: &str, features: [f64; 4], messages: &Messages) -> fmi3Inst
                 c,
                 &vr::<NeuralFriction>("law"),
                 1,
-                &LawChoice::Neural.code(),
+                &NeuralFrictionLaw::NEURAL.code(),
                 1
             ),
             OK
@@ -118,8 +118,11 @@ fn friction2_outputs(weights: &str, features: [f64; 4]) -> Vec<f64> {
     .unwrap();
     fmu.set_string(&[vr::<NeuralFriction>("weights")], &[weights])
         .unwrap();
-    fmu.set_integer(&[vr::<NeuralFriction>("law")], &[LawChoice::Neural.code()])
-        .unwrap();
+    fmu.set_integer(
+        &[vr::<NeuralFriction>("law")],
+        &[NeuralFrictionLaw::NEURAL.code()],
+    )
+    .unwrap();
     fmu.setup_experiment(0.0, None).unwrap();
     fmu.enter_initialization_mode().unwrap();
     fmu.exit_initialization_mode().unwrap();

@@ -6,10 +6,10 @@
 use std::sync::Arc;
 use stickslip::friction::FrictionLaw;
 use stickslip::law_source::{LawSource, NetworkOrigin};
+use stickslip::neural::inference::Inference;
 use stickslip::neural::table::{TableLaw, TABLE_TOLERANCE};
 use stickslip::neural::NeuralLaw;
 use stickslip::neural::SceneLawError;
-use stickslip::scene::Inference;
 
 fn shipped() -> [(&'static str, NeuralLaw); 2] {
     [

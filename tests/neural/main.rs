@@ -2,6 +2,6 @@
 
 mod authors_data;
 mod inference;
-mod memory;
+mod learned_state;
 mod onnx;
 mod training;

@@ -6,11 +6,13 @@
 //! `refusals` and `weights_files`.
 
 use std::sync::Arc;
+use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::{LawSource, NetworkOrigin};
+use stickslip::neural::inference::Inference;
 use stickslip::neural::onnx::{import_onnx, FeatureInfo, OnnxImport, OnnxImportError};
 use stickslip::neural::weights::LayerWeights;
 use stickslip::neural::{FeatureRole, NeuralLaw, NeuralModel};
-use stickslip::scene::{FrictionLawKind, Inference, Scene};
+use stickslip::scene::Scene;
 use stickslip_formats::onnx::{read_onnx, OnnxError, Precision};
 use stickslip_tests::onnx::{
     export, Attribute, Data, Exporter, Node, Onnx, Value, DOUBLE, FLOAT16,

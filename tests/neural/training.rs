@@ -4,7 +4,7 @@
 //! weights are evaluated, not retrained); everything runs in a few seconds.
 
 use nalgebra::DMatrix;
-use stickslip::friction::{ExponentialLaw, FrictionLaw};
+use stickslip::friction::{exponential::ExponentialLaw, FrictionLaw};
 use stickslip::neural::{
     FeatureRole, NeuralError, NeuralLaw, NeuralModel, SyntheticSpec, Variant, PAPER_PLAIN_JSON,
     PAPER_SIGNED_JSON,

@@ -5,12 +5,12 @@
 //! first order in dt, and the combinations without a meaning are refused.
 
 use stickslip::contact::ContactState;
-use stickslip::friction::{ExponentialLaw, FrictionLaw};
+use stickslip::friction::FrictionLaw;
+use stickslip::friction::FrictionLawKind;
 use stickslip::integrator::{Coefficients, Integrator};
 use stickslip::law_source::LawSource;
 use stickslip::scene::{
-    FidelityLevel, FirstSlipStep, FrictionLawKind, InitialState, Scene, Scheme, SlipForce,
-    TipVelocity,
+    FidelityLevel, FirstSlipStep, InitialState, Scene, Scheme, SlipForce, TipVelocity,
 };
 use stickslip::scene_preset::ScenePreset;
 use stickslip::simulation::{SimulationError, Simulator};
@@ -81,7 +81,7 @@ fn every_later_slip_step_applies_the_law_at_the_previous_steps_velocity_to_the_b
         let mut scene = authors_beam();
         scene.contact.tip_velocity = tip_velocity;
         let checked = scene.clone().check().unwrap();
-        let mut law = ExponentialLaw::of(&checked.friction);
+        let mut law = checked.friction.exponential_law();
         let normal_force = checked.loading.normal_force;
         let mut sim = simulator(scene);
         let (mut lagged_steps, mut restick_steps) = (0, 0);
@@ -247,7 +247,7 @@ fn laws_with_state_and_moreau_jean_refuse_the_slip_rules_naming_both_options() {
     s.contact.slip_force = SlipForce::Lagged;
     let scene = s.check().unwrap();
     let law = LawSource::resolve(&scene).unwrap().law().unwrap();
-    assert!(law.as_memory().is_some(), "the learned law has state");
+    assert!(law.as_stateful().is_some(), "the learned law has state");
     let error = Simulator::new(scene, law).err().expect("refused");
     assert!(matches!(error, SimulationError::Scene(_)), "{error}");
     let message = error.to_string();

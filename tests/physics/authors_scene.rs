@@ -3,10 +3,11 @@
 //! finite-difference tip velocity, and the `paper-authors` preset's breakaway.
 
 use stickslip::contact::ContactState;
+use stickslip::friction::FrictionLawKind;
 use stickslip::integrator::Coefficients;
 use stickslip::law_source::LawSource;
 use stickslip::scene::{
-    CheckedScene, DampingPhase, FidelityLevel, FrictionLawKind, InitialState, Scene, TipVelocity,
+    CheckedScene, DampingPhase, FidelityLevel, InitialState, Scene, TipVelocity,
 };
 use stickslip::scene_preset::ScenePreset;
 use stickslip::simulation::Simulator;

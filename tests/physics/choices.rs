@@ -4,15 +4,16 @@
 //! auto is resolved (and always for external, whose force only the FMU has).
 
 use stickslip::choice::Choice;
-use stickslip::friction::LawChoice;
+use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::LawSource;
+use stickslip::neural::inference::Inference;
 use stickslip::neural::{Activation, Variant};
 use stickslip::run::{run_scene, RunError};
 use stickslip::scene::{
-    Clamp, FidelityLevel, FrictionLawKind, HoldingForce, Inference, InitialState, ModalBasis,
-    Scene, Scheme, SlidingVelocity,
+    Clamp, FidelityLevel, HoldingForce, InitialState, ModalBasis, Scene, Scheme, SlidingVelocity,
 };
 use stickslip::structure::{ModelError, StructuralModel};
+use stickslip_fmi::friction::NeuralFrictionLaw;
 
 /// For each value of a choice: serde writes and reads its word, its code is its 1-based
 /// position, and words are unique and described.
@@ -45,7 +46,7 @@ fn every_choice_word_is_its_scene_word_and_its_position_its_fmi_code() {
     check_choice!(ModalBasis);
     check_choice!(Clamp);
     check_choice!(Scheme);
-    check_choice!(LawChoice);
+    check_choice!(NeuralFrictionLaw);
     check_choice!(Variant);
     check_choice!(Activation);
     check_choice!(Inference);
@@ -73,10 +74,10 @@ fn auto_and_external_keep_their_fmi_items_and_type_names() {
     assert_eq!(levels, ["modal", "beam", "plane-stress", "auto"]);
     assert_eq!(FidelityLevel::Auto.code(), 4);
     assert_eq!(FrictionLawKind::External.code(), 4);
-    let laws: Vec<&str> = LawChoice::ALL.iter().map(|c| c.name()).collect();
+    let laws: Vec<&str> = NeuralFrictionLaw::ALL.iter().map(|c| c.name()).collect();
     // The laws with state come after, so that saved codes 1 and 2 keep their meaning.
     assert_eq!(laws, ["neural", "exponential", "lugre", "rate-and-state"]);
-    assert_eq!(LawChoice::TYPE_NAME, "FrictionLaw");
+    assert_eq!(NeuralFrictionLaw::TYPE_NAME, "FrictionLaw");
 }
 
 #[test]

@@ -10,7 +10,7 @@
 //! differ: Newton's method on the tangent against the embedded fixed-point iteration,
 //! both converged to 1e-12 of the force.
 
-use stickslip::friction::{ExponentialLaw, FrictionLaw};
+use stickslip::friction::FrictionLaw;
 use stickslip::scene::{CheckedScene, FidelityLevel, Scheme};
 use stickslip::simulation::{ExternalFriction, ExternalKinetic, Simulator};
 
@@ -91,7 +91,7 @@ fn coupled_with_slope(scheme: Scheme, h: f64, stale: bool, slope: f64) -> (Vec<f
     let limit = scene.friction.static_coefficient * scene.loading.normal_force;
     // The simulator's own law never acts while the external friction is set.
     let mut simulator =
-        Simulator::new(scene.clone(), Box::new(ExponentialLaw::of(&scene.friction))).unwrap();
+        Simulator::new(scene.clone(), Box::new(scene.friction.exponential_law())).unwrap();
     let mut law = Viscous { damping: DAMPING };
     let mut deflection = vec![simulator.sample().tip_deflection];
     let mut before = simulator.state().relative_velocity;

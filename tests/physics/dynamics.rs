@@ -2,14 +2,14 @@
 //! breakaway, corridor, closed-form orbit.
 
 use stickslip::banded::SymBandMatrix;
-use stickslip::friction::CoulombLaw;
+use stickslip::friction::coulomb::CoulombLaw;
 use stickslip::integrator::{Coefficients, Integrator, Kinematics};
 use stickslip::law_source::LawSource;
 use stickslip::metrics::Summary;
 use stickslip::scene::{CheckedScene, Damping, FidelityLevel, Scene, Scheme};
 use stickslip::simulation::{Simulator, RECENT_TRANSITIONS};
 use stickslip::structure::StructuralModel;
-use stickslip::{modal, scene::FrictionLawKind};
+use stickslip::{friction::FrictionLawKind, modal};
 
 fn energy(model: &StructuralModel, k: &Kinematics) -> f64 {
     let mut scratch = vec![0.0; model.dofs()];

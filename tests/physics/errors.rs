@@ -5,9 +5,10 @@
 use std::error::Error;
 use stickslip::auto::{choose, paper_front, AutoError};
 use stickslip::banded::NotPositiveDefinite;
+use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::{LawSource, NetworkOrigin};
 use stickslip::neural::NeuralLaw;
-use stickslip::scene::{FidelityLevel, FrictionLawKind, Scene, SceneError, Scheme};
+use stickslip::scene::{FidelityLevel, Scene, SceneError, Scheme};
 use stickslip::simulation::{SimulationError, Simulator, StateMismatch};
 use stickslip::structure::{ModelError, StructuralModel};
 use stickslip::study::{measure, Configuration, MeasureError, Resolution};

@@ -8,9 +8,10 @@
 //! breakaway deflection mu_s F_n / k (8 mm), reached at t_b = mu_s F_n / (k v_b) (0.4 s),
 //! first bending frequency omega_1 = 1.8751^2 sqrt(EI / (rho A L^4)) (35.88 rad/s).
 
+use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::LawSource;
 use stickslip::metrics::Summary;
-use stickslip::scene::{FidelityLevel, FrictionLawKind, Scene};
+use stickslip::scene::{FidelityLevel, Scene};
 use stickslip::simulation::{Sample, Simulator};
 
 /// A change to the paper scene.

@@ -13,7 +13,9 @@ use std::collections::BTreeMap;
 use std::process::Command;
 
 use stickslip::choice::Choice;
-use stickslip::scene::{FidelityLevel, FrictionLawKind, Inference, Scene};
+use stickslip::friction::FrictionLawKind;
+use stickslip::neural::inference::Inference;
+use stickslip::scene::{FidelityLevel, Scene};
 use stickslip::simulation::Simulator;
 use stickslip_tests::law_of;
 

@@ -17,8 +17,9 @@
 //! law under generalised-alpha to 2 s (2.5 s of run time). Plane stress with every law,
 //! both schemes and three steps over 3 s is the study's (0 everywhere, 120 runs).
 
+use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::LawSource;
-use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Scene, Scheme};
+use stickslip::scene::{CheckedScene, FidelityLevel, Scene, Scheme};
 use stickslip::simulation::{Sample, Simulator};
 
 /// Forces below this (N) oppose the converged run's (see the module notes).

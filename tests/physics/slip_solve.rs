@@ -7,9 +7,10 @@ use std::sync::Arc;
 
 use stickslip::contact::{SlipSolver, SLIP_TOLERANCE};
 use stickslip::friction::FrictionLaw;
+use stickslip::friction::FrictionLawKind;
 use stickslip::integrator::{Coefficients, Integrator, Kinematics};
 use stickslip::law_source::LawSource;
-use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Scene, Scheme};
+use stickslip::scene::{CheckedScene, FidelityLevel, Scene, Scheme};
 use stickslip::simulation::Simulator;
 use stickslip::structure::StructuralModel;
 

@@ -3,7 +3,6 @@
 //! needs for an early return), against `advance_to`.
 
 use stickslip::contact::ContactState;
-use stickslip::friction::ExponentialLaw;
 use stickslip::scene::{CheckedScene, FidelityLevel};
 use stickslip::simulation::Simulator;
 
@@ -13,7 +12,7 @@ fn simulator(end: f64) -> Simulator {
     scene.fidelity.level = FidelityLevel::Modal;
     scene.time.end = end;
     let scene = scene.check().unwrap();
-    let law = ExponentialLaw::of(&scene.friction);
+    let law = scene.friction.exponential_law();
     Simulator::new(scene, Box::new(law)).unwrap()
 }
 

@@ -26,9 +26,10 @@ use std::path::PathBuf;
 use std::sync::{Mutex, Once};
 use stickslip::choice::Choice;
 use stickslip::contact::ContactState;
-use stickslip::friction::LawChoice;
-use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind};
+use stickslip::friction::FrictionLawKind;
+use stickslip::scene::{CheckedScene, FidelityLevel};
 use stickslip::simulation::Simulator;
+use stickslip_fmi::friction::NeuralFrictionLaw;
 use stickslip_fmi::FmuKind;
 
 /// Communication step (s).
@@ -387,7 +388,7 @@ impl FrictionVrs {
     }
 }
 
-fn start_friction(import: &Fmi2Import, name: &str, law: Option<LawChoice>) -> InstanceCS {
+fn start_friction(import: &Fmi2Import, name: &str, law: Option<NeuralFrictionLaw>) -> InstanceCS {
     let vrs = FrictionVrs::of(import);
     let mut inst = import
         .instantiate_cs(name, false, false)

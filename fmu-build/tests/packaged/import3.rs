@@ -192,7 +192,7 @@ fn i_fmi3_extra_features_are_one_array_and_reach_the_network() {
     two.setup_experiment(None, 0.0, Some(STOP))
         .expect("fmi2SetupExperiment");
     Common::enter_initialization_mode(&mut two).expect("fmi2EnterInitializationMode");
-    two.set_integer(&[fvrs.law], &[LawChoice::Neural.code()])
+    two.set_integer(&[fvrs.law], &[NeuralFrictionLaw::NEURAL.code()])
         .expect("law");
     two.set_string(&[weights_vr], std::slice::from_ref(&weights))
         .expect("weights");
@@ -208,7 +208,7 @@ fn i_fmi3_extra_features_are_one_array_and_reach_the_network() {
         .enter_initialization_mode(None, 0.0, Some(STOP))
         .expect("fmi3EnterInitializationMode");
     three
-        .set_int32(&[fvrs.law], &[LawChoice::Neural.code()])
+        .set_int32(&[fvrs.law], &[NeuralFrictionLaw::NEURAL.code()])
         .expect("law");
     three
         .set_string(&[weights_vr], std::slice::from_ref(&weights))

@@ -18,8 +18,9 @@ use std::ffi::CString;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use stickslip::choice::Choice;
-use stickslip::friction::LawChoice;
-use stickslip::scene::{FidelityLevel, FrictionLawKind};
+use stickslip::friction::FrictionLawKind;
+use stickslip::scene::FidelityLevel;
+use stickslip_fmi::friction::NeuralFrictionLaw;
 use stickslip_fmi::FmuKind;
 
 /// The binary inside the packaged FMU of `kind`.
@@ -532,7 +533,7 @@ fn packaged_neural_friction_equals_the_host_build_bit_for_bit() {
         .map(|k| k as f64 * 1e-3)
         .chain([1e-9, -1e-9, 0.0, -0.0])
         .collect();
-    for law in [LawChoice::Exponential, LawChoice::Neural] {
+    for law in [NeuralFrictionLaw::EXPONENTIAL, NeuralFrictionLaw::NEURAL] {
         let parameters = [Parameter::Integer("law", law.code())];
         let runs: Vec<Vec<Vec<u64>>> = fmus
             .iter()

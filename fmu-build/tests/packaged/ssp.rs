@@ -9,9 +9,9 @@ use fmu_build::ssp::{
 use std::collections::BTreeMap;
 use std::io::Read;
 use stickslip::choice::Choice;
-use stickslip::friction::LawChoice;
-use stickslip::scene::FrictionLawKind;
+use stickslip::friction::FrictionLawKind;
 use stickslip::simulation::ExternalCoupling;
+use stickslip_fmi::friction::NeuralFrictionLaw;
 use stickslip_fmi::FmuKind;
 
 fn checked(system: System) -> CheckedSystem {
@@ -172,12 +172,15 @@ fn parameters_are_the_defaults_except_what_the_system_sets() {
     );
     // The friction FMU's default law is the network: the coupled system runs the same
     // plain network as the monolithic one embeds.
-    assert!(friction_starts.contains(&("law".into(), LawChoice::Neural.code().to_string())));
+    assert!(friction_starts.contains(&("law".into(), NeuralFrictionLaw::NEURAL.code().to_string())));
     // The systems with a law with state differ from the coupled one in NeuralFriction's
     // law only: same beam, same links, the law's code in the parameter set.
     for (system, law) in [
-        (ssp::coupled_rate_and_state(), LawChoice::RateAndState),
-        (ssp::coupled_lugre(), LawChoice::Lugre),
+        (
+            ssp::coupled_rate_and_state(),
+            NeuralFrictionLaw::RATE_AND_STATE,
+        ),
+        (ssp::coupled_lugre(), NeuralFrictionLaw::LUGRE),
     ] {
         let system = checked(system);
         let ssd = system.ssd();

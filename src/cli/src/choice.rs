@@ -148,7 +148,8 @@ mod tests {
     use super::*;
     use crate::scene_args::{friction_parser, SceneArgs};
     use clap::Parser;
-    use stickslip::scene::{FidelityLevel, FrictionLawKind, Scheme};
+    use stickslip::friction::FrictionLawKind;
+    use stickslip::scene::{FidelityLevel, Scheme};
 
     /// (word, help line) of every listed value.
     fn listed<P: TypedValueParser>(parser: &P) -> Vec<(String, String)> {

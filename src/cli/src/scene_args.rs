@@ -9,12 +9,13 @@ use crate::choice::{parser, ChoiceParser};
 use crate::error::CliError;
 use clap::Args;
 use std::path::PathBuf;
+use stickslip::friction::rate_and_state::StateEvolution;
+use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::LawSource;
-use stickslip::memory::parameters::StateEvolution;
+use stickslip::neural::inference::Inference;
 use stickslip::run::RunError;
 use stickslip::scene::{
-    CheckedScene, DampingPhase, FidelityLevel, FirstSlipStep, FrictionLawKind, Inference, Scene,
-    Scheme, SlipForce, TipVelocity,
+    CheckedScene, DampingPhase, FidelityLevel, FirstSlipStep, Scene, Scheme, SlipForce, TipVelocity,
 };
 use stickslip::scene_preset::ScenePreset;
 

@@ -7,7 +7,7 @@
 //! followed, for a friction law with state, by one column per state variable of the law
 //! under its name (`bristle_deflection` (m) for LuGre, `state_theta` (s) for
 //! rate-and-state, `state_psi` (1) for the learned law with memory:
-//! `stickslip::memory::STATE_VARIABLES`), and prints a summary.
+//! `stickslip::friction::state::STATE_VARIABLES`), and prints a summary.
 //! `stickslip static [--fidelity LEVEL] [--element-size M] [--convergence]`.
 //!
 //! LEVEL, LAW and SCHEME are the words of the scene's `fidelity.level`, `friction.law`
@@ -20,7 +20,7 @@ use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
 use stickslip::files::{write_atomically, Outputs};
-use stickslip::memory::STATE_VARIABLES;
+use stickslip::friction::state::STATE_VARIABLES;
 use stickslip::run::run_scene;
 use stickslip::simulation::Sample;
 use stickslip::statics::convergence_study;

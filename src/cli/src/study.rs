@@ -8,7 +8,8 @@ use clap::Args;
 use std::path::PathBuf;
 use stickslip::auto::{AutoError, Verification};
 use stickslip::files::{write_atomically, Outputs};
-use stickslip::scene::{Inference, Scene, Scheme};
+use stickslip::neural::inference::Inference;
+use stickslip::scene::{Scene, Scheme};
 use stickslip::study::{
     csv_line, front_of, front_points, Grid, Law, Progress, Study, StudyError, CSV_HEADER,
 };

@@ -1,5 +1,5 @@
 //! `stickslip train-memory`: trains the learned friction law with memory
-//! (`stickslip::neural::memory`) on force records under velocity histories (measured,
+//! (`stickslip::friction::learned_state`) on force records under velocity histories (measured,
 //! from CSV, or synthetic tribometer records of rate-and-state friction) and writes its
 //! weights file.
 
@@ -11,10 +11,10 @@ use crate::train::check_output_directory;
 use std::fmt::Write as _;
 use stickslip::choice::Choice;
 use stickslip::files::Outputs;
-use stickslip::memory::parameters::StateEvolution;
-use stickslip::neural::memory::response::{velocity_step, velocity_step_curve};
-use stickslip::neural::memory::{LearnedStateFriction, StateLawFile};
-use stickslip_train::memory::{
+use stickslip::friction::learned_state::{LearnedStateFriction, StateLawFile};
+use stickslip::friction::rate_and_state::StateEvolution;
+use stickslip::friction::state::response::{velocity_step, velocity_step_curve};
+use stickslip_train::learned_state::{
     read_series_csv, series_csv, train_state_law, LearnedEvolution, StateTrainConfig,
     TribometerSpec,
 };
@@ -95,7 +95,7 @@ pub fn run_train_memory(args: &TrainMemoryArgs) -> Result<StateLawFile, CliError
     }
     let synthetic = args.data.is_none().then(|| TribometerSpec {
         noise_std: args.noise,
-        law: stickslip::memory::parameters::RateStateParameters {
+        law: stickslip::friction::rate_and_state::RateStateParameters {
             state_evolution: args.state_evolution,
             ..TribometerSpec::default().law
         },

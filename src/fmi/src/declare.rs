@@ -170,7 +170,7 @@ pub const LUGRE_PARAMETERS: [u32; 3] = [70, 71, 72];
 /// evolution law).
 pub const RATE_STATE_PARAMETERS: [u32; 6] = [80, 81, 82, 83, 84, 85];
 
-/// A table with the parameters of the laws with state (`stickslip::memory::parameters`)
+/// A table with the parameters of the laws with state (`stickslip::friction::lugre`, `stickslip::friction::rate_and_state`)
 /// between its rows `$head` and `$tail`: value references [`LUGRE_PARAMETERS`] and
 /// [`RATE_STATE_PARAMETERS`], under the scene file's names. One declaration for every model
 /// that has them; `$lugre` and `$rate_state` are the model's `LuGreParameters` and
@@ -239,7 +239,7 @@ macro_rules! with_memory_law_parameters {
             $crate::declare::choice_parameter!(
                 $crate::declare::RATE_STATE_PARAMETERS[5],
                 "friction.rate_and_state.state_evolution",
-                ::stickslip::memory::parameters::StateEvolution,
+                ::stickslip::friction::rate_and_state::StateEvolution,
                 "Rate-and-state evolution law of theta",
                 |$m: $model| $rate_state.state_evolution
             ),

@@ -4,7 +4,7 @@
 //! The outputs follow the inputs directly: they are evaluated when read. A law with
 //! state (`law = lugre`, `rate-and-state`, or the learned law with memory: weights of
 //! format `stickslip-state-friction`) also integrates its state over each
-//! communication step (`memory`), the outputs are evaluated at the committed state, and
+//! communication step (`state_laws`), the outputs are evaluated at the committed state, and
 //! the state is an output (`crate::law_state`). A
 //! network's features are filled by role: the one with role sliding_velocity from
 //! `sliding_velocity`, normal_force from `normal_force`, and any further features, in
@@ -21,17 +21,21 @@
 use crate::model::PartialDerivatives;
 use crate::networks::{NetworkError, Networks, DEFAULT_WEIGHTS};
 use serde::{Deserialize, Serialize};
-use stickslip::friction::{ExponentialLaw, FrictionLaw, LawChoice};
-use stickslip::memory::parameters::{LuGreParameters, RateStateParameters};
-use stickslip::memory::{MemoryLaw, STATE_VARIABLES};
+use stickslip::friction::lugre::LuGreParameters;
+use stickslip::friction::rate_and_state::RateStateParameters;
+use stickslip::friction::state::STATE_VARIABLES;
+use stickslip::friction::{FrictionLaw, FrictionLawKind};
 use stickslip::neural::{FeatureRole, NeuralError, NeuralModel};
-use stickslip::scene::{Scene, SceneError};
+use stickslip::scene::{Friction, Loading, Scene, SceneError};
 use stickslip::short::Short;
 
 mod derivatives;
-mod memory;
+mod laws;
 mod model;
+mod state_laws;
 mod variables;
+
+pub use laws::NeuralFrictionLaw;
 
 /// How many features beyond velocity and normal force a network may have.
 pub const EXTRA_FEATURES: usize = 4;
@@ -39,7 +43,7 @@ pub const EXTRA_FEATURES: usize = 4;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct Settings {
-    law: LawChoice,
+    law: NeuralFrictionLaw,
     static_coefficient: f64,
     kinetic_coefficient: f64,
     decay: f64,
@@ -56,6 +60,21 @@ struct Settings {
 }
 
 impl Settings {
+    /// These settings as the scene's friction section (`friction.law` the law chosen,
+    /// no weights: NeuralFriction reads its networks itself), the one form every law is
+    /// built and checked from (`LawSource`, `Friction::check`).
+    fn friction(&self) -> Friction {
+        Friction {
+            law: self.law.kind(),
+            static_coefficient: self.static_coefficient,
+            kinetic_coefficient: self.kinetic_coefficient,
+            decay: self.decay,
+            lugre: self.lugre.clone(),
+            rate_and_state: self.rate_and_state.clone(),
+            ..Friction::default()
+        }
+    }
+
     /// The value of input `vr` (one of the inputs' value references).
     fn input(&self, vr: u32) -> f64 {
         match vr {
@@ -97,7 +116,7 @@ impl Default for Settings {
     fn default() -> Self {
         let scene = Scene::default();
         Self {
-            law: LawChoice::Neural,
+            law: NeuralFrictionLaw::NEURAL,
             static_coefficient: scene.friction.static_coefficient,
             kinetic_coefficient: scene.friction.kinetic_coefficient,
             decay: scene.friction.decay,
@@ -166,9 +185,9 @@ pub struct NeuralFriction {
     /// for: an
     /// importer asks column by column, one input at a time, at the same inputs.
     derivatives_at: Option<(Settings, Vec<f64>, PartialDerivatives)>,
-    /// The law with state last built (`memory`).
-    built: Option<(Settings, Box<dyn MemoryLaw>)>,
-    /// The committed state of a law with state (`memory`); empty otherwise.
+    /// The law with state last built (`state_laws`).
+    built: Option<(Settings, Box<dyn FrictionLaw>)>,
+    /// The committed state of a law with state (`state_laws`); empty otherwise.
     law_state: Vec<f64>,
     /// Where the model is (s): the start time, then the end of the last step.
     time: f64,
@@ -195,36 +214,32 @@ impl NeuralFriction {
         Ok(())
     }
 
-    /// Checks the analytical parameters with the scene's rules and messages.
+    /// Checks the analytical parameters with the scene's rules and messages, in the
+    /// scene's order: the normal force (`loading`), then the friction section every law
+    /// is built from ([`Settings::friction`]).
     fn check(&self) -> Result<(), SceneError> {
-        let mut scene = Scene::default();
-        let s = &self.settings;
-        scene.friction.static_coefficient = s.static_coefficient;
-        scene.friction.kinetic_coefficient = s.kinetic_coefficient;
-        scene.friction.decay = s.decay;
-        scene.friction.lugre = s.lugre.clone();
-        scene.friction.rate_and_state = s.rate_and_state.clone();
-        scene.loading.normal_force = s.normal_force;
-        scene.check().map(|_| ())
+        let loading = Loading {
+            normal_force: self.settings.normal_force,
+            ..Loading::default()
+        };
+        loading.check()?;
+        self.settings.friction().check()
     }
 
     fn evaluate(&mut self) -> Result<Outputs, EvaluateError> {
         let s = self.settings.clone();
         let static_limit = s.static_limit_coefficient() * s.normal_force;
         let mut state = [0.0; STATE_VARIABLES.len()];
-        let (force, slope) = match s.law {
-            LawChoice::Exponential => {
-                let mut law = ExponentialLaw {
-                    static_coefficient: s.static_coefficient,
-                    kinetic_coefficient: s.kinetic_coefficient,
-                    decay: s.decay,
-                };
+        let (force, slope) = match s.law.kind() {
+            FrictionLawKind::Exponential => {
+                let mut law = s.friction().exponential_law();
                 (
                     law.sliding_force(s.sliding_velocity, s.normal_force),
                     law.slope(s.sliding_velocity, s.normal_force),
                 )
             }
-            LawChoice::Neural | LawChoice::Lugre | LawChoice::RateAndState => 'memory: {
+            // The network, or a law with state.
+            _ => 'memory: {
                 if let Some((jacobian, values)) = self.state_jacobian()? {
                     state = values;
                     break 'memory (jacobian.force, jacobian.slope);

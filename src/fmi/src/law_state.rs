@@ -1,5 +1,5 @@
 //! The friction law's state as FMU outputs: one Real output per entry of
-//! `stickslip::memory::STATE_VARIABLES` (LuGre's bristle deflection, rate-and-state's
+//! `stickslip::friction::state::STATE_VARIABLES` (LuGre's bristle deflection, rate-and-state's
 //! theta, the learned law's psi), named, united and described by that entry, so that
 //! the physics crate is the one place that says what a state variable is. A run whose
 //! law has not the variable outputs 0, and the description says so.
@@ -66,13 +66,13 @@ pub const fn fmi_unit(unit: &'static str) -> Option<&'static str> {
 macro_rules! law_state_output {
     ($vr:expr, $index:literal, $depends_on:expr, |$m:ident: $model:ty| $value:expr) => {{
         static DESCRIPTION: $crate::law_state::Text = $crate::law_state::Text::join(
-            ::stickslip::memory::STATE_VARIABLES[$index].description,
+            ::stickslip::friction::state::STATE_VARIABLES[$index].description,
             $crate::law_state::ABSENT,
         );
         $crate::declare::real_output!(
             $vr,
-            ::stickslip::memory::STATE_VARIABLES[$index].name,
-            $crate::law_state::fmi_unit(::stickslip::memory::STATE_VARIABLES[$index].unit),
+            ::stickslip::friction::state::STATE_VARIABLES[$index].name,
+            $crate::law_state::fmi_unit(::stickslip::friction::state::STATE_VARIABLES[$index].unit),
             DESCRIPTION.as_str(),
             $depends_on,
             |$m: $model| $value

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use stickslip::files::WEIGHTS_FILE;
-use stickslip::neural::memory::{LearnedStateLaw, StateLawFile};
+use stickslip::friction::learned_state::{LearnedStateLaw, StateLawFile};
 use stickslip::neural::{NeuralError, NeuralLaw};
 
 /// The weights read at instantiation (the paper's network, see `neural`).
@@ -14,7 +14,7 @@ pub const DEFAULT_WEIGHTS: &str = "paper-plain.json";
 
 /// Network weights shipped in `resources/`, shared by both FMUs: the files of the same
 /// name in the workspace's `weights/` folder.
-/// `rate-and-state-learned.json` is the learned law with memory (`neural::memory`).
+/// `rate-and-state-learned.json` is the learned law with memory (`friction::learned_state`).
 pub const WEIGHTS_RESOURCES: &[&str] = &[
     "paper-plain.json",
     "paper-signed.json",

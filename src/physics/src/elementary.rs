@@ -115,6 +115,17 @@ pub fn tanh_f32(x: f32) -> f32 {
     libm::tanhf(x)
 }
 
+/// sign(v) with sign(0) = 0, so that a law at exactly zero speed exerts no force.
+pub fn signum_or_zero(v: f64) -> f64 {
+    if v > 0.0 {
+        1.0
+    } else if v < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

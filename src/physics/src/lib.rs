@@ -40,7 +40,6 @@ pub mod friction;
 pub mod integrator;
 pub mod jacobian;
 pub mod law_source;
-pub mod memory;
 pub mod mesh;
 pub mod metrics;
 pub mod modal;

@@ -3,10 +3,11 @@
 //! scenes this way.
 
 use crate::choice::Choice;
+use crate::friction::FrictionLawKind;
 use crate::law_source::LawSource;
 use crate::metrics::Summary;
 use crate::neural::SceneLawError;
-use crate::scene::{CheckedScene, FrictionLawKind};
+use crate::scene::CheckedScene;
 use crate::simulation::{Sample, SimulationError, Simulator};
 use std::time::Instant;
 

@@ -21,7 +21,11 @@
 //! v_b = 0.02 m/s, F_n = 100 N, mu_s = 0.5, mu_k = 0.2, alpha = 5 s/m, eps = 1e-3 m/s,
 //! dt = 1e-4 s, t_end = 1.2 s. The paper does not give Poisson's ratio; 0.3 (steel) is used.
 
-use crate::memory::parameters::{LuGreParameters, RateStateParameters};
+use crate::friction::lugre::LuGreParameters;
+use crate::friction::parameters::ParameterProblem;
+use crate::friction::rate_and_state::RateStateParameters;
+use crate::friction::{exponential::ExponentialLaw, FrictionLawKind};
+use crate::neural::inference::Inference;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -85,58 +89,6 @@ impl Default for Loading {
             belt_speed: 0.02,
             normal_force: 100.0,
         }
-    }
-}
-
-crate::choice! {
-    /// Which kinetic friction law acts during slip (the scene's `friction.law`, and
-    /// StickSlipBeam's parameter of that name). The type is named `FrictionModel`, apart
-    /// from NeuralFriction's `FrictionLaw` (`friction::LawChoice`), whose values differ.
-    #[choice(name = "FrictionModel", description = "Where the kinetic friction force comes from")]
-    pub enum FrictionLawKind {
-        /// mu(v) = mu_k + (mu_s - mu_k) exp(-alpha |v|) (paper, Eq. 6).
-        Exponential = "exponential": "mu(v) = mu_k + (mu_s - mu_k) exp(-alpha |v|) (paper, Eq. 6)",
-        /// mu(v) = mu_k (plain Coulomb).
-        Coulomb = "coulomb": "mu = mu_k",
-        /// A trained network (see the `neural` module); weights from `friction.weights`.
-        Neural = "neural": "the network in friction.weights",
-        /// The kinetic force and the static limit come from outside, as the
-        /// StickSlipBeam FMU's inputs `external.*` (to couple it with NeuralFriction or
-        /// any other friction FMU): a magnitude `external.kinetic_force` or a signed
-        /// tangent, as `external.coupling` says (`simulation::ExternalKinetic`), and
-        /// `external.static_limit`. Only a run that has those inputs can honour it: a
-        /// stand-alone run refuses it (`run::run_scene`).
-        External = "external": "inputs external.*: the kinetic force as external.coupling says, and external.static_limit",
-        /// LuGre (Canudas de Wit et al. 1995), a law with the bristle deflection as state
-        /// (`memory::lugre`), parameters in `friction.lugre`; g(v) is the exponential law.
-        Lugre = "lugre": "LuGre: bristle state z, dz/dt = v - sigma0 |v| z / g(v), F = sigma0 z + sigma1 dz/dt + sigma2 v, g the exponential law (friction.lugre)",
-        /// Rate-and-state friction (Dieterich-Ruina), regularised at v = 0, with the state
-        /// theta (`memory::rate_state`), parameters in `friction.rate_and_state`.
-        RateAndState = "rate-and-state": "rate-and-state: mu = a asinh(v / (2 V_0) exp((mu_0 + b ln(V_0 theta / D_c)) / a)), theta by the aging or slip law (friction.rate_and_state)",
-    }
-}
-
-impl FrictionLawKind {
-    /// Whether the law has internal state (`crate::memory`): no set-valued stick, its
-    /// state stepped with the structure (see `contact`).
-    pub fn has_memory(self) -> bool {
-        matches!(self, FrictionLawKind::Lugre | FrictionLawKind::RateAndState)
-    }
-}
-
-crate::choice! {
-    /// How the neural law is evaluated in the time loop (ignored by the other laws).
-    #[choice(name = "Inference", description = "How the network of a neural law is evaluated")]
-    #[derive(Default)]
-    pub enum Inference {
-        /// The network in f64, as trained.
-        #[default]
-        Exact = "exact": "the network in f64, as trained",
-        /// The network in f32 (`neural::NeuralLaw::in_f32`).
-        F32 = "f32": "the network in single precision (its largest deviation measured at build)",
-        /// A table of the network over its training range, built at initialisation
-        /// (`neural::table`).
-        Table = "table": "a table of the network over its training range, built at initialisation (largest error verified at build)",
     }
 }
 
@@ -326,7 +278,7 @@ impl Contact {
     /// the network of `friction.weights` when it has state), if it cannot: the
     /// slip-phase rules need a set-valued stick and a memoryless force. A law with
     /// state has neither: every step is one slip solve whose force and state update
-    /// come from the same velocity (`contact::memory`), so it has no slip phase to
+    /// come from the same velocity (`contact::state_law`), so it has no slip phase to
     /// begin, and a force one step behind would leave its state a step ahead.
     pub fn refusal_with_memory(&self, law: &str) -> Option<SceneError> {
         let (field, value) = self.phase_rule()?;
@@ -693,7 +645,7 @@ impl Material {
 
 impl Loading {
     /// A finite belt speed (either sign) and a normal force not negative.
-    fn check(&self) -> Result<(), SceneError> {
+    pub fn check(&self) -> Result<(), SceneError> {
         if !self.belt_speed.is_finite() {
             return Err(invalid(
                 "loading.belt_speed",
@@ -706,9 +658,34 @@ impl Loading {
 }
 
 impl Friction {
+    /// The exponential law (paper, Eq. 6) of these coefficients, whatever law `law`
+    /// names: the law itself, LuGre's g(v), and the stand-in of `law = external`.
+    pub fn exponential_law(&self) -> ExponentialLaw {
+        ExponentialLaw {
+            static_coefficient: self.static_coefficient,
+            kinetic_coefficient: self.kinetic_coefficient,
+            decay: self.decay,
+        }
+    }
+
+    /// The first parameter out of range of the law `law` names, among those it is built
+    /// from besides the coefficients (`[friction.lugre]`, `[friction.rate_and_state]`).
+    /// [`Friction::check`] asks it of every law's table; a caller that builds a law
+    /// from parameters no check has seen (NeuralFriction's outputs read before
+    /// initialisation) asks it of the one law it builds.
+    pub fn law_problem(&self) -> Option<ParameterProblem> {
+        match self.law {
+            FrictionLawKind::Lugre => self.lugre.problem(),
+            FrictionLawKind::RateAndState => self.rate_and_state.problem(),
+            _ => None,
+        }
+    }
+
     /// The coefficients (kinetic at most static), the exponential law's decay, the stick
-    /// threshold, the weights path when given, then the laws with state's parameters.
-    fn check(&self) -> Result<(), SceneError> {
+    /// threshold, the weights path when given, then the laws with state's parameters:
+    /// every parameter a law is built from ([`crate::law_source::LawSource`]), so that a
+    /// law built from a checked section needs no check of its own.
+    pub fn check(&self) -> Result<(), SceneError> {
         non_negative("friction.static_coefficient", self.static_coefficient, "1")?;
         non_negative(
             "friction.kinetic_coefficient",

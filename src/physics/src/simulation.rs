@@ -8,9 +8,9 @@
 use crate::contact::{
     Contact, ContactState, Kinetic, Previous, Resolution, SlipSolve, SlipSolver, Transition,
 };
+use crate::friction::state::{StateVariable, STATE_VARIABLES};
 use crate::friction::FrictionLaw;
 use crate::integrator::{Coefficients, Integrator, Kinematics, TrialStep};
-use crate::memory::{StateVariable, STATE_VARIABLES};
 use crate::modal_slip::{SlipBasis, SlipBasisError};
 use crate::scene::{CheckedScene, DampingPhase, InitialState, TipVelocity};
 use crate::short::Short;
@@ -42,7 +42,7 @@ pub struct SimulationState {
     /// Full steps since `anchor_time`.
     #[serde(default)]
     pub steps_since_anchor: u64,
-    /// The friction law's internal state (`memory::MemoryLaw::state`), empty for a
+    /// The friction law's internal state (`memory::StatefulLaw::state`), empty for a
     /// memoryless law (and in states saved before laws had state).
     #[serde(default)]
     pub law_state: Vec<f64>,
@@ -146,11 +146,11 @@ pub enum ExternalKinetic {
 pub struct StateMismatch(pub String);
 
 /// Puts `law` in the saved state `law_state` if it fits: a law with state checks its
-/// length and domain (`MemoryLaw::set_state`), a memoryless law takes only an empty one.
+/// length and domain (`StatefulLaw::set_state`), a memoryless law takes only an empty one.
 /// The law is unchanged on refusal. What [`Simulator::restore`] does with a state's
 /// law state, for a caller that checks a saved state before building a simulation.
 pub fn set_law_state(law: &mut dyn FrictionLaw, law_state: &[f64]) -> Result<(), StateMismatch> {
-    if let Some(memory) = law.as_memory_mut() {
+    if let Some(memory) = law.as_stateful_mut() {
         return memory
             .set_state(law_state)
             .map_err(|e| StateMismatch(e.to_string()));
@@ -227,7 +227,7 @@ impl Simulator {
         model: StructuralModel,
         mut law: Box<dyn FrictionLaw>,
     ) -> Result<Self, SimulationError> {
-        if law.as_memory().is_some() {
+        if law.as_stateful().is_some() {
             // The scene check refuses the laws it knows to have state; a network's
             // state shows only in its weights.
             let named = format!(
@@ -260,7 +260,7 @@ impl Simulator {
         let contact = Contact::new(&scene, integrator.coefficients());
         let mut state = initial_state(&scene, &model)?;
         let mut law_state_slots = Vec::new();
-        if let Some(memory) = law.as_memory_mut() {
+        if let Some(memory) = law.as_stateful_mut() {
             if scene.contact.preload > 0.0 {
                 memory.hold(state.holding_force, scene.loading.normal_force);
             }
@@ -671,7 +671,7 @@ impl Simulator {
             relative_velocity: state.relative_velocity,
             force: state.contact_force,
         };
-        match (self.external, self.law.as_memory_mut()) {
+        match (self.external, self.law.as_stateful_mut()) {
             (None, Some(law)) => {
                 let resolution =
                     self.contact
@@ -808,7 +808,7 @@ impl Simulator {
 /// Where a law's state variables sit: (position in the law's state, index in
 /// [`STATE_VARIABLES`]) for each one listed there. A law of a library user whose
 /// variable the list lacks still runs; that variable only reaches no output (the list
-/// holds every law of this crate, tested in `memory`).
+/// holds every law of this crate, tested in `friction::state`).
 fn slots_of(variables: &[StateVariable]) -> Vec<(usize, usize)> {
     variables
         .iter()

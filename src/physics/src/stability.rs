@@ -3,7 +3,8 @@
 //! them, and the belt speed above which steady sliding is linearly stable.
 
 use crate::elementary;
-use crate::scene::{CheckedScene, Damping, FrictionLawKind, SlidingVelocity};
+use crate::friction::FrictionLawKind;
+use crate::scene::{CheckedScene, Damping, SlidingVelocity};
 
 /// beta_n L of the clamped-free beam: the roots of cos(x) cosh(x) = -1 (Meirovitch,
 /// Fundamentals of Vibrations, Sec. 8.7), for modes 1 to 4.

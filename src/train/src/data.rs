@@ -12,7 +12,7 @@ use rand_distr::{Distribution, Normal, StandardNormal, Uniform};
 use serde::{Deserialize, Serialize};
 
 use crate::error::TrainError;
-use stickslip::friction::signum_or_zero;
+use stickslip::elementary::signum_or_zero;
 use stickslip::neural::{FeatureRole, SyntheticSpec};
 
 /// Random streams drawn from one seed: ChaCha8 streams are independent, so changing how

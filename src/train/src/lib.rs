@@ -26,7 +26,7 @@ pub mod csv;
 pub mod data;
 mod error;
 pub mod lbfgs;
-pub mod memory;
+pub mod learned_state;
 pub mod objective;
 pub mod search;
 pub mod train;

@@ -49,7 +49,7 @@ pub(super) fn probe_variables(kind: FmuKind) -> Probe {
                 get_boolean: None,
                 get_string: Some(vr("weights")),
                 parameter_real: (vr("static_coefficient"), 0.5),
-                parameter_integer: Some((vr("law"), LawChoice::Neural.code())),
+                parameter_integer: Some((vr("law"), NeuralFrictionLaw::NEURAL.code())),
                 parameter_boolean: None,
                 parameter_string: Some((vr("weights"), "paper-plain.json")),
                 input_real: (vr("sliding_velocity"), 0.0),

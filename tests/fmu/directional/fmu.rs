@@ -3,9 +3,9 @@
 
 use std::ffi::{c_void, CString};
 use stickslip::choice::Choice;
-use stickslip::friction::LawChoice;
 use stickslip_fmi::ffi2::*;
 use stickslip_fmi::ffi3::*;
+use stickslip_fmi::friction::NeuralFrictionLaw;
 use stickslip_fmi::friction::{NeuralFriction, EXTRA_FEATURE_ARRAY};
 use stickslip_fmi::model::Model;
 use stickslip_fmi::variables::Causality;
@@ -41,7 +41,12 @@ pub(crate) enum Fmu {
 
 impl Fmu {
     /// Instantiated (weights and law set), and initialised unless `initialise` is false.
-    pub(crate) unsafe fn new(three: bool, weights: &str, law: LawChoice, initialise: bool) -> Fmu {
+    pub(crate) unsafe fn new(
+        three: bool,
+        weights: &str,
+        law: NeuralFrictionLaw,
+        initialise: bool,
+    ) -> Fmu {
         let weights = CString::new(weights).unwrap();
         let (weights_vr, law_vr) = ([5u32], [1u32]);
         unsafe {

@@ -85,7 +85,7 @@ fn fmi3_reasons_containing_fmi2_are_logged_unaltered() {
         assert_eq!(fmi3SetDebugLogging(c, 1, 1, &unknown.as_ptr()), 1);
         assert_eq!(fmi3EnterInitializationMode(c, 0, 0.0, 0.0, 1, 1.0), OK);
         let law = [vr::<StickSlipBeam>("friction.law")];
-        let neural = [stickslip::scene::FrictionLawKind::Neural.code()];
+        let neural = [stickslip::friction::FrictionLawKind::Neural.code()];
         assert_eq!(fmi3SetInt32(c, law.as_ptr(), 1, neural.as_ptr(), 1), OK);
         let weights = [vr::<StickSlipBeam>("friction.weights")];
         let path = CString::new("/tmp/fmi2dir/x.json").unwrap();

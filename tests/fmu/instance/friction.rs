@@ -104,7 +104,7 @@ fn neural_friction_outputs_follow_the_inputs() {
     let mut f = Instance::<NeuralFriction>::new("f", Some(&resources()), false, logger).unwrap();
     f.set_integer(
         &[vr::<NeuralFriction>("law")],
-        &[LawChoice::Exponential.code()],
+        &[NeuralFrictionLaw::EXPONENTIAL.code()],
     )
     .unwrap();
     f.setup_experiment(0.0, None).unwrap();
@@ -159,7 +159,7 @@ fn the_beam_reads_a_network_only_for_the_neural_law() {
 /// with the reason in the log.
 #[test]
 fn neural_inference_is_a_parameter_of_the_beam() {
-    use stickslip::scene::Inference;
+    use stickslip::neural::inference::Inference;
     let mut runs = Vec::new();
     for inference in Inference::ALL {
         let (mut b, _) = beam(false);

@@ -126,7 +126,7 @@ fn non_finite_outputs_are_errors_not_values() {
     let mut f = Instance::<NeuralFriction>::new("f", Some(&resources()), false, logger).unwrap();
     f.set_integer(
         &[vr::<NeuralFriction>("law")],
-        &[LawChoice::Exponential.code()],
+        &[NeuralFrictionLaw::EXPONENTIAL.code()],
     )
     .unwrap();
     f.set_real(&[vr::<NeuralFriction>("static_coefficient")], &[4.0])

@@ -8,7 +8,7 @@ mod sweep;
 mod switch;
 
 use stickslip::contact::{Contact, ContactState, Previous};
-use stickslip::friction::CoulombLaw;
+use stickslip::friction::coulomb::CoulombLaw;
 use stickslip::integrator::{Coefficients, TrialStep};
 use stickslip::scene::{CheckedScene, HoldingForce, Scheme};
 

@@ -3,7 +3,7 @@
 
 use super::{alpha_f, contact, coulomb, level, previous, BELT, LIMIT, LOW_LIMIT, NEAR_ZERO, TRIAL};
 use stickslip::contact::{ContactState::*, Kinetic, SlipSolver};
-use stickslip::friction::{ExponentialLaw, FrictionLaw};
+use stickslip::friction::{exponential::ExponentialLaw, FrictionLaw};
 use stickslip::scene::{HoldingForce, Scheme};
 
 #[test]

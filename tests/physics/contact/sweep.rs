@@ -4,7 +4,8 @@
 
 use super::{previous, BELT};
 use stickslip::contact::{Contact, ContactState, Kinetic, Resolution, SlipSolver, SLIP_TOLERANCE};
-use stickslip::friction::{signum_or_zero, CoulombLaw, ExponentialLaw, FrictionLaw};
+use stickslip::elementary::signum_or_zero;
+use stickslip::friction::{coulomb::CoulombLaw, exponential::ExponentialLaw, FrictionLaw};
 use stickslip::integrator::{Coefficients, TrialStep};
 use stickslip::neural::NeuralLaw;
 use stickslip::scene::{CheckedScene, Scheme, SlidingVelocity};

@@ -42,7 +42,7 @@ fn f_coupled_with_neural_friction_fmu_matches_the_monolithic_run() {
     let mut friction = start_friction(
         &friction_import,
         "coupled-friction",
-        Some(LawChoice::Exponential),
+        Some(NeuralFrictionLaw::EXPONENTIAL),
     );
     let friction_outputs = [fvrs.outputs[1], fvrs.outputs[3]];
 

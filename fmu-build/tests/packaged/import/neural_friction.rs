@@ -31,11 +31,11 @@ fn e_neural_friction_fmu_matches_the_law() {
     let mut exponential = start_friction(
         &import,
         "friction-exponential",
-        Some(LawChoice::Exponential),
+        Some(NeuralFrictionLaw::EXPONENTIAL),
     );
     let mut law = [0i32; 1];
     exponential.get_integer(&[vrs.law], &mut law).expect("law");
-    assert_eq!(law[0], LawChoice::Exponential.code());
+    assert_eq!(law[0], NeuralFrictionLaw::EXPONENTIAL.code());
     for v in [0.1, -0.1] {
         let [force, magnitude, coefficient, limit] = friction_at(&mut exponential, &vrs, v, 100.0);
         let expected = v.signum() * (0.2 + 0.3 * stickslip::elementary::exp(-5.0 * 0.1)) * 100.0;
@@ -55,7 +55,7 @@ fn e_neural_friction_fmu_matches_the_law() {
     // The default law is the shipped network.
     let mut neural = start_friction(&import, "friction-neural", None);
     neural.get_integer(&[vrs.law], &mut law).expect("law");
-    assert_eq!(law[0], LawChoice::Neural.code());
+    assert_eq!(law[0], NeuralFrictionLaw::NEURAL.code());
     let [force, magnitude, _, limit] = friction_at(&mut neural, &vrs, 0.1, 100.0);
     let expected = paper_law(0.1, 100.0);
     let error_at_01 = (force - expected).abs() / expected.abs();

@@ -5,9 +5,10 @@
 use super::{Running, Settings, StickSlipBeam};
 use crate::networks::NetworkError;
 use stickslip::auto::{AutoError, Horizon};
+use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::{LawSource, NetworkOrigin};
 use stickslip::neural::SceneLawError;
-use stickslip::scene::{CheckedScene, FidelityLevel, FrictionLawKind, Scene, SceneError};
+use stickslip::scene::{CheckedScene, FidelityLevel, Scene, SceneError};
 use stickslip::simulation::{SimulationError, Simulator};
 use stickslip::study::Configuration;
 
@@ -95,10 +96,10 @@ impl StickSlipBeam {
     /// once per name by `networks`, then shared) for the neural law.
     fn law_source(&mut self, scene: &Scene, name: &str) -> Result<LawSource, BuildError> {
         let networks = &mut self.networks;
-        // A learned law with state (`stickslip::neural::memory`), told by its file.
+        // A learned law with state (`stickslip::friction::learned_state`), told by its file.
         if scene.friction.law == FrictionLawKind::Neural {
             if let Some(law) = networks.state_law(name)? {
-                if let Some(reason) = stickslip::neural::memory::source::refusal(scene) {
+                if let Some(reason) = stickslip::law_source::learned_state::refusal(scene) {
                     return Err(BuildError::NotAFrictionLaw(SceneLawError::Weights {
                         path: name.to_owned(),
                         source: stickslip::neural::NeuralError::NotAFrictionLaw(reason),

@@ -35,7 +35,8 @@ mod variables;
 use crate::networks::{Networks, DEFAULT_WEIGHTS};
 use serde::{Deserialize, Serialize};
 use stickslip::contact::ContactState;
-use stickslip::scene::{FrictionLawKind, Scene};
+use stickslip::friction::FrictionLawKind;
+use stickslip::scene::Scene;
 use stickslip::simulation::{
     ExternalCoupling, ExternalFriction, ExternalKinetic, Simulator, RECENT_TRANSITIONS,
 };

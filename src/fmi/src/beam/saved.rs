@@ -5,7 +5,8 @@ use super::{BeamInputs, Settings, StickSlipBeam, DEFAULT_FIDELITY_TOLERANCE};
 use crate::instance::{check_as_set, parse_saved};
 use crate::model::{Model, Restoring};
 use serde::{Deserialize, Serialize};
-use stickslip::scene::{FidelityLevel, FrictionLawKind, Scene};
+use stickslip::friction::FrictionLawKind;
+use stickslip::scene::{FidelityLevel, Scene};
 use stickslip::simulation::{set_law_state, ExternalCoupling, SimulationState};
 
 /// Saved form (FMU state). Its size does not grow with simulated time: the

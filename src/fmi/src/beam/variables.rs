@@ -12,9 +12,11 @@ use crate::law_state::law_state_output;
 use crate::variables::{
     Access, Causality, Dependencies, InitialDependencies, Variability, Variable,
 };
+use stickslip::friction::FrictionLawKind;
+use stickslip::neural::inference::Inference;
 use stickslip::scene::{
-    Clamp, DampingPhase, FidelityLevel, FirstSlipStep, FrictionLawKind, HoldingForce, Inference,
-    InitialState, ModalBasis, Scheme, SlidingVelocity, SlipForce, TipVelocity,
+    Clamp, DampingPhase, FidelityLevel, FirstSlipStep, HoldingForce, InitialState, ModalBasis,
+    Scheme, SlidingVelocity, SlipForce, TipVelocity,
 };
 use stickslip::short::Short;
 use stickslip::simulation::ExternalCoupling;
@@ -25,7 +27,7 @@ const NORMAL_FORCE: u32 = 101;
 // The law's state outputs are value references 210, 211, ..., one row per entry of
 // STATE_VARIABLES, in its order (see the end of the table). A new entry needs its row.
 const _: () = assert!(
-    stickslip::memory::STATE_VARIABLES.len() == 3,
+    stickslip::friction::state::STATE_VARIABLES.len() == 3,
     "add a law_state_output! row for each entry of STATE_VARIABLES"
 );
 

@@ -10,7 +10,8 @@
 //! - static_limit mu_s F_n (0 for lugre): mu_s (0) along F_n; evaluated_velocity v: 1 along v.
 
 use super::*;
-use stickslip::friction::signum_or_zero;
+use stickslip::elementary::signum_or_zero;
+use stickslip::friction::FrictionLawKind;
 use stickslip::jacobian::LawJacobian;
 
 /// The FMU's inputs, in the order of the rows below.
@@ -30,19 +31,15 @@ impl NeuralFriction {
         if let Some((jacobian, _)) = self.state_jacobian()? {
             return Ok((jacobian, vec![SLIDING_VELOCITY, NORMAL_FORCE]));
         }
-        match self.settings.law {
-            LawChoice::Exponential => {
+        match self.settings.law.kind() {
+            FrictionLawKind::Exponential => {
                 let s = &self.settings;
-                let law = ExponentialLaw {
-                    static_coefficient: s.static_coefficient,
-                    kinetic_coefficient: s.kinetic_coefficient,
-                    decay: s.decay,
-                };
+                let law = s.friction().exponential_law();
                 let jacobian = law.jacobian(s.sliding_velocity, s.normal_force);
                 Ok((jacobian, vec![SLIDING_VELOCITY, NORMAL_FORCE]))
             }
             // A law with state answered above.
-            LawChoice::Neural | LawChoice::Lugre | LawChoice::RateAndState => {
+            _ => {
                 let s = &self.settings;
                 let network = self.networks.get(&s.weights)?;
                 let inputs = feature_inputs(network.model(), &s.weights)?;

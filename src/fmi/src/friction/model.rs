@@ -77,7 +77,7 @@ impl Model for NeuralFriction {
         self.derivatives().map_err(|e| e.to_string())
     }
 
-    /// State versions 4 and 5: the settings and the law state (`memory`).
+    /// State versions 4 and 5: the settings and the law state (`state_laws`).
     fn save(&self) -> serde_json::Value {
         self.saved()
     }

@@ -11,7 +11,7 @@ use crate::law_state::law_state_output;
 use crate::variables::{
     ArrayVariable, Dependencies, DependencyKind, InitialDependencies, Variable,
 };
-use stickslip::memory::STATE_VARIABLES;
+use stickslip::friction::state::STATE_VARIABLES;
 
 /// NeuralFriction's FMI 3.0 arrays: the extra features.
 pub(super) static ARRAYS: &[ArrayVariable] = &[ArrayVariable {
@@ -61,7 +61,7 @@ const EVALUATED_VELOCITY: Dependencies = Dependencies {
 };
 
 /// The static limit mu F_n: the normal force times a fixed parameter, mu = mu_s but 0
-/// with `law = lugre` (`Settings::static_limit_coefficient`, in `memory`).
+/// with `law = lugre` (`Settings::static_limit_coefficient`, in `state_laws`).
 const STATIC_LIMIT: Dependencies = Dependencies {
     inputs: &[(NORMAL_FORCE, DependencyKind::Fixed)],
     initial: InitialDependencies::InputsAnd(&[LAW, STATIC_COEFFICIENT]),
@@ -101,7 +101,7 @@ pub(super) static VARIABLES: &[Variable<NeuralFriction>] = &with_memory_law_para
     choice_parameter!(
         LAW,
         "law",
-        LawChoice,
+        NeuralFrictionLaw,
         "Friction law: the network, the analytical law for comparison, or a law with state",
         |m: NeuralFriction| m.settings.law
     ),

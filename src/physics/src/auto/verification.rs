@@ -38,11 +38,11 @@ pub fn verification_scenes() -> Vec<(&'static str, Scene)> {
         ),
         (
             "coulomb",
-            with(&|s| s.friction.law = crate::scene::FrictionLawKind::Coulomb),
+            with(&|s| s.friction.law = crate::friction::FrictionLawKind::Coulomb),
         ),
         (
             "neural",
-            with(&|s| s.friction.law = crate::scene::FrictionLawKind::Neural),
+            with(&|s| s.friction.law = crate::friction::FrictionLawKind::Neural),
         ),
         (
             "stubby 0.2 m x 0.02 m E 40 MPa",

@@ -1,7 +1,7 @@
 //! The law's argument x(F) during one slip step, and where the direction of sliding
 //! reverses.
 
-use crate::friction::signum_or_zero;
+use crate::elementary::signum_or_zero;
 use crate::scene::SlidingVelocity;
 
 /// The law's argument x during one slip step as a function of the tip force F: the

@@ -1,7 +1,8 @@
 //! The kinetic law adapter: the scene's law or a coupled model's force, as the slip
 //! solve evaluates it.
 
-use crate::friction::{signum_or_zero, FrictionLaw};
+use crate::elementary::signum_or_zero;
+use crate::friction::FrictionLaw;
 
 /// Where the kinetic friction force of a step comes from.
 pub enum Kinetic<'a> {

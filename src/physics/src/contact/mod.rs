@@ -69,18 +69,18 @@
 //!   switches every step (the paper's literal rule "stick when |v_s| < eps"; in a 1-DOF
 //!   run, 3 908 switches that dragged the tip to 23.5 mm).
 //!
-//! **Laws with state** (`crate::memory`: LuGre, rate-and-state) have no set-valued stick
+//! **Laws with state** (`crate::friction::state`: LuGre, rate-and-state) have no set-valued stick
 //! and take neither switch: every step is a slip solve with the law's trial step over dt
 //! (its state advanced inside, the exact total slope), and the state is committed at the
-//! accepted velocity; `stick` then means |v_rel,n+1| < eps (`memory`,
+//! accepted velocity; `stick` then means |v_rel,n+1| < eps (`state_law`,
 //! docs/friction-with-memory.md).
 //!
 //! Here: the `Contact` of a scene and its two formulations. Its parts: `state` (stick or
 //! slip between steps), `stick` (the reaction and F_hold), `switch` (the two schemes'
 //! rules), `kinetic` (where the kinetic force comes from), `slip` (the solve and its
 //! choice of solver) with `argument` (x(F)), `limits`, `newton`, `fixed_point` and
-//! `tangent` (the solvers) and `jump` (the force where the equation has no solution),
-//! and `memory` (the step of a law with state). Imports run one way, from here down to
+//! `tangent` (the solvers), `jump` (the force where the equation has no solution), and
+//! `state_law` (the step of a law with state). Imports run one way, from here down to
 //! those parts.
 
 mod argument;
@@ -88,10 +88,10 @@ mod fixed_point;
 mod jump;
 mod kinetic;
 mod limits;
-mod memory;
 mod newton;
 mod slip;
 mod state;
+mod state_law;
 mod stick;
 mod switch;
 mod tangent;

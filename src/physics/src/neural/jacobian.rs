@@ -37,7 +37,7 @@ use nalgebra::{DMatrixView, DMatrixViewMut};
 use super::network::{Activation, LayerShape};
 use super::weights::{network_input_range, FeatureRole, NeuralModel, Variant};
 use crate::elementary;
-use crate::friction::signum_or_zero;
+use crate::elementary::signum_or_zero;
 use crate::jacobian::{magnitude_slope, LawJacobian};
 
 /// Values of one layer with their first derivatives along every input and second

@@ -27,9 +27,9 @@ use super::forward::{Forward, Real};
 use super::onnx;
 use super::weights::FeatureRole;
 use super::weights::{network_input_range, NeuralModel, Variant};
+use crate::elementary::signum_or_zero;
 use crate::files::WEIGHTS_FILE;
-use crate::friction::{signum_or_zero, FrictionLaw};
-use crate::scene::Inference;
+use crate::neural::inference::Inference;
 use stickslip_formats::sniff::WeightsFileKind;
 
 /// The shipped plain-variant weights (`weights/paper-plain.json`).
@@ -48,7 +48,7 @@ pub struct NeuralLaw {
     forward_f32: Option<Forward<f32>>,
     /// The f32 network's largest deviation from the exact one over the training range
     /// (N), measured when it was built.
-    f32_deviation: Option<f64>,
+    pub(crate) f32_deviation: Option<f64>,
     /// Per feature: clamp range of the network input, mean and 1/std.
     input_lo: Vec<f64>,
     input_hi: Vec<f64>,
@@ -296,13 +296,16 @@ impl NeuralLaw {
         None
     }
 
-    /// The law as the beam's `FrictionLaw`, refused with a clear error if the beam cannot
-    /// supply every feature (see the module documentation).
-    pub fn into_friction_law(self) -> Result<Box<dyn FrictionLaw>, NeuralError> {
-        match self.beam_problem() {
-            Some(problem) => Err(NeuralError::NotAFrictionLaw(problem)),
-            None => Ok(Box::new(self)),
+    /// The force (N) in the direction of `sliding_velocity` (m/s) under `normal_force`
+    /// (N) and dF/dv (N s/m) by forward-mode differentiation through the network (see
+    /// `evaluate_scratch_with`): the beam's features set from the two, the others fixed;
+    /// NaN for both if the law was not checked with `into_friction_law` and lacks an
+    /// input. Allocation-free.
+    pub fn force_and_slope(&mut self, sliding_velocity: f64, normal_force: f64) -> (f64, f64) {
+        if !self.set_beam_features(sliding_velocity, normal_force) {
+            return (f64::NAN, f64::NAN);
         }
+        self.evaluate_scratch_with::<true>()
     }
 
     /// Friction force (target units) for one sample of features in model order and raw
@@ -362,7 +365,7 @@ impl NeuralLaw {
 
     /// Evaluates the feature vector in `self.features`.
     #[inline]
-    fn evaluate_scratch(&mut self) -> f64 {
+    pub(crate) fn evaluate_scratch(&mut self) -> f64 {
         self.evaluate_scratch_with::<false>().0
     }
 
@@ -374,7 +377,7 @@ impl NeuralLaw {
     /// the velocity is clamped, and for the signed variant g'(|v|) (F = sign(v) g(|v|)
     /// is odd, its slope even), 0 where max(0, g) cuts.
     #[inline]
-    fn evaluate_scratch_with<const SLOPE: bool>(&mut self) -> (f64, f64) {
+    pub(crate) fn evaluate_scratch_with<const SLOPE: bool>(&mut self) -> (f64, f64) {
         let NeuralLaw {
             forward,
             forward_f32,
@@ -421,7 +424,7 @@ impl NeuralLaw {
 
     /// Fills `self.features` for the beam's (v, F_n); false if the law cannot serve
     /// the beam (a feature is neither supplied nor fixed).
-    fn set_beam_features(&mut self, sliding_velocity: f64, normal_force: f64) -> bool {
+    pub(crate) fn set_beam_features(&mut self, sliding_velocity: f64, normal_force: f64) -> bool {
         let (Some(v), Some(f)) = (self.velocity, self.normal_force) else {
             return false;
         };
@@ -532,37 +535,5 @@ impl Inputs<'_> {
             }
         }
         forward.run::<SLOPE>()
-    }
-}
-
-impl FrictionLaw for NeuralLaw {
-    fn name(&self) -> &str {
-        crate::choice::Choice::name(crate::scene::FrictionLawKind::Neural)
-    }
-
-    /// Signed force (N) in the direction of `sliding_velocity` (m/s) under
-    /// `normal_force` (N); NaN if the law was not checked with `into_friction_law`
-    /// and lacks an input. Allocation-free.
-    fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {
-        if !self.set_beam_features(sliding_velocity, normal_force) {
-            return f64::NAN;
-        }
-        self.evaluate_scratch()
-    }
-
-    /// In f32, the largest deviation from the exact network over the training range
-    /// (measured at build, [`NeuralLaw::f32_deviation`]): the slip solve does not resolve
-    /// the force more finely than the law's own error; 0 in f64.
-    fn resolution(&self) -> f64 {
-        self.f32_deviation.unwrap_or(0.0)
-    }
-
-    /// The force and dF/dv (N s/m) by forward-mode differentiation through the network
-    /// (see `evaluate_scratch_with`); NaN for both where `sliding_force` gives NaN.
-    fn sliding_force_and_slope(&mut self, sliding_velocity: f64, normal_force: f64) -> (f64, f64) {
-        if !self.set_beam_features(sliding_velocity, normal_force) {
-            return (f64::NAN, f64::NAN);
-        }
-        self.evaluate_scratch_with::<true>()
     }
 }

@@ -8,15 +8,17 @@
 //! - `weights`: the self-describing JSON weights file (with `synthetic`'s
 //!   `SyntheticSpec`, the generator settings a trained model records); `law`: `NeuralLaw`, the trained
 //!   model as a `crate::friction::FrictionLaw`;
+//! - `inference`: `Inference`, how the time loop evaluates a network (exact, f32, table);
 //! - `table`: the network tabulated at initialisation, with its verified error (the
 //!   law as `friction.inference` asks is built by `crate::law_source`);
 //! - `onnx`: networks exported to ONNX (PyTorch, Keras, scikit-learn), read by
 //!   `stickslip_formats::onnx` into a dense chain and turned here into the same
 //!   `NeuralModel`;
-//! - `memory`: the learned law with memory (rate-and-state with trained parameters and a
-//!   network correction), its weights file (`stickslip-state-friction`) and its
-//!   velocity-step response; shipped as `weights/rate-and-state-learned.json`;
 //! - `error`: `NeuralError`, why a weights file or an evaluation was refused.
+//!
+//! The learned law with memory (rate-and-state with trained parameters and a network
+//! correction, shipped as `weights/rate-and-state-learned.json`) is a friction law
+//! beside the others: `crate::friction::learned_state`.
 //!
 //! Training (data, CSV, backpropagation, L-BFGS, the objective, search) lives in the
 //! `stickslip-train` crate, and the `stickslip train` / `stickslip search` commands in
@@ -55,11 +57,11 @@
 //!   `network::gemm`.
 
 mod error;
-mod file_checks;
+pub(crate) mod file_checks;
 pub mod forward;
+pub mod inference;
 pub mod jacobian;
 pub mod law;
-pub mod memory;
 pub mod network;
 pub mod onnx;
 mod synthetic;

@@ -37,7 +37,7 @@ crate::choice! {
 /// - z ~ N(0, 1), and F_f = F + z sqrt(`noise_std`^2 + (`relative_noise_std` F)^2) (N)
 ///   with F = sign(v_s) [mu_k + (mu_s - mu_k) exp(-alpha |v_s|)] F_n, the paper's Eq. 6
 ///   made odd in v_s (the force acts in the direction of the sliding velocity, as in
-///   `crate::friction::ExponentialLaw`): the sum of an additive noise N(0, `noise_std`)
+///   `crate::friction::exponential::ExponentialLaw`): the sum of an additive noise N(0, `noise_std`)
 ///   and a relative one F N(0, `relative_noise_std`), in one draw. With only the
 ///   relative part this is the authors' F_f = F (1 + 0.02 N(0, 1)) (z is symmetric).
 ///

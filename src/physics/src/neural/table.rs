@@ -40,7 +40,7 @@
 
 use super::law::NeuralLaw;
 use super::weights::{network_input_range, FeatureRole, Variant};
-use crate::friction::{signum_or_zero, FrictionLaw};
+use crate::elementary::signum_or_zero;
 
 /// The error (N, target units) the table is refined to: far below the networks' own
 /// error against their data (RMS 0.06 N for the signed network, 2 N for the plain one).
@@ -95,7 +95,7 @@ impl Exact<'_> {
         } else {
             v
         };
-        self.law.sliding_force_and_slope(v, f_n)
+        self.law.force_and_slope(v, f_n)
     }
 }
 
@@ -389,6 +389,19 @@ impl TableLaw {
     }
 
     /// The table over velocity x normal force, built now if it was not yet.
+    /// The table's force (N) and its exact derivative in v (N s/m; the slope of the
+    /// magnitude for the signed variant, which is even in v) at `sliding_velocity`
+    /// (m/s) and `normal_force` (N): the table built at the run's normal force, or the
+    /// general one at another.
+    pub fn force_and_slope(&mut self, sliding_velocity: f64, normal_force: f64) -> (f64, f64) {
+        let table = if self.law.clamped_normal_force(normal_force) == self.fixed_force {
+            &self.fixed
+        } else {
+            self.general()
+        };
+        table.at(sliding_velocity, normal_force)
+    }
+
     pub fn general(&mut self) -> &Table {
         let TableLaw { law, general, .. } = self;
         general.get_or_insert_with(|| {
@@ -443,26 +456,4 @@ fn refine_nodes(exact: &mut Exact<'_>, lo: f64, hi: f64, rows: &[f64]) -> Vec<f6
         start = end;
     }
     nodes
-}
-
-impl FrictionLaw for TableLaw {
-    fn name(&self) -> &str {
-        crate::choice::Choice::name(crate::scene::FrictionLawKind::Neural)
-    }
-
-    fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {
-        self.sliding_force_and_slope(sliding_velocity, normal_force)
-            .0
-    }
-
-    /// The table's force and its exact derivative in v (the slope of the magnitude for
-    /// the signed variant, which is even in v).
-    fn sliding_force_and_slope(&mut self, sliding_velocity: f64, normal_force: f64) -> (f64, f64) {
-        let table = if self.law.clamped_normal_force(normal_force) == self.fixed_force {
-            &self.fixed
-        } else {
-            self.general()
-        };
-        table.at(sliding_velocity, normal_force)
-    }
 }

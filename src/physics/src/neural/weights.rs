@@ -19,7 +19,7 @@ use super::error::NeuralError;
 use super::file_checks::{check_header, finite, json_error, read_text, to_pretty_json, write_text};
 use super::network::{Activation, Network, Workspace};
 pub use super::synthetic::{SyntheticPreset, SyntheticSpec};
-use crate::friction::signum_or_zero;
+use crate::elementary::signum_or_zero;
 
 /// What a feature means to the beam. The beam's `FrictionLaw` interface passes the
 /// sliding velocity and the normal force; other features need fixed values there.

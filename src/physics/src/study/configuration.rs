@@ -4,7 +4,8 @@
 //! law's.
 
 use crate::choice::Choice;
-use crate::scene::{FidelityLevel, Inference, ModalBasis, Scene, Scheme};
+use crate::neural::inference::Inference;
+use crate::scene::{FidelityLevel, ModalBasis, Scene, Scheme};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 

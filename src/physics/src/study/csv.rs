@@ -3,7 +3,7 @@
 use super::configuration::Resolution;
 use super::front::Row;
 use crate::choice::Choice;
-use crate::scene::Inference;
+use crate::neural::inference::Inference;
 
 /// The CSV header of [`csv_line`].
 pub const CSV_HEADER: &str = "level,modes,beam_elements,element_size_m,dt_s,integrator,inference,law,dofs,wall_s,realtime_factor,err_breakaway_s,err_first_slip_duration_s,err_period_s,err_corridor_m,err_rms_m,pareto";

@@ -3,7 +3,9 @@
 
 use super::configuration::{Configuration, Resolution};
 use super::law::Law;
-use crate::scene::{FrictionLawKind, Inference, Scheme};
+use crate::friction::FrictionLawKind;
+use crate::neural::inference::Inference;
+use crate::scene::Scheme;
 
 /// The axes of a study grid.
 #[derive(Clone, Debug, PartialEq)]

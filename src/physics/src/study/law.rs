@@ -9,7 +9,8 @@
 //! (`friction.lugre`, `friction.rate_and_state`, mu_s, mu_k, alpha).
 
 use crate::choice::Choice;
-use crate::scene::{FrictionLawKind, Scene};
+use crate::friction::FrictionLawKind;
+use crate::scene::Scene;
 use std::fmt;
 use std::path::Path;
 use std::str::FromStr;

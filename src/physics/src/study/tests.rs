@@ -150,7 +150,7 @@ fn every_law_is_compared_with_its_own_reference() {
 #[test]
 fn the_external_law_is_refused_with_the_reason() {
     let mut scene = Scene::default();
-    scene.friction.law = crate::scene::FrictionLawKind::External;
+    scene.friction.law = crate::friction::FrictionLawKind::External;
     let mut grid = Grid::full();
     grid.modes = vec![1];
     grid.beam_elements.clear();

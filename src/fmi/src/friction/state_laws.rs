@@ -1,0 +1,317 @@
+//! NeuralFriction with a law that has state (`stickslip::friction::state::StatefulLaw`), one path
+//! for the three: `law = lugre` (bristle deflection z, g(v) the exponential law of
+//! `static_coefficient`, `kinetic_coefficient`, `decay`), `law = rate-and-state` (theta),
+//! and `law = neural` with `weights` naming a file of format `stickslip-state-friction`
+//! (the learned law with memory, psi; `rate-and-state-learned.json` is shipped).
+//!
+//! - The state starts at the law's initial state (`StatefulLaw::reset`: z = 0,
+//!   theta = D_c / V_0, psi = 0) when initialisation ends.
+//! - Each communication step from t to t + h commits one law step over h with the
+//!   inputs held (sliding velocity and normal force as set before the step): the laws
+//!   integrate their state exactly for a velocity held over the step, so no substeps
+//!   are needed and any h is stable. A step of h = 0 keeps the state.
+//! - Outputs are the force at the committed state and the current inputs
+//!   (`StatefulLaw::force_at_state`): setting a new velocity between steps moves the force
+//!   at once by the direct effect, and the state follows over the next steps.
+//!   `friction_force_slope` is dF/dv at the committed state, and the directional
+//!   derivatives are those at fixed state.
+//! - The state is part of the FMU state (state version 4: `{settings, law_state}`);
+//!   states of versions 1 to 3, which NeuralFriction wrote before it had laws with state,
+//!   are the plain settings and restore with the initial law state. Version-4 states
+//!   written before `lugre` and `rate-and-state` came have no parameters for them: they
+//!   read with the defaults (`Settings`).
+
+use super::{EvaluateError, InitialiseError, NeuralFriction, Outputs, Settings};
+use crate::instance::{check_as_set, parse_saved};
+use crate::model::{Model, Restoring};
+use serde::{Deserialize, Serialize};
+use stickslip::friction::state::{LawStep, StatefulLaw, STATE_VARIABLES};
+use stickslip::friction::{FrictionLaw, FrictionLawKind};
+use stickslip::jacobian::LawJacobian;
+use stickslip::law_source::LawSource;
+
+/// The first FMU state version whose NeuralFriction state holds the law's state.
+pub(super) const LAW_STATE_VERSION: u32 = 4;
+
+/// NeuralFriction's saved form from state version 4 on.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Saved {
+    settings: Settings,
+    /// The committed law state (empty for a law without state, or before the first
+    /// step: the initial state).
+    law_state: Vec<f64>,
+}
+
+/// Whether `a` and `b` choose the same law with the same parameters (the inputs may
+/// differ).
+fn same_law(a: &Settings, b: &Settings) -> bool {
+    a.law == b.law
+        && a.static_coefficient.to_bits() == b.static_coefficient.to_bits()
+        && a.kinetic_coefficient.to_bits() == b.kinetic_coefficient.to_bits()
+        && a.decay.to_bits() == b.decay.to_bits()
+        && a.lugre == b.lugre
+        && a.rate_and_state == b.rate_and_state
+        && a.weights == b.weights
+}
+
+impl Settings {
+    /// The coefficient of `static_limit` = mu F_n (the static limit handed to a set-valued
+    /// stick, `external.static_limit`): mu_s, except 0 for `law = lugre`. LuGre has no
+    /// set-valued stick: its bristles hold the tip (presliding, F = sigma0 z) and let it
+    /// creep, and its state moves only while v_rel does. Under the beam's set-valued stick
+    /// v_rel is 0, z stays where stick began (0 at the start), the creep is lost and
+    /// breakaway drops the force from mu_s F_n to sigma0 z ~ 0 for the bristles' rise
+    /// time; the coupled run then converged (h = 1e-5, 2e-6 s) to a first drop 2.8 ms
+    /// early and a period 4 % short of the embedded law's. With 0 the beam never sticks,
+    /// every step is a slip solve under the law's tangent, as the embedded contact's
+    /// (docs/friction-with-memory.md).
+    pub(super) fn static_limit_coefficient(&self) -> f64 {
+        match self.law.kind() {
+            FrictionLawKind::Lugre => 0.0,
+            _ => self.static_coefficient,
+        }
+    }
+}
+
+/// What restoring a saved state replaced (`NeuralFriction::adopt_saved`).
+struct Adopted {
+    settings: Settings,
+    law_state: Vec<f64>,
+    outputs: Outputs,
+}
+
+impl NeuralFriction {
+    /// The law with state the settings choose, in its committed state (the initial one
+    /// before the first step), or `None` for a memoryless law.
+    fn memory_law(&mut self) -> Result<Option<&mut dyn StatefulLaw>, EvaluateError> {
+        // The law last built is rebuilt only when the settings choose another (or other
+        // parameters), so that a step allocates nothing for it.
+        let fresh = match &self.built {
+            Some((settings, _)) => !same_law(settings, &self.settings),
+            None => true,
+        };
+        if fresh {
+            self.built = self.build_law()?.map(|law| (self.settings.clone(), law));
+        }
+        let Some(law) = self
+            .built
+            .as_mut()
+            .and_then(|(_, law)| law.as_stateful_mut())
+        else {
+            return Ok(None);
+        };
+        if self.law_state.is_empty() {
+            law.reset();
+        } else {
+            law.set_state(&self.law_state)
+                .map_err(|e| EvaluateError::Parameter(e.to_string()))?;
+        }
+        Ok(Some(law))
+    }
+
+    /// A new law for the settings if it has state, built where every law is built
+    /// (`LawSource`) from the settings as the scene's friction section, its parameters
+    /// checked first (outputs may be read before initialisation, whose check has then not
+    /// run). The neural law has state when its weights file is of the learned law's
+    /// format; `None` for a memoryless law.
+    fn build_law(&mut self) -> Result<Option<Box<dyn FrictionLaw>>, EvaluateError> {
+        let s = &self.settings;
+        let friction = s.friction();
+        if let Some(problem) = friction.law_problem() {
+            return Err(EvaluateError::Parameter(problem.to_string()));
+        }
+        let source = match LawSource::analytical(&friction) {
+            Some(source) => source,
+            None => match self.networks.state_law(&s.weights)? {
+                Some(law) => LawSource::LearnedState(law),
+                None => return Ok(None),
+            },
+        };
+        let law = source
+            .law()
+            .map_err(|e| EvaluateError::Parameter(e.to_string()))?;
+        Ok(law.as_stateful().is_some().then_some(law))
+    }
+
+    /// The force at the committed state and the current inputs with its Jacobian over
+    /// (v, F_n), and the state outputs, or `None` for a memoryless law.
+    pub(super) fn state_jacobian(
+        &mut self,
+    ) -> Result<Option<(LawJacobian, [f64; STATE_VARIABLES.len()])>, EvaluateError> {
+        let (v, normal) = (self.settings.sliding_velocity, self.settings.normal_force);
+        let Some(law) = self.memory_law()? else {
+            return Ok(None);
+        };
+        let mut outputs = [0.0; STATE_VARIABLES.len()];
+        for (variable, value) in law.state_variables().iter().zip(law.state()) {
+            if let Some(k) = STATE_VARIABLES.iter().position(|s| s == variable) {
+                outputs[k] = *value;
+            }
+        }
+        let at = law.force_at_state(v, normal);
+        let jacobian = LawJacobian {
+            force: at.force,
+            slope: at.slope,
+            force_gradient: at.force_gradient.to_vec(),
+            slope_gradient: at.slope_gradient.to_vec(),
+        };
+        Ok(Some((jacobian, outputs)))
+    }
+
+    /// Commits one law step over `size` (s) to `to` (s) with the inputs held. The step
+    /// is `size`, the importer's communication step size, so that every master that
+    /// gives the same sizes gets the same bits (`Model::do_step`).
+    pub(super) fn advance_state(&mut self, to: f64, size: f64) -> Result<(), EvaluateError> {
+        self.time = to;
+        let step = LawStep {
+            dt: size,
+            sliding_velocity: self.settings.sliding_velocity,
+            normal_force: self.settings.normal_force,
+        };
+        let Some(law) = self.memory_law()? else {
+            self.law_state.clear();
+            return Ok(());
+        };
+        // dt = 0 (an event iteration's step): nothing slides, the state stays.
+        if size > 0.0 {
+            law.commit(step);
+        }
+        // The law just used (disjoint from `law_state`, so both borrows may live).
+        let state = self
+            .built
+            .as_ref()
+            .and_then(|(_, law)| law.as_stateful())
+            .map_or(&[][..], |law| law.state());
+        if let Some(&value) = state.iter().find(|x| !x.is_finite()) {
+            return Err(EvaluateError::NonFiniteState {
+                sliding_velocity: step.sliding_velocity,
+                state: value,
+            });
+        }
+        self.law_state.clear();
+        self.law_state.extend_from_slice(state);
+        Ok(())
+    }
+
+    /// The saved form of the current version (`Model::save`).
+    pub(super) fn saved(&self) -> serde_json::Value {
+        serde_json::to_value(Saved {
+            settings: self.settings.clone(),
+            law_state: self.law_state.clone(),
+        })
+        .unwrap_or(serde_json::Value::Null)
+    }
+
+    /// Puts the saved state's settings and law state in place, checked as setting them
+    /// and initialising would check them (`Model::check_saved`); on refusal the model
+    /// is left as it was and the reason names the parameter. Returns what was replaced.
+    fn adopt_saved(&mut self, saved: serde_json::Value, at: &Restoring) -> Result<Adopted, String> {
+        const WHAT: &str = "NeuralFriction";
+        let parsed = if at.version >= LAW_STATE_VERSION {
+            parse_saved::<Saved>(saved).map(|saved| (saved.settings, saved.law_state))
+        } else {
+            parse_saved::<Settings>(saved).map(|settings| (settings, Vec::new()))
+        };
+        let (settings, law_state) = parsed.map_err(|e| format!("saved {WHAT} state: {e}"))?;
+        let mut candidate = NeuralFriction::with_defaults();
+        candidate.settings = settings;
+        check_as_set(&candidate, |m| &m.settings)
+            .map_err(|e| format!("saved {WHAT} state: {e}"))?;
+        let previous = Adopted {
+            settings: std::mem::replace(&mut self.settings, candidate.settings),
+            law_state: std::mem::replace(&mut self.law_state, law_state),
+            outputs: self.outputs,
+        };
+        let checked = if at.initialized {
+            self.check_initialised_law_state(at)
+        } else if self.law_state.is_empty() {
+            Ok(())
+        } else {
+            // Initialisation starts the law at its initial state, so no state before it.
+            Err(format!(
+                "law_state = {:?}: a state saved before initialisation has no law state",
+                self.law_state
+            ))
+        };
+        match checked {
+            Ok(()) => Ok(previous),
+            Err(reason) => {
+                self.put_back(previous);
+                Err(format!("saved {WHAT} state: {reason}"))
+            }
+        }
+    }
+
+    /// An initialised state: its parameters pass initialisation's checks (the same
+    /// `initialise_outputs`), with its law state in place of the initial one, which
+    /// must fit the law.
+    fn check_initialised_law_state(&mut self, at: &Restoring) -> Result<(), String> {
+        self.initialise_outputs().map_err(|e| match e {
+            // The law refused the law state (length, finite, theta > 0).
+            InitialiseError::Evaluate(EvaluateError::Parameter(reason))
+                if !self.law_state.is_empty() =>
+            {
+                format!("law_state = {:?}: {reason}", self.law_state)
+            }
+            other => other.to_string(),
+        })?;
+        // Evaluating built the law the settings choose if it has state; a law built
+        // earlier for other settings (`built` is a cache) does not count.
+        let has_state = self
+            .built
+            .as_ref()
+            .is_some_and(|(built_for, _)| same_law(built_for, &self.settings));
+        if !has_state && !self.law_state.is_empty() {
+            return Err(format!(
+                "law_state = {:?}: the law {} has no state",
+                self.law_state,
+                stickslip::choice::Choice::name(self.settings.law)
+            ));
+        }
+        // From version 4 on the law state is saved with every step (`advance_state`);
+        // empty, the initial state, holds only before the first step.
+        if has_state
+            && self.law_state.is_empty()
+            && at.version >= LAW_STATE_VERSION
+            && at.time != at.start_time
+        {
+            return Err(format!(
+                "law_state = []: the law {} has a state, which a state saved after a step (t = {} s, start {} s) carries",
+                stickslip::choice::Choice::name(self.settings.law),
+                at.time,
+                at.start_time
+            ));
+        }
+        Ok(())
+    }
+
+    fn put_back(&mut self, previous: Adopted) {
+        self.settings = previous.settings;
+        self.law_state = previous.law_state;
+        self.outputs = previous.outputs;
+    }
+
+    /// `Model::check_saved`: as `restore_saved`, with the model put back afterwards.
+    pub(super) fn check_saved_state(
+        &mut self,
+        saved: &serde_json::Value,
+        at: &Restoring,
+    ) -> Result<(), String> {
+        let previous = self.adopt_saved(saved.clone(), at)?;
+        self.put_back(previous);
+        Ok(())
+    }
+
+    /// Restores a saved NeuralFriction state (`Model::restore`). Its outputs are
+    /// evaluated when next read.
+    pub(super) fn restore_saved(
+        &mut self,
+        saved: serde_json::Value,
+        at: &Restoring,
+    ) -> Result<(), String> {
+        self.adopt_saved(saved, at)?;
+        self.time = at.time;
+        Ok(())
+    }
+}
