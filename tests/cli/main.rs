@@ -3,6 +3,7 @@
 mod contract;
 mod files;
 mod import;
+mod law_parameters;
 mod study_laws;
 mod train_memory;
 mod train_split;

@@ -12,6 +12,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use stickslip::choice::Choice;
+use stickslip::friction::registry::{self, ParameterKind};
 use stickslip::friction::FrictionLawKind;
 use stickslip::scene::FidelityLevel;
 use stickslip::simulation::ExternalCoupling;
@@ -154,6 +155,28 @@ fn complete(seen: DependencyMap, declared: &DependencyMap) -> DependencyMap {
         .collect()
 }
 
+/// Every law parameter of the registry with its default and a changed value in range:
+/// 1.2 times the default, 5 for a default of 0, the next word of a choice.
+fn law_parameters() -> Vec<(&'static str, Value, Value)> {
+    registry::parameters()
+        .map(|p| match p.kind {
+            ParameterKind::Real { .. } => {
+                let changed = if p.default == 0.0 {
+                    5.0
+                } else {
+                    1.2 * p.default
+                };
+                (p.name, Value::Real(p.default), Value::Real(changed))
+            }
+            ParameterKind::Choice(choice) => {
+                let code = p.default as i32;
+                let next = code % choice.len as i32 + 1;
+                (p.name, Value::Integer(code), Value::Integer(next))
+            }
+        })
+        .collect()
+}
+
 fn friction() -> Instance<NeuralFriction> {
     Instance::new(
         "friction",
@@ -172,10 +195,6 @@ fn neural_friction_outputs_change_with_exactly_the_inputs_and_parameters_declare
     let weights = weights.to_str().unwrap().to_string();
     let neural = NeuralFrictionLaw::NEURAL.code();
     let exponential = NeuralFrictionLaw::EXPONENTIAL.code();
-    let (lugre, rate_and_state) = (
-        NeuralFrictionLaw::LUGRE.code(),
-        NeuralFrictionLaw::RATE_AND_STATE.code(),
-    );
     // Base values inside the networks' training ranges (inputs are clamped to them).
     // Rate-and-state is probed inside its regularisation core (|v K| ~ 1 at
     // v ~ 4e-25 m/s for the defaults), where its slope depends on mu_0 and V_0 as well:
@@ -197,7 +216,7 @@ fn neural_friction_outputs_change_with_exactly_the_inputs_and_parameters_declare
     };
     let parameters = |law: i32| {
         let other_law = if law == neural { exponential } else { neural };
-        vec![
+        [
             ("law", Value::Integer(law), Value::Integer(other_law)),
             ("static_coefficient", Value::Real(0.5), Value::Real(0.6)),
             ("kinetic_coefficient", Value::Real(0.3), Value::Real(0.25)),
@@ -207,56 +226,14 @@ fn neural_friction_outputs_change_with_exactly_the_inputs_and_parameters_declare
                 Value::String(weights.clone()),
                 Value::String("paper-plain.json".into()),
             ),
-            (
-                "friction.lugre.bristle_stiffness",
-                Value::Real(1e7),
-                Value::Real(2e7),
-            ),
-            (
-                "friction.lugre.bristle_damping",
-                Value::Real(1e3),
-                Value::Real(2e3),
-            ),
-            (
-                "friction.lugre.viscous_damping",
-                Value::Real(0.0),
-                Value::Real(5.0),
-            ),
-            (
-                "friction.rate_and_state.direct_effect",
-                Value::Real(0.01),
-                Value::Real(0.012),
-            ),
-            (
-                "friction.rate_and_state.evolution_effect",
-                Value::Real(0.015),
-                Value::Real(0.02),
-            ),
-            (
-                "friction.rate_and_state.characteristic_slip",
-                Value::Real(1e-5),
-                Value::Real(2e-5),
-            ),
-            (
-                "friction.rate_and_state.reference_velocity",
-                Value::Real(1e-3),
-                Value::Real(2e-3),
-            ),
-            (
-                "friction.rate_and_state.reference_coefficient",
-                Value::Real(0.5),
-                Value::Real(0.55),
-            ),
-            (
-                "friction.rate_and_state.state_evolution",
-                Value::Integer(1),
-                Value::Integer(2),
-            ),
         ]
+        .into_iter()
+        .chain(law_parameters())
+        .collect::<Vec<_>>()
     };
     let mut seen_outputs = DependencyMap::new();
     let mut seen_initial = DependencyMap::new();
-    for law in [neural, exponential, lugre, rate_and_state] {
+    for law in NeuralFrictionLaw::ALL.iter().map(|l| l.code()) {
         let mut fmu = friction();
         for (name, base, _) in parameters(law) {
             set(&mut fmu, name, &base);

@@ -7,6 +7,7 @@
 use std::sync::{Arc, Mutex};
 use stickslip::choice::Choice;
 use stickslip::friction::exponential::ExponentialLaw;
+use stickslip::friction::rate_and_state;
 use stickslip::friction::rate_and_state::{RateStateParameters, StateEvolution};
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::friction::NeuralFrictionLaw;
@@ -387,7 +388,10 @@ fn bad_parameters_are_refused_with_the_reason() {
 #[test]
 fn a_rate_and_state_law_without_a_finite_slope_at_rest_is_refused_as_by_the_scene() {
     let mut scene = stickslip::scene::Scene::default();
-    scene.friction.rate_and_state.direct_effect = 1e-6;
+    scene
+        .friction
+        .laws
+        .set(&rate_and_state::DIRECT_EFFECT, 1e-6);
     let reason = scene.check().unwrap_err().to_string();
     assert!(reason.starts_with("invalid scene: friction.rate_and_state.direct_effect = 1e-6; it must be >= 7.206847e-4"), "{reason}");
     for version in VERSIONS {

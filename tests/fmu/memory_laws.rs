@@ -5,6 +5,8 @@
 
 use std::sync::{Arc, Mutex};
 use stickslip::choice::Choice;
+use stickslip::friction::lugre;
+use stickslip::friction::rate_and_state;
 use stickslip::friction::rate_and_state::StateEvolution;
 use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::LawSource;
@@ -78,9 +80,15 @@ fn the_beam_fmu_runs_the_laws_with_state_as_the_library_does() {
         scene.fidelity.level = FidelityLevel::Beam;
         scene.time.end = 1.2;
         scene.friction.law = law;
-        scene.friction.lugre.bristle_stiffness = 1e8;
-        scene.friction.rate_and_state.characteristic_slip = 2e-5;
-        scene.friction.rate_and_state.state_evolution = StateEvolution::Slip;
+        scene.friction.laws.set(&lugre::BRISTLE_STIFFNESS, 1e8);
+        scene
+            .friction
+            .laws
+            .set(&rate_and_state::CHARACTERISTIC_SLIP, 2e-5);
+        scene.friction.laws.set(
+            &rate_and_state::STATE_EVOLUTION,
+            f64::from(StateEvolution::Slip.code()),
+        );
         let scene = scene.check().unwrap();
         let mut sim = Simulator::new(
             scene.clone(),
@@ -186,7 +194,10 @@ fn rate_and_state_without_a_finite_slope_at_rest_is_refused_by_name() {
     assert!(b.exit_initialization_mode().is_err());
     let mut scene = stickslip::scene::Scene::default();
     scene.friction.law = FrictionLawKind::RateAndState;
-    scene.friction.rate_and_state.direct_effect = 1e-6;
+    scene
+        .friction
+        .laws
+        .set(&rate_and_state::DIRECT_EFFECT, 1e-6);
     let reason = scene.check().unwrap_err().to_string();
     assert!(
         reason.contains("friction.rate_and_state.direct_effect = 1e-6; it must be >= 7.206847e-4"),

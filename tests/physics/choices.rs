@@ -54,12 +54,13 @@ fn every_choice_word_is_its_scene_word_and_its_position_its_fmi_code() {
 
 /// The FMI interface numbers these values: auto and external are item 4 of their types,
 /// after the levels and laws that a stand-alone run has; the laws with state came later
-/// and follow as items 5 and 6, so that the codes of the earlier laws stay.
+/// and follow as items 5 and 6, and every law added since after them, so that the codes
+/// of the earlier laws stay (the lists' heads are asserted; a new law appends).
 #[test]
 fn auto_and_external_keep_their_fmi_items_and_type_names() {
     let words = |all: &[FrictionLawKind]| all.iter().map(|c| c.name()).collect::<Vec<_>>();
     assert_eq!(
-        words(FrictionLawKind::ALL),
+        words(FrictionLawKind::ALL)[..6],
         [
             "exponential",
             "coulomb",
@@ -76,7 +77,10 @@ fn auto_and_external_keep_their_fmi_items_and_type_names() {
     assert_eq!(FrictionLawKind::External.code(), 4);
     let laws: Vec<&str> = NeuralFrictionLaw::ALL.iter().map(|c| c.name()).collect();
     // The laws with state come after, so that saved codes 1 and 2 keep their meaning.
-    assert_eq!(laws, ["neural", "exponential", "lugre", "rate-and-state"]);
+    assert_eq!(
+        laws[..4],
+        ["neural", "exponential", "lugre", "rate-and-state"]
+    );
     assert_eq!(NeuralFrictionLaw::TYPE_NAME, "FrictionLaw");
 }
 

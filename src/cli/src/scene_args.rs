@@ -9,7 +9,10 @@ use crate::choice::{parser, ChoiceParser};
 use crate::error::CliError;
 use clap::Args;
 use std::path::PathBuf;
-use stickslip::friction::rate_and_state::StateEvolution;
+use stickslip::choice::Choice;
+use stickslip::friction::lugre;
+use stickslip::friction::rate_and_state::{self, StateEvolution};
+use stickslip::friction::registry::{self, LawParameter};
 use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::LawSource;
 use stickslip::neural::inference::Inference;
@@ -114,6 +117,12 @@ pub struct SceneArgs {
     /// Rate-and-state's evolution law of the state theta.
     #[arg(long, value_parser = parser::<StateEvolution>())]
     pub state_evolution: Option<StateEvolution>,
+    /// A friction law's parameter, NAME=VALUE (repeatable): NAME its table and key in the
+    /// scene file (`lugre.bristle_damping`, `rate_and_state.state_evolution`), VALUE a
+    /// number or, for a choice, its word. Every law's parameters, from the law registry
+    /// (docs/variables.md lists them with units and ranges).
+    #[arg(long = "law-parameter", value_name = "NAME=VALUE", value_parser = registry::parse_assignment)]
+    pub law_parameters: Vec<(&'static LawParameter, f64)>,
 }
 
 impl SceneArgs {
@@ -191,13 +200,22 @@ impl SceneArgs {
             scene.friction.inference = i;
         }
         if let Some(k) = self.bristle_stiffness {
-            scene.friction.lugre.bristle_stiffness = k;
+            scene.friction.laws.set(&lugre::BRISTLE_STIFFNESS, k);
         }
         if let Some(d) = self.characteristic_slip {
-            scene.friction.rate_and_state.characteristic_slip = d;
+            scene
+                .friction
+                .laws
+                .set(&rate_and_state::CHARACTERISTIC_SLIP, d);
         }
         if let Some(e) = self.state_evolution {
-            scene.friction.rate_and_state.state_evolution = e;
+            scene
+                .friction
+                .laws
+                .set(&rate_and_state::STATE_EVOLUTION, f64::from(e.code()));
+        }
+        for (parameter, value) in &self.law_parameters {
+            scene.friction.laws.set(parameter, *value);
         }
         // Before the damping, which checks the scene: the tolerance must be in it.
         let auto_tolerance = self.auto_tolerance(&mut scene)?;

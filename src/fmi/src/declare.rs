@@ -6,6 +6,9 @@
 //! Rows that fit none of these (a String, a Boolean, a parameter with its own check)
 //! are written out as `Variable { .. }` in the table itself.
 
+use stickslip::choice::Choice;
+use stickslip::friction::registry::{self, LawDescription, LawParameter, LawTables, ParameterKind};
+
 /// One row: what every macro below shares.
 macro_rules! row {
     ($vr:expr, $name:expr, $causality:ident, $variability:ident, $description:expr, $access:expr, $depends_on:expr) => {
@@ -32,11 +35,11 @@ macro_rules! real_parameter {
             $description,
             $crate::variables::Access::Real {
                 unit: $unit,
-                get: |$m: &$model| $place,
-                set: Some(|$m: &mut $model, v: f64| {
+                get: Box::new(|$m: &$model| $place),
+                set: Some(Box::new(|$m: &mut $model, v: f64| {
                     $place = v;
                     Ok(())
-                }),
+                })),
             },
             None
         )
@@ -55,14 +58,14 @@ macro_rules! choice_parameter {
             $description,
             $crate::variables::Access::Choice {
                 kind: $crate::variables::ChoiceType::of::<$choice>(),
-                get: |$m: &$model| {
+                get: Box::new(|$m: &$model| {
                     use ::stickslip::choice::Choice as _;
                     $place.code()
-                },
-                set: Some(|$m: &mut $model, v: i32| {
+                }),
+                set: Some(Box::new(|$m: &mut $model, v: i32| {
                     $place = $crate::variables::choice_at::<$choice>(v)?;
                     Ok(())
-                }),
+                })),
             },
             None
         )
@@ -82,11 +85,11 @@ macro_rules! count_parameter {
                 min: 1,
                 max: $max,
                 // Saturating: a count beyond i32 (from a saved state) reads as out of range.
-                get: |$m: &$model| i32::try_from($place).unwrap_or(i32::MAX),
-                set: Some(|$m: &mut $model, v: i32| {
+                get: Box::new(|$m: &$model| i32::try_from($place).unwrap_or(i32::MAX)),
+                set: Some(Box::new(|$m: &mut $model, v: i32| {
                     $place = v as usize;
                     Ok(())
-                }),
+                })),
             },
             None
         )
@@ -106,8 +109,8 @@ macro_rules! real_input {
             $description,
             $crate::variables::Access::Real {
             unit: $unit,
-            get: |$m: &$model| $place,
-            set: Some(|$m: &mut $model, v: f64| {
+            get: Box::new(|$m: &$model| $place),
+            set: Some(Box::new(|$m: &mut $model, v: f64| {
                 $(
                     let check: fn(f64) -> Result<(), String> = $check;
                     check(v)?;
@@ -115,7 +118,7 @@ macro_rules! real_input {
                 $place = v;
                 $($then;)?
                 Ok(())
-            }),
+            })),
         },
             None
         )
@@ -133,7 +136,7 @@ macro_rules! real_output {
             $description,
             $crate::variables::Access::Real {
                 unit: $unit,
-                get: |$m: &$model| $value,
+                get: Box::new(|$m: &$model| $value),
                 set: None,
             },
             Some($depends_on)
@@ -152,100 +155,79 @@ macro_rules! weights_parameter {
             Fixed,
             $description,
             $crate::variables::Access::String {
-                get: |$m: &$model| $place.clone(),
-                set: Some(|$m: &mut $model, v: &str| {
+                get: Box::new(|$m: &$model| $place.clone()),
+                set: Some(Box::new(|$m: &mut $model, v: &str| {
                     $place = $crate::networks::weights_name(v)?;
                     Ok(())
-                }),
+                })),
             },
             None
         )
     };
 }
 
-/// The value references of LuGre's parameters (sigma0, sigma1, sigma2) in every model
-/// that has them ([`with_memory_law_parameters`]).
-pub const LUGRE_PARAMETERS: [u32; 3] = [70, 71, 72];
-/// The value references of rate-and-state's parameters (a, b, D_c, V_0, mu_0, the
-/// evolution law).
-pub const RATE_STATE_PARAMETERS: [u32; 6] = [80, 81, 82, 83, 84, 85];
-
-/// A table with the parameters of the laws with state (`stickslip::friction::lugre`, `stickslip::friction::rate_and_state`)
-/// between its rows `$head` and `$tail`: value references [`LUGRE_PARAMETERS`] and
-/// [`RATE_STATE_PARAMETERS`], under the scene file's names. One declaration for every model
-/// that has them; `$lugre` and `$rate_state` are the model's `LuGreParameters` and
-/// `RateStateParameters`.
-macro_rules! with_memory_law_parameters {
-    ($law:literal, |$m:ident: $model:ty| $lugre:expr, $rate_state:expr;
-        [$($head:expr),* $(,)?] [$($tail:expr),* $(,)?]) => {
-        [
-            $($head,)*
-            $crate::declare::real_parameter!(
-                $crate::declare::LUGRE_PARAMETERS[0],
-                "friction.lugre.bristle_stiffness",
-                Some("N/m"),
-                concat!("LuGre bristle stiffness sigma0 (", $law, " = lugre)"),
-                |$m: $model| $lugre.bristle_stiffness
-            ),
-            $crate::declare::real_parameter!(
-                $crate::declare::LUGRE_PARAMETERS[1],
-                "friction.lugre.bristle_damping",
-                Some("N.s/m"),
-                "LuGre bristle damping sigma1",
-                |$m: $model| $lugre.bristle_damping
-            ),
-            $crate::declare::real_parameter!(
-                $crate::declare::LUGRE_PARAMETERS[2],
-                "friction.lugre.viscous_damping",
-                Some("N.s/m"),
-                "LuGre viscous damping sigma2",
-                |$m: $model| $lugre.viscous_damping
-            ),
-            $crate::declare::real_parameter!(
-                $crate::declare::RATE_STATE_PARAMETERS[0],
-                "friction.rate_and_state.direct_effect",
-                None,
-                concat!("Rate-and-state direct effect a (", $law, " = rate-and-state)"),
-                |$m: $model| $rate_state.direct_effect
-            ),
-            $crate::declare::real_parameter!(
-                $crate::declare::RATE_STATE_PARAMETERS[1],
-                "friction.rate_and_state.evolution_effect",
-                None,
-                "Rate-and-state evolution effect b",
-                |$m: $model| $rate_state.evolution_effect
-            ),
-            $crate::declare::real_parameter!(
-                $crate::declare::RATE_STATE_PARAMETERS[2],
-                "friction.rate_and_state.characteristic_slip",
-                Some("m"),
-                "Rate-and-state characteristic slip D_c",
-                |$m: $model| $rate_state.characteristic_slip
-            ),
-            $crate::declare::real_parameter!(
-                $crate::declare::RATE_STATE_PARAMETERS[3],
-                "friction.rate_and_state.reference_velocity",
-                Some("m/s"),
-                "Rate-and-state reference velocity V_0",
-                |$m: $model| $rate_state.reference_velocity
-            ),
-            $crate::declare::real_parameter!(
-                $crate::declare::RATE_STATE_PARAMETERS[4],
-                "friction.rate_and_state.reference_coefficient",
-                None,
-                "Rate-and-state steady coefficient mu_0 at V_0",
-                |$m: $model| $rate_state.reference_coefficient
-            ),
-            $crate::declare::choice_parameter!(
-                $crate::declare::RATE_STATE_PARAMETERS[5],
-                "friction.rate_and_state.state_evolution",
-                ::stickslip::friction::rate_and_state::StateEvolution,
-                "Rate-and-state evolution law of theta",
-                |$m: $model| $rate_state.state_evolution
-            ),
-            $($tail,)*
-        ]
+/// The rows of every law's parameters (`stickslip::friction::registry`), law by law,
+/// under the scene file's names and the registry's value references: one declaration
+/// for every model that has them. `law_variable` is the model's name of the law choice
+/// (`friction.law`, `law`), named in the first row of each law; `tables` finds the
+/// model's parameter tables.
+pub fn law_parameters<M: 'static>(
+    law_variable: &'static str,
+    tables: fn(&M) -> &LawTables,
+    tables_mut: fn(&mut M) -> &mut LawTables,
+) -> Vec<crate::variables::Variable<M>> {
+    use crate::variables::{Access, Causality, Variability, Variable};
+    let row = |law: &LawDescription, index: usize, parameter: &'static LawParameter| {
+        let description: &'static str = if index == 0 {
+            // Once per row, when the table is first built.
+            Box::leak(
+                format!(
+                    "{} ({law_variable} = {})",
+                    parameter.description,
+                    law.kind.name()
+                )
+                .into_boxed_str(),
+            )
+        } else {
+            parameter.description
+        };
+        let access = match parameter.kind {
+            ParameterKind::Real { unit, .. } => Access::Real {
+                unit,
+                get: Box::new(move |m: &M| tables(m).get(parameter)),
+                set: Some(Box::new(move |m: &mut M, v: f64| {
+                    tables_mut(m).set(parameter, v);
+                    Ok(())
+                })),
+            },
+            ParameterKind::Choice(kind) => Access::Choice {
+                kind,
+                get: Box::new(move |m: &M| tables(m).get(parameter) as i32),
+                set: Some(Box::new(move |m: &mut M, v: i32| {
+                    kind.item(v)?;
+                    tables_mut(m).set(parameter, f64::from(v));
+                    Ok(())
+                })),
+            },
+        };
+        Variable {
+            name: parameter.name,
+            value_reference: parameter.value_reference,
+            causality: Causality::Parameter,
+            variability: Variability::Fixed,
+            description,
+            access,
+            depends_on: None,
+        }
     };
+    registry::laws()
+        .flat_map(|law| {
+            law.parameters
+                .iter()
+                .enumerate()
+                .map(move |(index, parameter)| row(law, index, parameter))
+        })
+        .collect()
 }
 
 /// An input's check: the value must not be negative (a force, a magnitude).
@@ -259,5 +241,5 @@ pub fn non_negative(v: f64) -> Result<(), String> {
 
 pub(crate) use {
     choice_parameter, count_parameter, real_input, real_output, real_parameter, row,
-    weights_parameter, with_memory_law_parameters,
+    weights_parameter,
 };

@@ -21,10 +21,9 @@
 use crate::model::PartialDerivatives;
 use crate::networks::{NetworkError, Networks, DEFAULT_WEIGHTS};
 use serde::{Deserialize, Serialize};
-use stickslip::friction::lugre::LuGreParameters;
-use stickslip::friction::rate_and_state::RateStateParameters;
+use stickslip::friction::registry::LawTables;
 use stickslip::friction::state::STATE_VARIABLES;
-use stickslip::friction::{FrictionLaw, FrictionLawKind};
+use stickslip::friction::FrictionLaw;
 use stickslip::neural::{FeatureRole, NeuralError, NeuralModel};
 use stickslip::scene::{Friction, Loading, Scene, SceneError};
 use stickslip::short::Short;
@@ -40,20 +39,20 @@ pub use laws::NeuralFrictionLaw;
 /// How many features beyond velocity and normal force a network may have.
 pub const EXTRA_FEATURES: usize = 4;
 
+/// Saved in FMU states. Unknown keys are refused by [`LawTables`], which receives every
+/// key not named here (serde's `deny_unknown_fields` does not combine with `flatten`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 struct Settings {
     law: NeuralFrictionLaw,
     static_coefficient: f64,
     kinetic_coefficient: f64,
     decay: f64,
     weights: String,
-    /// Absent from states saved before `law = lugre` existed: the defaults.
-    #[serde(default)]
-    lugre: LuGreParameters,
-    /// As `lugre`.
-    #[serde(default)]
-    rate_and_state: RateStateParameters,
+    /// Every law's parameters (`stickslip::friction::registry`), saved as one map per
+    /// law beside the other settings (`"lugre": {...}`); a law's table absent from a
+    /// state saved before the law existed reads as its defaults.
+    #[serde(flatten)]
+    laws: LawTables,
     sliding_velocity: f64,
     normal_force: f64,
     extra_features: [f64; EXTRA_FEATURES],
@@ -69,8 +68,7 @@ impl Settings {
             static_coefficient: self.static_coefficient,
             kinetic_coefficient: self.kinetic_coefficient,
             decay: self.decay,
-            lugre: self.lugre.clone(),
-            rate_and_state: self.rate_and_state.clone(),
+            laws: self.laws.clone(),
             ..Friction::default()
         }
     }
@@ -121,8 +119,7 @@ impl Default for Settings {
             kinetic_coefficient: scene.friction.kinetic_coefficient,
             decay: scene.friction.decay,
             weights: DEFAULT_WEIGHTS.into(),
-            lugre: scene.friction.lugre,
-            rate_and_state: scene.friction.rate_and_state,
+            laws: scene.friction.laws,
             sliding_velocity: 0.0,
             normal_force: scene.loading.normal_force,
             extra_features: [0.0; EXTRA_FEATURES],
@@ -185,7 +182,7 @@ pub struct NeuralFriction {
     /// for: an
     /// importer asks column by column, one input at a time, at the same inputs.
     derivatives_at: Option<(Settings, Vec<f64>, PartialDerivatives)>,
-    /// The law with state last built (`state_laws`).
+    /// The law last built from the settings, any but the plain network (`state_laws`).
     built: Option<(Settings, Box<dyn FrictionLaw>)>,
     /// The committed state of a law with state (`state_laws`); empty otherwise.
     law_state: Vec<f64>,
@@ -230,36 +227,29 @@ impl NeuralFriction {
         let s = self.settings.clone();
         let static_limit = s.static_limit_coefficient() * s.normal_force;
         let mut state = [0.0; STATE_VARIABLES.len()];
-        let (force, slope) = match s.law.kind() {
-            FrictionLawKind::Exponential => {
-                let mut law = s.friction().exponential_law();
-                (
-                    law.sliding_force(s.sliding_velocity, s.normal_force),
-                    law.slope(s.sliding_velocity, s.normal_force),
-                )
+        let (force, slope) = 'law: {
+            if let Some((jacobian, values)) = self.state_jacobian()? {
+                state = values;
+                break 'law (jacobian.force, jacobian.slope);
             }
-            // The network, or a law with state.
-            _ => 'memory: {
-                if let Some((jacobian, values)) = self.state_jacobian()? {
-                    state = values;
-                    break 'memory (jacobian.force, jacobian.slope);
-                }
-                let mut features = std::mem::take(&mut self.scratch);
-                // Never shared (this model hands its networks to no one), so evaluated in
-                // place, with the network's own scratch buffers.
-                let network = std::sync::Arc::make_mut(self.networks.get(&s.weights)?);
-                features.clear();
-                for input in feature_inputs(network.model(), &s.weights)? {
-                    features.push(s.input(input));
-                }
-                // A network without a velocity feature does not depend on it: slope 0.
-                let evaluated = network.evaluate_with_velocity_slope(&features);
-                self.scratch = features;
-                evaluated.map_err(|source| EvaluateError::Evaluation {
-                    weights: s.weights,
-                    source,
-                })?
+            if let Some(jacobian) = self.memoryless_jacobian()? {
+                break 'law (jacobian.force, jacobian.slope);
             }
+            let mut features = std::mem::take(&mut self.scratch);
+            // Never shared (this model hands its networks to no one), so evaluated in
+            // place, with the network's own scratch buffers.
+            let network = std::sync::Arc::make_mut(self.networks.get(&s.weights)?);
+            features.clear();
+            for input in feature_inputs(network.model(), &s.weights)? {
+                features.push(s.input(input));
+            }
+            // A network without a velocity feature does not depend on it: slope 0.
+            let evaluated = network.evaluate_with_velocity_slope(&features);
+            self.scratch = features;
+            evaluated.map_err(|source| EvaluateError::Evaluation {
+                weights: s.weights,
+                source,
+            })?
         };
         let outputs = Outputs {
             force,

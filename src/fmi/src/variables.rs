@@ -6,7 +6,7 @@
 //! values are read from a model with default settings), and the FMI calls dispatch
 //! through it, so the XML and the binary cannot disagree.
 
-use stickslip::choice::Choice;
+pub use stickslip::choice::{choice_at, ChoiceType};
 
 /// FMI 2.0 causality (only the ones our models use).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -47,83 +47,16 @@ impl Variability {
     }
 }
 
-/// A choice variable's set of values, read off a [`Choice`]: the type's name and
-/// description ([`Choice::TYPE_NAME`], [`Choice::TYPE_DESCRIPTION`]), and one value per
-/// item of [`Choice::ALL`], numbered 1, 2, ... ([`Choice::code`]), with its word and
-/// description. A scene file, the command line and the FMU therefore use the same words.
-///
-/// In the FMU a choice is an FMI Integer with min 1 and max `len`, not an FMI
-/// Enumeration: libcosim and Ecos ignore Enumeration variables, so a choice could not be
-/// set there. The words reach the model description twice, both generated from here:
-/// in the variable's description (for people) and in the `stickslip` tool annotation
-/// (for programs; see `model_description`).
-#[derive(Clone, Copy, Debug)]
-pub struct ChoiceType {
-    pub name: &'static str,
-    pub description: &'static str,
-    /// Number of values; their codes are 1..=len.
-    pub len: usize,
-    /// (word, description) of the value with a 1-based code, if there is one.
-    item: fn(i32) -> Option<(&'static str, &'static str)>,
-}
-
-fn item_of<T: Choice>(code: i32) -> Option<(&'static str, &'static str)> {
-    T::from_code(code).map(|c| (c.name(), c.description()))
-}
-
-impl ChoiceType {
-    /// The values of the choice `T`.
-    pub const fn of<T: Choice>() -> Self {
-        Self {
-            name: T::TYPE_NAME,
-            description: T::TYPE_DESCRIPTION,
-            len: T::ALL.len(),
-            item: item_of::<T>,
-        }
-    }
-
-    /// (code, word, description) of every value, in code order.
-    pub fn items(&self) -> impl Iterator<Item = (i32, &'static str, &'static str)> + '_ {
-        (1..=self.len as i32).filter_map(|v| (self.item)(v).map(|(n, d)| (v, n, d)))
-    }
-
-    /// Word of the value with code `code` (1-based), or an error naming the allowed codes.
-    pub fn item(&self, code: i32) -> Result<&'static str, String> {
-        (self.item)(code)
-            .map(|(name, _)| name)
-            .ok_or_else(|| self.not_an_item(code))
-    }
-
-    /// The codes and their words, "1 = exponential, 2 = coulomb, ...".
-    pub fn codes(&self) -> String {
-        let codes: Vec<String> = self
-            .items()
-            .map(|(code, name, _)| format!("{code} = {name}"))
-            .collect();
-        codes.join(", ")
-    }
-
-    /// Why `code` is not a value: the allowed codes.
-    fn not_an_item(&self, code: i32) -> String {
-        format!(
-            "{code} is not a {} code; allowed: {}",
-            self.name,
-            self.codes()
-        )
-    }
-}
-
-/// The value of choice `T` with code `code` (1-based), or an error naming the allowed
-/// codes.
-pub fn choice_at<T: Choice>(code: i32) -> Result<T, String> {
-    T::from_code(code).ok_or_else(|| ChoiceType::of::<T>().not_an_item(code))
-}
+/// Reads a value off model `M`. A function rather than a field path, so that rows can
+/// be made from data (a law's parameters come from the registry,
+/// `stickslip::friction::registry`, and are read by their name).
+pub type Getter<M, T> = Box<dyn Fn(&M) -> T + Send + Sync>;
 
 /// Writes a value into model `M`, or says why it refuses it.
-pub type Setter<M, T> = Option<fn(&mut M, T) -> Result<(), String>>;
+pub type Setter<M, T> = Option<Box<dyn Fn(&mut M, T) -> Result<(), String> + Send + Sync>>;
 
 /// Writes a string into model `M`, or says why it refuses it.
-pub type StringSetter<M> = Option<fn(&mut M, &str) -> Result<(), String>>;
+pub type StringSetter<M> = Option<Box<dyn Fn(&mut M, &str) -> Result<(), String> + Send + Sync>>;
 
 /// How a variable of model `M` is read and written. A setter returns the reason when it
 /// refuses a value.
@@ -131,28 +64,28 @@ pub enum Access<M: 'static> {
     Real {
         /// Unit name from `UNITS`, or None for dimensionless.
         unit: Option<&'static str>,
-        get: fn(&M) -> f64,
+        get: Getter<M, f64>,
         set: Setter<M, f64>,
     },
     Integer {
         min: i32,
         max: i32,
-        get: fn(&M) -> i32,
+        get: Getter<M, i32>,
         set: Setter<M, i32>,
     },
     Boolean {
-        get: fn(&M) -> bool,
+        get: Getter<M, bool>,
         set: Setter<M, bool>,
     },
     /// A closed set of values, set and read as its code (an FMI Integer, see
     /// [`ChoiceType`]).
     Choice {
         kind: ChoiceType,
-        get: fn(&M) -> i32,
+        get: Getter<M, i32>,
         set: Setter<M, i32>,
     },
     String {
-        get: fn(&M) -> String,
+        get: Getter<M, String>,
         set: StringSetter<M>,
     },
 }

@@ -41,6 +41,79 @@ pub trait Choice: Copy + PartialEq + Send + Sync + 'static {
     }
 }
 
+/// A choice variable's set of values, read off a [`Choice`]: the type's name and
+/// description ([`Choice::TYPE_NAME`], [`Choice::TYPE_DESCRIPTION`]), and one value per
+/// item of [`Choice::ALL`], numbered 1, 2, ... ([`Choice::code`]), with its word and
+/// description. A scene file, the command line and the FMU therefore use the same words.
+///
+/// In an FMU a choice is an FMI Integer with min 1 and max `len`, not an FMI
+/// Enumeration: libcosim and Ecos ignore Enumeration variables, so a choice could not be
+/// set there. The words reach the model description twice, both generated from here:
+/// in the variable's description (for people) and in the `stickslip` tool annotation
+/// (for programs; see `stickslip_fmi::model_description`). Here, beside [`Choice`], because
+/// a law's parameter that is a choice (`friction::registry`) carries its list as data.
+#[derive(Clone, Copy, Debug)]
+pub struct ChoiceType {
+    pub name: &'static str,
+    pub description: &'static str,
+    /// Number of values; their codes are 1..=len.
+    pub len: usize,
+    /// (word, description) of the value with a 1-based code, if there is one.
+    item: fn(i32) -> Option<(&'static str, &'static str)>,
+}
+
+fn item_of<T: Choice>(code: i32) -> Option<(&'static str, &'static str)> {
+    T::from_code(code).map(|c| (c.name(), c.description()))
+}
+
+impl ChoiceType {
+    /// The values of the choice `T`.
+    pub const fn of<T: Choice>() -> Self {
+        Self {
+            name: T::TYPE_NAME,
+            description: T::TYPE_DESCRIPTION,
+            len: T::ALL.len(),
+            item: item_of::<T>,
+        }
+    }
+
+    /// (code, word, description) of every value, in code order.
+    pub fn items(&self) -> impl Iterator<Item = (i32, &'static str, &'static str)> + '_ {
+        (1..=self.len as i32).filter_map(|v| (self.item)(v).map(|(n, d)| (v, n, d)))
+    }
+
+    /// Word of the value with code `code` (1-based), or an error naming the allowed codes.
+    pub fn item(&self, code: i32) -> Result<&'static str, String> {
+        (self.item)(code)
+            .map(|(name, _)| name)
+            .ok_or_else(|| self.not_an_item(code))
+    }
+
+    /// The codes and their words, "1 = exponential, 2 = coulomb, ...".
+    pub fn codes(&self) -> String {
+        let codes: Vec<String> = self
+            .items()
+            .map(|(code, name, _)| format!("{code} = {name}"))
+            .collect();
+        codes.join(", ")
+    }
+
+    /// Why `code` is not a value: the allowed codes.
+    fn not_an_item(&self, code: i32) -> String {
+        format!(
+            "{code} is not a {} code; allowed: {}",
+            self.name,
+            self.codes()
+        )
+    }
+}
+
+/// The value of choice `T` with code `code` (1-based), or an error naming the allowed
+/// codes.
+pub fn choice_at<T: Choice>(code: i32) -> Result<T, String> {
+    T::from_code(code).ok_or_else(|| ChoiceType::of::<T>().not_an_item(code))
+}
+
 /// Defines a choice enum with its serde words and descriptions in one place:
 ///
 /// ```ignore

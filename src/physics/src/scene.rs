@@ -21,9 +21,8 @@
 //! v_b = 0.02 m/s, F_n = 100 N, mu_s = 0.5, mu_k = 0.2, alpha = 5 s/m, eps = 1e-3 m/s,
 //! dt = 1e-4 s, t_end = 1.2 s. The paper does not give Poisson's ratio; 0.3 (steel) is used.
 
-use crate::friction::lugre::LuGreParameters;
 use crate::friction::parameters::ParameterProblem;
-use crate::friction::rate_and_state::RateStateParameters;
+use crate::friction::registry::{Coefficients, LawTables};
 use crate::friction::{exponential::ExponentialLaw, FrictionLawKind};
 use crate::neural::inference::Inference;
 use serde::{Deserialize, Serialize};
@@ -93,8 +92,11 @@ impl Default for Loading {
 }
 
 /// Friction parameters (paper, Eq. 3 and Eq. 6) and the stick threshold.
+///
+/// Unknown keys are refused by [`LawTables`], which receives every key not named here
+/// (serde's `deny_unknown_fields` does not combine with `flatten`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(default)]
 pub struct Friction {
     /// Kinetic law used during slip.
     pub law: FrictionLawKind,
@@ -111,10 +113,10 @@ pub struct Friction {
     /// How the neural law's network is evaluated (speed for accuracy; the other laws
     /// ignore it).
     pub inference: Inference,
-    /// LuGre's parameters (`law = "lugre"`; the other laws ignore them).
-    pub lugre: LuGreParameters,
-    /// Rate-and-state's parameters (`law = "rate-and-state"`; the other laws ignore them).
-    pub rate_and_state: RateStateParameters,
+    /// Every law's own parameters, `[friction.<law>]` (`friction::registry`): each law
+    /// reads its table, the others ignore it.
+    #[serde(flatten)]
+    pub laws: LawTables,
 }
 
 impl Default for Friction {
@@ -127,8 +129,7 @@ impl Default for Friction {
             stick_threshold: 1e-3,
             weights: None,
             inference: Inference::Exact,
-            lugre: LuGreParameters::default(),
-            rate_and_state: RateStateParameters::default(),
+            laws: LawTables::default(),
         }
     }
 }
@@ -658,27 +659,28 @@ impl Loading {
 }
 
 impl Friction {
-    /// The exponential law (paper, Eq. 6) of these coefficients, whatever law `law`
-    /// names: the law itself, LuGre's g(v), and the stand-in of `law = external`.
-    pub fn exponential_law(&self) -> ExponentialLaw {
-        ExponentialLaw {
+    /// The coefficients every law may be built from (`friction::registry`).
+    pub fn coefficients(&self) -> Coefficients {
+        Coefficients {
             static_coefficient: self.static_coefficient,
             kinetic_coefficient: self.kinetic_coefficient,
             decay: self.decay,
         }
     }
 
+    /// The exponential law (paper, Eq. 6) of these coefficients, whatever law `law`
+    /// names: the law itself, LuGre's g(v), and the stand-in of `law = external`.
+    pub fn exponential_law(&self) -> ExponentialLaw {
+        ExponentialLaw::from(self.coefficients())
+    }
+
     /// The first parameter out of range of the law `law` names, among those it is built
-    /// from besides the coefficients (`[friction.lugre]`, `[friction.rate_and_state]`).
+    /// from besides the coefficients (its table `[friction.<law>]`).
     /// [`Friction::check`] asks it of every law's table; a caller that builds a law
     /// from parameters no check has seen (NeuralFriction's outputs read before
     /// initialisation) asks it of the one law it builds.
     pub fn law_problem(&self) -> Option<ParameterProblem> {
-        match self.law {
-            FrictionLawKind::Lugre => self.lugre.problem(),
-            FrictionLawKind::RateAndState => self.rate_and_state.problem(),
-            _ => None,
-        }
+        self.laws.problem_of(self.law)
     }
 
     /// The coefficients (kinetic at most static), the exponential law's decay, the stick
@@ -713,8 +715,7 @@ impl Friction {
                 });
             }
         }
-        let problems = [self.lugre.problem(), self.rate_and_state.problem()];
-        if let Some(problem) = problems.into_iter().flatten().next() {
+        if let Some(problem) = self.laws.problem() {
             return Err(invalid(problem.field, problem.value, &problem.requirement));
         }
         Ok(())

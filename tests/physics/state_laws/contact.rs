@@ -4,6 +4,10 @@
 //! checks. Runs are on the paper beam at modal fidelity (4 modes, a few ms each) unless
 //! a test says otherwise.
 
+use stickslip::choice::Choice;
+use stickslip::friction::lugre;
+use stickslip::friction::rate_and_state;
+use stickslip::friction::rate_and_state::RateStateParameters;
 use stickslip::friction::rate_and_state::StateEvolution;
 use stickslip::friction::FrictionLawKind;
 use stickslip::law_source::LawSource;
@@ -104,9 +108,9 @@ fn lugre_with_stiff_bristles_approaches_the_memoryless_run() {
     let mut last = f64::INFINITY;
     for sigma0 in [1e7, 1e8, 1e9, 1e10] {
         let mut s = scene(FrictionLawKind::Lugre);
-        s.friction.lugre.bristle_stiffness = sigma0;
-        s.friction.lugre.bristle_damping = 0.0;
-        s.friction.lugre.viscous_damping = 0.0;
+        s.friction.laws.set(&lugre::BRISTLE_STIFFNESS, sigma0);
+        s.friction.laws.set(&lugre::BRISTLE_DAMPING, 0.0);
+        s.friction.laws.set(&lugre::VISCOUS_DAMPING, 0.0);
         let saw = Sawtooth::of(&run(s).samples);
         let difference = (saw.highest - reference.highest).abs();
         assert!(
@@ -150,7 +154,7 @@ fn stiff_bristles_are_stable_at_every_fidelity_with_both_schemes() {
             };
             let reference = Sawtooth::of(&run(configure(FrictionLawKind::Exponential)).samples);
             let mut s = configure(FrictionLawKind::Lugre);
-            s.friction.lugre.bristle_stiffness = 1e12;
+            s.friction.laws.set(&lugre::BRISTLE_STIFFNESS, 1e12);
             let result = run(s);
             assert!(result.samples.iter().all(|s| s.friction_force.is_finite()));
             let saw = Sawtooth::of(&result.samples);
@@ -176,7 +180,7 @@ fn critical_slip(s: &Scene) -> f64 {
     let checked = s.clone().check().unwrap();
     let mass = checked.mass_per_length() * checked.geometry.length / 4.0;
     let k = cantilever_omega(&checked, 1).unwrap().powi(2) * mass;
-    let p = &s.friction.rate_and_state;
+    let p = RateStateParameters::of(&s.friction.laws);
     let (a, weakening) = (p.direct_effect, p.evolution_effect - p.direct_effect);
     let (f_n, v) = (s.loading.normal_force, s.loading.belt_speed);
     let linear = weakening * f_n;
@@ -209,10 +213,15 @@ fn rate_and_state_stick_slips_below_the_critical_slip_and_slides_steadily_above(
     for evolution in [StateEvolution::Aging, StateEvolution::Slip] {
         let with = |factor: f64, end: f64| {
             let mut s = scene(FrictionLawKind::RateAndState);
-            s.friction.rate_and_state.state_evolution = evolution;
+            s.friction.laws.set(
+                &rate_and_state::STATE_EVOLUTION,
+                f64::from(evolution.code()),
+            );
             let critical = critical_slip(&s);
             assert!((critical - 4.35e-4).abs() < 0.01e-4, "{critical:e}");
-            s.friction.rate_and_state.characteristic_slip = factor * critical;
+            s.friction
+                .laws
+                .set(&rate_and_state::CHARACTERISTIC_SLIP, factor * critical);
             s.time.end = end;
             run(s).samples
         };
@@ -289,19 +298,23 @@ fn the_scene_refuses_bad_parameters_and_options_with_the_reason() {
     type Edit<'a> = &'a dyn Fn(&mut Scene);
     let cases: [(Edit, &str); 6] = [
         (
-            &|s| s.friction.lugre.bristle_stiffness = -1.0,
+            &|s| s.friction.laws.set(&lugre::BRISTLE_STIFFNESS, -1.0),
             "friction.lugre.bristle_stiffness",
         ),
         (
-            &|s| s.friction.lugre.bristle_damping = f64::NAN,
+            &|s| s.friction.laws.set(&lugre::BRISTLE_DAMPING, f64::NAN),
             "friction.lugre.bristle_damping",
         ),
         (
-            &|s| s.friction.rate_and_state.characteristic_slip = 0.0,
+            &|s| {
+                s.friction
+                    .laws
+                    .set(&rate_and_state::CHARACTERISTIC_SLIP, 0.0)
+            },
             "friction.rate_and_state.characteristic_slip",
         ),
         (
-            &|s| s.friction.rate_and_state.evolution_effect = -0.1,
+            &|s| s.friction.laws.set(&rate_and_state::EVOLUTION_EFFECT, -0.1),
             "friction.rate_and_state.evolution_effect",
         ),
         (
@@ -321,10 +334,13 @@ fn the_scene_refuses_bad_parameters_and_options_with_the_reason() {
     let parsed = Scene::from_toml_str(toml).unwrap();
     assert_eq!(parsed.friction.law, FrictionLawKind::RateAndState);
     assert_eq!(
-        parsed.friction.rate_and_state.state_evolution,
+        RateStateParameters::of(&parsed.friction.laws).state_evolution,
         StateEvolution::Slip
     );
-    assert_eq!(parsed.friction.rate_and_state.characteristic_slip, 2e-5);
+    assert_eq!(
+        RateStateParameters::of(&parsed.friction.laws).characteristic_slip,
+        2e-5
+    );
 }
 
 /// The FMI 3.0 early return stops at a switch of the stick output: for a law with state,

@@ -90,7 +90,7 @@ fn lugre_derivatives_at_rest_are_those_of_positive_velocity() {
 fn checked(parameters: RateStateParameters) -> Result<(), SceneError> {
     let mut scene = Scene::default();
     scene.friction.law = FrictionLawKind::RateAndState;
-    scene.friction.rate_and_state = parameters;
+    parameters.write_into(&mut scene.friction.laws);
     scene.check().map(|_| ())
 }
 

@@ -5,7 +5,12 @@
 //! (4 modes) unless a test says otherwise.
 
 use super::contact::{run, scene};
+use stickslip::choice::Choice;
 use stickslip::friction::exponential::ExponentialLaw;
+use stickslip::friction::lugre;
+use stickslip::friction::lugre::LuGreParameters;
+use stickslip::friction::rate_and_state;
+use stickslip::friction::rate_and_state::RateStateParameters;
 use stickslip::friction::state::STATE_VARIABLES;
 use stickslip::friction::FrictionLawKind;
 use stickslip::scene::Scene;
@@ -68,9 +73,9 @@ fn lugre_bristles_settle_to_g_over_sigma0_in_steady_sliding() {
     for direction in [1.0, -1.0] {
         let mut s = scene(FrictionLawKind::Lugre);
         s.loading.belt_speed = 0.2 * direction;
-        s.friction.lugre.viscous_damping = 200.0;
+        s.friction.laws.set(&lugre::VISCOUS_DAMPING, 200.0);
         s.time.end = 2.0;
-        let sigma0 = s.friction.lugre.bristle_stiffness;
+        let sigma0 = LuGreParameters::of(&s.friction.laws).bristle_stiffness;
         let result = run(s.clone());
         let last: &Sample = result.samples.last().unwrap();
         let v = last.relative_velocity;
@@ -81,7 +86,8 @@ fn lugre_bristles_settle_to_g_over_sigma0_in_steady_sliding() {
             (z - expected).abs() <= 1e-9 * expected.abs(),
             "z = {z:e} m, g(v) sgn(v) / sigma0 = {expected:e} m"
         );
-        let force = g(&s, v) * v.signum() + s.friction.lugre.viscous_damping * v;
+        let force =
+            g(&s, v) * v.signum() + LuGreParameters::of(&s.friction.laws).viscous_damping * v;
         assert!(
             (last.friction_force - force).abs() <= 1e-9 * force.abs(),
             "F = {} N, g(v) sgn(v) + sigma2 v = {force} N",
@@ -99,9 +105,9 @@ fn lugre_bristles_settle_to_g_over_sigma0_in_steady_sliding() {
 #[test]
 fn lugre_presliding_deflection_is_the_force_over_sigma0_in_stick() {
     let mut s = scene(FrictionLawKind::Lugre);
-    s.friction.lugre.bristle_damping = 0.0;
-    s.friction.lugre.viscous_damping = 0.0;
-    let sigma0 = s.friction.lugre.bristle_stiffness;
+    s.friction.laws.set(&lugre::BRISTLE_DAMPING, 0.0);
+    s.friction.laws.set(&lugre::VISCOUS_DAMPING, 0.0);
+    let sigma0 = LuGreParameters::of(&s.friction.laws).bristle_stiffness;
     let result = run(s.clone());
     let stuck: Vec<&Sample> = result.samples[1..].iter().filter(|x| x.stick).collect();
     assert!(stuck.len() > 1000, "{} stick samples", stuck.len());
@@ -135,8 +141,11 @@ fn rate_and_state_theta_settles_to_dc_over_v_in_steady_sliding() {
         stickslip::friction::rate_and_state::StateEvolution::Slip,
     ] {
         let mut s = scene(FrictionLawKind::RateAndState);
-        s.friction.rate_and_state.direct_effect = 0.05;
-        s.friction.rate_and_state.state_evolution = evolution;
+        s.friction.laws.set(&rate_and_state::DIRECT_EFFECT, 0.05);
+        s.friction.laws.set(
+            &rate_and_state::STATE_EVOLUTION,
+            f64::from(evolution.code()),
+        );
         s.time.end = 3.0;
         let result = run(s.clone());
         let last = result.samples.last().unwrap();
@@ -146,7 +155,7 @@ fn rate_and_state_theta_settles_to_dc_over_v_in_steady_sliding() {
             "{evolution:?}: v_rel = {v}"
         );
         let theta = last.law_state[THETA];
-        let expected = s.friction.rate_and_state.characteristic_slip / v.abs();
+        let expected = RateStateParameters::of(&s.friction.laws).characteristic_slip / v.abs();
         assert!(
             (theta - expected).abs() <= 1e-9 * expected,
             "{evolution:?}: theta = {theta:e} s, D_c / V = {expected:e} s"
@@ -164,7 +173,7 @@ fn rate_and_state_theta_settles_to_dc_over_v_in_steady_sliding() {
 #[test]
 fn rate_and_state_theta_grows_as_time_in_stick() {
     let s = scene(FrictionLawKind::RateAndState);
-    let dc = s.friction.rate_and_state.characteristic_slip;
+    let dc = RateStateParameters::of(&s.friction.laws).characteristic_slip;
     let result = run(s);
     let creeping = |x: &Sample| x.relative_velocity.abs() < 1e-9;
     let first_slip = result.samples.iter().position(|x| !x.stick).unwrap();

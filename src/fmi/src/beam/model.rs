@@ -21,7 +21,7 @@ impl Model for StickSlipBeam {
     };
 
     fn variables() -> &'static [Variable<Self>] {
-        VARIABLES
+        &VARIABLES
     }
 
     fn with_defaults() -> Self {

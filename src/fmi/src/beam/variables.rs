@@ -5,13 +5,14 @@
 
 use super::StickSlipBeam;
 use crate::declare::{
-    choice_parameter, count_parameter, non_negative, real_input, real_output, real_parameter,
-    weights_parameter, with_memory_law_parameters,
+    choice_parameter, count_parameter, law_parameters, non_negative, real_input, real_output,
+    real_parameter, weights_parameter,
 };
 use crate::law_state::law_state_output;
 use crate::variables::{
     Access, Causality, Dependencies, InitialDependencies, Variability, Variable,
 };
+use std::sync::LazyLock;
 use stickslip::friction::FrictionLawKind;
 use stickslip::neural::inference::Inference;
 use stickslip::scene::{
@@ -45,10 +46,8 @@ const BEAM_OUTPUT: Dependencies = Dependencies {
     initial: InitialDependencies::AllParametersAnd(&[BELT_SPEED, NORMAL_FORCE]),
 };
 
-pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &with_memory_law_parameters!(
-    "friction.law",
-    |m: StickSlipBeam| m.settings.scene.friction.lugre, m.settings.scene.friction.rate_and_state;
-    [
+pub(super) static VARIABLES: LazyLock<Vec<Variable<StickSlipBeam>>> = LazyLock::new(|| {
+    let head = [
     real_parameter!(
         1,
         "geometry.length",
@@ -239,14 +238,14 @@ pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &with_memory_law_param
         access: Access::Real {
             unit: Some("m"),
             // Some from the start value on; NaN stands for a tolerance never given.
-            get: |m: &StickSlipBeam| m.settings.scene.fidelity.tolerance.unwrap_or(f64::NAN),
-            set: Some(|m: &mut StickSlipBeam, v: f64| {
+            get: Box::new(|m: &StickSlipBeam| m.settings.scene.fidelity.tolerance.unwrap_or(f64::NAN)),
+            set: Some(Box::new(|m: &mut StickSlipBeam, v: f64| {
                 if !(v.is_finite() && v > 0.0) {
                     return Err(format!("{} must be finite and > 0", Short(v)));
                 }
                 m.settings.scene.fidelity.tolerance = Some(v);
                 Ok(())
-            }),
+            })),
         },
         depends_on: None,
     },
@@ -285,11 +284,11 @@ pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &with_memory_law_param
         variability: Variability::Fixed,
         description: "Add the static tip-load shape to the modal basis",
         access: Access::Boolean {
-            get: |m: &StickSlipBeam| m.settings.scene.fidelity.static_correction,
-            set: Some(|m: &mut StickSlipBeam, v: bool| {
+            get: Box::new(|m: &StickSlipBeam| m.settings.scene.fidelity.static_correction),
+            set: Some(Box::new(|m: &mut StickSlipBeam, v: bool| {
                 m.settings.scene.fidelity.static_correction = v;
                 Ok(())
-            }),
+            })),
         },
         depends_on: None,
     },
@@ -321,8 +320,8 @@ pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &with_memory_law_param
         "Moreau-Jean theta",
         |m: StickSlipBeam| m.settings.scene.integrator.theta
     ),
-    ]
-    [
+    ];
+    let tail = [
     // Any finite belt speed (either direction) is a valid input.
     real_input!(
         100,
@@ -430,7 +429,7 @@ pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &with_memory_law_param
         variability: Variability::Discrete,
         description: "True while the tip sticks to the belt (with a law with state, lugre or rate-and-state: while |v_rel| < friction.stick_threshold)",
         access: Access::Boolean {
-            get: |m: &StickSlipBeam| m.sample().map(|s| s.stick).unwrap_or(true),
+            get: Box::new(|m: &StickSlipBeam| m.sample().map(|s| s.stick).unwrap_or(true)),
             set: None,
         },
         depends_on: Some(BEAM_OUTPUT),
@@ -444,12 +443,12 @@ pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &with_memory_law_param
         access: Access::Integer {
             min: 0,
             max: i32::MAX,
-            get: |m: &StickSlipBeam| {
+            get: Box::new(|m: &StickSlipBeam| {
                 m.running
                     .as_ref()
                     .map(|r| r.simulator.state().transition_count.min(i32::MAX as u64) as i32)
                     .unwrap_or(0)
-            },
+            }),
             set: None,
         },
         depends_on: Some(BEAM_OUTPUT),
@@ -460,5 +459,11 @@ pub(super) static VARIABLES: &[Variable<StickSlipBeam>] = &with_memory_law_param
         .output(|s| s.law_state[1])),
     law_state_output!(212, 2, BEAM_OUTPUT, |m: StickSlipBeam| m
         .output(|s| s.law_state[2])),
-    ]
-);
+    ];
+    let laws = law_parameters(
+        "friction.law",
+        |m: &StickSlipBeam| &m.settings.scene.friction.laws,
+        |m: &mut StickSlipBeam| &mut m.settings.scene.friction.laws,
+    );
+    head.into_iter().chain(laws).chain(tail).collect()
+});

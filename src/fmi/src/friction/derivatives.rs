@@ -11,7 +11,6 @@
 
 use super::*;
 use stickslip::elementary::signum_or_zero;
-use stickslip::friction::FrictionLawKind;
 use stickslip::jacobian::LawJacobian;
 
 /// The FMU's inputs, in the order of the rows below.
@@ -31,28 +30,21 @@ impl NeuralFriction {
         if let Some((jacobian, _)) = self.state_jacobian()? {
             return Ok((jacobian, vec![SLIDING_VELOCITY, NORMAL_FORCE]));
         }
-        match self.settings.law.kind() {
-            FrictionLawKind::Exponential => {
-                let s = &self.settings;
-                let law = s.friction().exponential_law();
-                let jacobian = law.jacobian(s.sliding_velocity, s.normal_force);
-                Ok((jacobian, vec![SLIDING_VELOCITY, NORMAL_FORCE]))
-            }
-            // A law with state answered above.
-            _ => {
-                let s = &self.settings;
-                let network = self.networks.get(&s.weights)?;
-                let inputs = feature_inputs(network.model(), &s.weights)?;
-                let features: Vec<f64> = inputs.iter().map(|&vr| s.input(vr)).collect();
-                let jacobian = network.input_jacobian(&features).map_err(|source| {
-                    EvaluateError::Evaluation {
-                        weights: s.weights.clone(),
-                        source,
-                    }
-                })?;
-                Ok((jacobian, inputs))
-            }
+        if let Some(jacobian) = self.memoryless_jacobian()? {
+            return Ok((jacobian, vec![SLIDING_VELOCITY, NORMAL_FORCE]));
         }
+        let s = &self.settings;
+        let network = self.networks.get(&s.weights)?;
+        let inputs = feature_inputs(network.model(), &s.weights)?;
+        let features: Vec<f64> = inputs.iter().map(|&vr| s.input(vr)).collect();
+        let jacobian =
+            network
+                .input_jacobian(&features)
+                .map_err(|source| EvaluateError::Evaluation {
+                    weights: s.weights.clone(),
+                    source,
+                })?;
+        Ok((jacobian, inputs))
     }
 
     /// d(output)/d(input) for every output and input (module notes), reused while the

@@ -1,9 +1,8 @@
 //! The laws NeuralFriction evaluates on their own: the one list of laws
-//! (`stickslip::friction::FrictionLawKind`) restricted to those that give a force from
-//! the inputs alone (no coulomb, no external), in NeuralFriction's own order. Its
-//! parameter `law` (FMI enumeration type `FrictionLaw`) numbers them in this order,
-//! which saved states and SSP files hold: neural = 1, exponential = 2, lugre = 3,
-//! rate-and-state = 4.
+//! (`stickslip::friction::FrictionLawKind`) restricted to those the registry gives a
+//! NeuralFriction code (`LawDescription::neural_friction_code`), in code order. Its
+//! parameter `law` (FMI type `FrictionLaw`) numbers them so, which saved states and SSP
+//! files hold: neural = 1, exponential = 2, lugre = 3, rate-and-state = 4.
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::sync::LazyLock;
@@ -37,34 +36,54 @@ impl NeuralFrictionLaw {
     }
 }
 
+/// How many laws NeuralFriction evaluates: those the registry gives a NeuralFriction
+/// code (`LawDescription::neural_friction_code`).
+const COUNT: usize = {
+    let mut count = 0;
+    let mut k = 0;
+    while k < FrictionLawKind::ALL.len() {
+        if FrictionLawKind::ALL[k]
+            .entry()
+            .neural_friction_code
+            .is_some()
+        {
+            count += 1;
+        }
+        k += 1;
+    }
+    count
+};
+
+/// NeuralFriction's laws, each at its code's place (codes 1 to [`COUNT`], checked
+/// distinct by the registry's tests).
+const LIST: [NeuralFrictionLaw; COUNT] = {
+    let mut list = [NeuralFrictionLaw::NEURAL; COUNT];
+    let mut k = 0;
+    while k < FrictionLawKind::ALL.len() {
+        let kind = FrictionLawKind::ALL[k];
+        if let Some(code) = kind.entry().neural_friction_code {
+            list[(code - 1) as usize] = NeuralFrictionLaw(kind);
+        }
+        k += 1;
+    }
+    list
+};
+
 impl Choice for NeuralFrictionLaw {
     const TYPE_NAME: &'static str = "FrictionLaw";
     const TYPE_DESCRIPTION: &'static str = "Which law gives the friction force";
-    const ALL: &'static [Self] = &[
-        Self::NEURAL,
-        Self::EXPONENTIAL,
-        Self::LUGRE,
-        Self::RATE_AND_STATE,
-    ];
+    const ALL: &'static [Self] = &LIST;
 
     fn name(self) -> &'static str {
         self.0.name()
     }
 
-    /// NeuralFriction's own words for each law: its parameters are named apart from the
-    /// scene's (`weights`, not `friction.weights`), and the texts are part of its model
-    /// description, whose hash is the GUID that every saved FMU state carries and is
-    /// checked against: other words would refuse the states saved so far.
+    /// The law's own description, but for the network, whose weights parameter
+    /// NeuralFriction names `weights` (the scene file `friction.weights`).
     fn description(self) -> &'static str {
         match self.0 {
             FrictionLawKind::Neural => "the network in weights",
-            FrictionLawKind::Exponential => self.0.description(),
-            FrictionLawKind::Lugre => {
-                "LuGre bristle law, g(v) the exponential law (Canudas de Wit et al. 1995)"
-            }
-            FrictionLawKind::RateAndState => "regularised Dieterich-Ruina rate-and-state law",
-            // Not in `ALL`: never a value of this type.
-            FrictionLawKind::Coulomb | FrictionLawKind::External => self.0.description(),
+            kind => kind.description(),
         }
     }
 }
@@ -103,8 +122,9 @@ mod tests {
             .iter()
             .map(|l| (l.code(), l.name()))
             .collect();
+        // The published codes; laws added later append.
         assert_eq!(
-            codes,
+            codes[..4],
             [
                 (1, "neural"),
                 (2, "exponential"),
@@ -122,9 +142,13 @@ mod tests {
         let read: NeuralFrictionLaw = serde_json::from_str(&saved).unwrap();
         assert_eq!(read, NeuralFrictionLaw::RATE_AND_STATE);
         let refused = serde_json::from_str::<NeuralFrictionLaw>("\"coulomb\"").unwrap_err();
+        let words: Vec<String> = codes.iter().map(|(_, w)| format!("`{w}`")).collect();
         assert_eq!(
             refused.to_string(),
-            "unknown variant `coulomb`, expected one of `neural`, `exponential`, `lugre`, `rate-and-state`"
+            format!(
+                "unknown variant `coulomb`, expected one of {}",
+                words.join(", ")
+            )
         );
     }
 }

@@ -21,7 +21,7 @@ impl Model for NeuralFriction {
     };
 
     fn variables() -> &'static [Variable<Self>] {
-        VARIABLES
+        &VARIABLES
     }
 
     fn arrays() -> &'static [ArrayVariable] {

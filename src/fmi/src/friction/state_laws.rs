@@ -26,7 +26,7 @@ use crate::instance::{check_as_set, parse_saved};
 use crate::model::{Model, Restoring};
 use serde::{Deserialize, Serialize};
 use stickslip::friction::state::{LawStep, StatefulLaw, STATE_VARIABLES};
-use stickslip::friction::{FrictionLaw, FrictionLawKind};
+use stickslip::friction::FrictionLaw;
 use stickslip::jacobian::LawJacobian;
 use stickslip::law_source::LawSource;
 
@@ -50,14 +50,14 @@ fn same_law(a: &Settings, b: &Settings) -> bool {
         && a.static_coefficient.to_bits() == b.static_coefficient.to_bits()
         && a.kinetic_coefficient.to_bits() == b.kinetic_coefficient.to_bits()
         && a.decay.to_bits() == b.decay.to_bits()
-        && a.lugre == b.lugre
-        && a.rate_and_state == b.rate_and_state
+        && a.laws == b.laws
         && a.weights == b.weights
 }
 
 impl Settings {
     /// The coefficient of `static_limit` = mu F_n (the static limit handed to a set-valued
-    /// stick, `external.static_limit`): mu_s, except 0 for `law = lugre`. LuGre has no
+    /// stick, `external.static_limit`): mu_s, except 0 for a law that models presliding
+    /// itself (the registry's `presliding`: `law = lugre`). LuGre has no
     /// set-valued stick: its bristles hold the tip (presliding, F = sigma0 z) and let it
     /// creep, and its state moves only while v_rel does. Under the beam's set-valued stick
     /// v_rel is 0, z stays where stick began (0 at the start), the creep is lost and
@@ -67,9 +67,10 @@ impl Settings {
     /// every step is a slip solve under the law's tangent, as the embedded contact's
     /// (docs/friction-with-memory.md).
     pub(super) fn static_limit_coefficient(&self) -> f64 {
-        match self.law.kind() {
-            FrictionLawKind::Lugre => 0.0,
-            _ => self.static_coefficient,
+        if self.law.kind().entry().presliding {
+            0.0
+        } else {
+            self.static_coefficient
         }
     }
 }
@@ -82,11 +83,11 @@ struct Adopted {
 }
 
 impl NeuralFriction {
-    /// The law with state the settings choose, in its committed state (the initial one
-    /// before the first step), or `None` for a memoryless law.
-    fn memory_law(&mut self) -> Result<Option<&mut dyn StatefulLaw>, EvaluateError> {
-        // The law last built is rebuilt only when the settings choose another (or other
-        // parameters), so that a step allocates nothing for it.
+    /// Makes `built` the law the settings choose (`None` for the plain network, which
+    /// `networks` evaluates). The law last built is rebuilt only when the settings choose
+    /// another (or other parameters), so that a step or an output allocates nothing for
+    /// it.
+    fn refresh_law(&mut self) -> Result<(), EvaluateError> {
         let fresh = match &self.built {
             Some((settings, _)) => !same_law(settings, &self.settings),
             None => true,
@@ -94,6 +95,13 @@ impl NeuralFriction {
         if fresh {
             self.built = self.build_law()?.map(|law| (self.settings.clone(), law));
         }
+        Ok(())
+    }
+
+    /// The law with state the settings choose, in its committed state (the initial one
+    /// before the first step), or `None` for a memoryless law.
+    fn memory_law(&mut self) -> Result<Option<&mut dyn StatefulLaw>, EvaluateError> {
+        self.refresh_law()?;
         let Some(law) = self
             .built
             .as_mut()
@@ -110,11 +118,11 @@ impl NeuralFriction {
         Ok(Some(law))
     }
 
-    /// A new law for the settings if it has state, built where every law is built
-    /// (`LawSource`) from the settings as the scene's friction section, its parameters
-    /// checked first (outputs may be read before initialisation, whose check has then not
-    /// run). The neural law has state when its weights file is of the learned law's
-    /// format; `None` for a memoryless law.
+    /// A new law for the settings, built where every law is built (`LawSource`) from
+    /// the settings as the scene's friction section, its parameters checked first
+    /// (outputs may be read before initialisation, whose check has then not run). The
+    /// neural law is built here only when its weights file is of the learned law's
+    /// format; `None` for the plain network.
     fn build_law(&mut self) -> Result<Option<Box<dyn FrictionLaw>>, EvaluateError> {
         let s = &self.settings;
         let friction = s.friction();
@@ -131,7 +139,27 @@ impl NeuralFriction {
         let law = source
             .law()
             .map_err(|e| EvaluateError::Parameter(e.to_string()))?;
-        Ok(law.as_stateful().is_some().then_some(law))
+        Ok(Some(law))
+    }
+
+    /// The force of a memoryless law built from its parameters (not the network) at the
+    /// current inputs, with its Jacobian over (v, F_n); `None` for the network and for a
+    /// law with state.
+    pub(super) fn memoryless_jacobian(&mut self) -> Result<Option<LawJacobian>, EvaluateError> {
+        let (v, normal) = (self.settings.sliding_velocity, self.settings.normal_force);
+        self.refresh_law()?;
+        let Some((_, law)) = self.built.as_mut() else {
+            return Ok(None);
+        };
+        if law.as_stateful().is_some() {
+            return Ok(None);
+        }
+        law.jacobian(v, normal).map(Some).ok_or_else(|| {
+            EvaluateError::Parameter(format!(
+                "law {} gives no Jacobian, which NeuralFriction needs",
+                law.name()
+            ))
+        })
     }
 
     /// The force at the committed state and the current inputs with its Jacobian over
@@ -256,12 +284,11 @@ impl NeuralFriction {
             }
             other => other.to_string(),
         })?;
-        // Evaluating built the law the settings choose if it has state; a law built
-        // earlier for other settings (`built` is a cache) does not count.
-        let has_state = self
-            .built
-            .as_ref()
-            .is_some_and(|(built_for, _)| same_law(built_for, &self.settings));
+        // Evaluating built the law the settings choose; a law built earlier for other
+        // settings (`built` is a cache) does not count.
+        let has_state = self.built.as_ref().is_some_and(|(built_for, law)| {
+            same_law(built_for, &self.settings) && law.as_stateful().is_some()
+        });
         if !has_state && !self.law_state.is_empty() {
             return Err(format!(
                 "law_state = {:?}: the law {} has no state",

@@ -4,13 +4,15 @@
 
 use super::*;
 use crate::declare::{
-    choice_parameter, non_negative, real_input, real_output, real_parameter, weights_parameter,
-    with_memory_law_parameters, LUGRE_PARAMETERS, RATE_STATE_PARAMETERS,
+    choice_parameter, law_parameters, non_negative, real_input, real_output, real_parameter,
+    weights_parameter,
 };
 use crate::law_state::law_state_output;
 use crate::variables::{
     ArrayVariable, Dependencies, DependencyKind, InitialDependencies, Variable,
 };
+use std::sync::LazyLock;
+use stickslip::friction::registry;
 use stickslip::friction::state::STATE_VARIABLES;
 
 /// NeuralFriction's FMI 3.0 arrays: the extra features.
@@ -27,32 +29,35 @@ pub(super) static ARRAYS: &[ArrayVariable] = &[ArrayVariable {
 /// reads the extra features it has (none for the shipped ones, up to four), the
 /// exponential law none: the dependencies are those of any law the parameters can
 /// choose. In Initialization Mode also the parameters of the laws.
-const LAW_OUTPUT: Dependencies = Dependencies {
-    inputs: &[
-        (SLIDING_VELOCITY, DependencyKind::Dependent),
-        (NORMAL_FORCE, DependencyKind::Dependent),
-        (EXTRA_FEATURE[0], DependencyKind::Dependent),
-        (EXTRA_FEATURE[1], DependencyKind::Dependent),
-        (EXTRA_FEATURE[2], DependencyKind::Dependent),
-        (EXTRA_FEATURE[3], DependencyKind::Dependent),
-    ],
-    initial: InitialDependencies::InputsAnd(&[
-        LAW,
-        STATIC_COEFFICIENT,
-        KINETIC_COEFFICIENT,
-        DECAY,
-        WEIGHTS,
-        // sigma1, sigma2; a, V_0, mu_0: the laws with state at their initial state.
-        // sigma0 acts through z only (z = 0 at the start), and b, D_c and the
-        // evolution law through theta, where b ln(V_0 theta / D_c) = 0 at the initial
-        // theta = D_c / V_0 (to rounding): they reach the outputs in the steps.
-        LUGRE_PARAMETERS[1],
-        LUGRE_PARAMETERS[2],
-        RATE_STATE_PARAMETERS[0],
-        RATE_STATE_PARAMETERS[3],
-        RATE_STATE_PARAMETERS[4],
-    ]),
-};
+fn law_output() -> Dependencies {
+    Dependencies {
+        inputs: &[
+            (SLIDING_VELOCITY, DependencyKind::Dependent),
+            (NORMAL_FORCE, DependencyKind::Dependent),
+            (EXTRA_FEATURE[0], DependencyKind::Dependent),
+            (EXTRA_FEATURE[1], DependencyKind::Dependent),
+            (EXTRA_FEATURE[2], DependencyKind::Dependent),
+            (EXTRA_FEATURE[3], DependencyKind::Dependent),
+        ],
+        initial: InitialDependencies::InputsAnd(&LAW_OUTPUT_INITIAL),
+    }
+}
+
+/// The parameters the law's outputs depend on in Initialization Mode: the law, its
+/// coefficients and network, and each law parameter that reaches the force at the
+/// law's initial state (the registry's `initial_force`: LuGre's sigma1 and sigma2, not
+/// sigma0, which acts through z = 0; rate-and-state's a, V_0 and mu_0, not b, D_c and
+/// the evolution law, which act through theta).
+static LAW_OUTPUT_INITIAL: LazyLock<Vec<u32>> = LazyLock::new(|| {
+    [LAW, STATIC_COEFFICIENT, KINETIC_COEFFICIENT, DECAY, WEIGHTS]
+        .into_iter()
+        .chain(
+            registry::parameters()
+                .filter(|p| p.initial_force)
+                .map(|p| p.value_reference),
+        )
+        .collect()
+});
 
 /// The velocity the outputs were evaluated at: the input itself.
 const EVALUATED_VELOCITY: Dependencies = Dependencies {
@@ -74,66 +79,73 @@ const STATIC_LIMIT: Dependencies = Dependencies {
 /// The state outputs' value references, in the order of `STATE_VARIABLES`.
 pub(super) const STATE_OUTPUT: [u32; STATE_VARIABLES.len()] = [30, 31, 32];
 
-const STATE_OUTPUT_DEPENDS_ON: [Dependencies; STATE_VARIABLES.len()] = [
-    Dependencies {
-        inputs: &[],
-        initial: InitialDependencies::InputsAnd(&[]),
-    },
-    Dependencies {
-        inputs: &[],
-        initial: InitialDependencies::InputsAnd(&[
-            LAW,
-            // D_c and V_0.
-            RATE_STATE_PARAMETERS[2],
-            RATE_STATE_PARAMETERS[3],
-        ]),
-    },
-    Dependencies {
-        inputs: &[],
-        initial: InitialDependencies::InputsAnd(&[]),
-    },
-];
+/// Per state output: the law and the parameters the initial state of the law that has
+/// the state variable depends on (the registry's `initial_state`: rate-and-state's
+/// theta = D_c / V_0; nothing for z = 0 and psi = 0).
+static STATE_OUTPUT_INITIAL: LazyLock<Vec<Vec<u32>>> = LazyLock::new(|| {
+    STATE_VARIABLES
+        .iter()
+        .map(|variable| {
+            let parameters: Vec<u32> = registry::laws()
+                .filter(|law| law.state_variables.contains(variable))
+                .flat_map(|law| law.parameters)
+                .filter(|p| p.initial_state)
+                .map(|p| p.value_reference)
+                .collect();
+            if parameters.is_empty() {
+                parameters
+            } else {
+                std::iter::once(LAW).chain(parameters).collect()
+            }
+        })
+        .collect()
+});
 
-pub(super) static VARIABLES: &[Variable<NeuralFriction>] = &with_memory_law_parameters!(
-    "law",
-    |m: NeuralFriction| m.settings.lugre, m.settings.rate_and_state;
-    [
-    choice_parameter!(
-        LAW,
-        "law",
-        NeuralFrictionLaw,
-        "Friction law: the network, the analytical law for comparison, or a law with state",
-        |m: NeuralFriction| m.settings.law
-    ),
-    real_parameter!(
-        STATIC_COEFFICIENT,
-        "static_coefficient",
-        None,
-        "Static coefficient mu_s (static limit; exponential law)",
-        |m: NeuralFriction| m.settings.static_coefficient
-    ),
-    real_parameter!(
-        KINETIC_COEFFICIENT,
-        "kinetic_coefficient",
-        None,
-        "Kinetic coefficient mu_k (exponential law)",
-        |m: NeuralFriction| m.settings.kinetic_coefficient
-    ),
-    real_parameter!(
-        DECAY,
-        "decay",
-        Some("s/m"),
-        "Decay alpha (exponential law)",
-        |m: NeuralFriction| m.settings.decay
-    ),
-    weights_parameter!(
-        WEIGHTS,
-        "weights",
-        "Network weights: a file in resources/ or an absolute path",
-        |m: NeuralFriction| m.settings.weights
-    ),
-    ]
-    [
+fn state_output(index: usize) -> Dependencies {
+    Dependencies {
+        inputs: &[],
+        initial: InitialDependencies::InputsAnd(&STATE_OUTPUT_INITIAL[index]),
+    }
+}
+
+pub(super) static VARIABLES: LazyLock<Vec<Variable<NeuralFriction>>> = LazyLock::new(|| {
+    let head = [
+        choice_parameter!(
+            LAW,
+            "law",
+            NeuralFrictionLaw,
+            "Friction law: the network, the analytical law for comparison, or a law with state",
+            |m: NeuralFriction| m.settings.law
+        ),
+        real_parameter!(
+            STATIC_COEFFICIENT,
+            "static_coefficient",
+            None,
+            "Static coefficient mu_s (static limit; exponential law)",
+            |m: NeuralFriction| m.settings.static_coefficient
+        ),
+        real_parameter!(
+            KINETIC_COEFFICIENT,
+            "kinetic_coefficient",
+            None,
+            "Kinetic coefficient mu_k (exponential law)",
+            |m: NeuralFriction| m.settings.kinetic_coefficient
+        ),
+        real_parameter!(
+            DECAY,
+            "decay",
+            Some("s/m"),
+            "Decay alpha (exponential law)",
+            |m: NeuralFriction| m.settings.decay
+        ),
+        weights_parameter!(
+            WEIGHTS,
+            "weights",
+            "Network weights: a file in resources/ or an absolute path",
+            |m: NeuralFriction| m.settings.weights
+        ),
+    ];
+    let tail = [
     real_input!(
         SLIDING_VELOCITY,
         "sliding_velocity",
@@ -182,7 +194,7 @@ pub(super) static VARIABLES: &[Variable<NeuralFriction>] = &with_memory_law_para
         "friction_force",
         Some("N"),
         "Kinetic friction force, signed: positive for positive sliding velocity",
-        LAW_OUTPUT,
+        law_output(),
         |m: NeuralFriction| m.outputs.force
     ),
     real_output!(
@@ -190,7 +202,7 @@ pub(super) static VARIABLES: &[Variable<NeuralFriction>] = &with_memory_law_para
         "friction_force_magnitude",
         Some("N"),
         "Magnitude of the kinetic friction force",
-        LAW_OUTPUT,
+        law_output(),
         |m: NeuralFriction| m.outputs.force.abs()
     ),
     real_output!(
@@ -198,7 +210,7 @@ pub(super) static VARIABLES: &[Variable<NeuralFriction>] = &with_memory_law_para
         "friction_coefficient",
         None,
         "|friction_force| / normal_force (0 when normal_force = 0)",
-        LAW_OUTPUT,
+        law_output(),
         |m: NeuralFriction| m.outputs.coefficient
     ),
     real_output!(
@@ -214,7 +226,7 @@ pub(super) static VARIABLES: &[Variable<NeuralFriction>] = &with_memory_law_para
         "friction_force_slope",
         Some("N.s/m"),
         "dF/dv of friction_force at sliding_velocity (the exponential law: beside its jump at 0)",
-        LAW_OUTPUT,
+        law_output(),
         |m: NeuralFriction| m.outputs.slope
     ),
     real_output!(
@@ -225,14 +237,20 @@ pub(super) static VARIABLES: &[Variable<NeuralFriction>] = &with_memory_law_para
         EVALUATED_VELOCITY,
         |m: NeuralFriction| m.outputs.velocity
     ),
-    law_state_output!(STATE_OUTPUT[0], 0, STATE_OUTPUT_DEPENDS_ON[0], |m: NeuralFriction| m
+    law_state_output!(STATE_OUTPUT[0], 0, state_output(0), |m: NeuralFriction| m
         .outputs
         .state[0]),
-    law_state_output!(STATE_OUTPUT[1], 1, STATE_OUTPUT_DEPENDS_ON[1], |m: NeuralFriction| m
+    law_state_output!(STATE_OUTPUT[1], 1, state_output(1), |m: NeuralFriction| m
         .outputs
         .state[1]),
-    law_state_output!(STATE_OUTPUT[2], 2, STATE_OUTPUT_DEPENDS_ON[2], |m: NeuralFriction| m
+    law_state_output!(STATE_OUTPUT[2], 2, state_output(2), |m: NeuralFriction| m
         .outputs
         .state[2]),
-    ]
-);
+    ];
+    let laws = law_parameters(
+        "law",
+        |m: &NeuralFriction| &m.settings.laws,
+        |m: &mut NeuralFriction| &mut m.settings.laws,
+    );
+    head.into_iter().chain(laws).chain(tail).collect()
+});

@@ -73,13 +73,13 @@ fn an_unordered_front_or_a_bad_tolerance_is_refused() {
     ));
     let front = [point(1, 1.0, 1.0), point(2, 2.0, 0.5)];
     for tolerance in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-        let law = LawSource::Exponential(Scene::default().friction.exponential_law());
+        let law = LawSource::analytical(&Scene::default().friction).unwrap();
         let e = choose(&Scene::default(), &law, tolerance, &front, &mut |_| {}).unwrap_err();
         assert!(matches!(e, AutoError::Tolerance { .. }), "{e}");
         assert!(e.to_string().contains("tolerance"), "{e}");
     }
     for end in [0.0, -1.0, f64::NAN] {
-        let law = LawSource::Exponential(Scene::default().friction.exponential_law());
+        let law = LawSource::analytical(&Scene::default().friction).unwrap();
         let horizon = Horizon::Until(end);
         let e =
             choose_over(&Scene::default(), &law, 1e-5, horizon, &front, &mut |_| {}).unwrap_err();

@@ -1,8 +1,21 @@
 //! Plain Coulomb friction: a coefficient mu_k independent of speed.
 
-use super::{FrictionLaw, FrictionLawKind};
+use super::kind::FrictionLawKind;
+use super::law::FrictionLaw;
+use super::registry::{LawBuild, LawDescription};
 use crate::choice::Choice;
 use crate::elementary::signum_or_zero;
+use std::sync::Arc;
+
+/// Coulomb in the registry: mu_k is its one parameter.
+pub static LAW: LawDescription = LawDescription::plain(
+    FrictionLawKind::Coulomb,
+    LawBuild::Analytical(|coefficients, _| {
+        Arc::new(CoulombLaw {
+            kinetic_coefficient: coefficients.kinetic_coefficient,
+        })
+    }),
+);
 
 /// Plain Coulomb friction: F(v) = sign(v) mu_k F_n.
 #[derive(Clone, Debug, PartialEq)]

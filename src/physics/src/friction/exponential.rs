@@ -1,10 +1,23 @@
 //! The paper's exponential law (Vater, Stender & Hoffmann 2023, Eq. 6): the friction
 //! coefficient falls from mu_s at rest to mu_k at high speed with decay alpha (s/m).
 
-use super::{FrictionLaw, FrictionLawKind};
+use super::kind::FrictionLawKind;
+use super::law::FrictionLaw;
+use super::registry::{Coefficients, LawBuild, LawDescription};
 use crate::choice::Choice;
 use crate::elementary::{self, signum_or_zero};
 use crate::jacobian::{magnitude_slope, LawJacobian};
+use std::sync::Arc;
+
+/// The exponential law in the registry: the friction coefficients are its parameters;
+/// NeuralFriction evaluates it as `law = exponential`.
+pub static LAW: LawDescription = LawDescription {
+    neural_friction_code: Some(2),
+    ..LawDescription::plain(
+        FrictionLawKind::Exponential,
+        LawBuild::Analytical(|coefficients, _| Arc::new(ExponentialLaw::from(*coefficients))),
+    )
+};
 
 /// The paper's exponential law (Eq. 6):
 /// F(v) = sign(v) [mu_k + (mu_s - mu_k) exp(-alpha |v|)] F_n.
@@ -16,6 +29,16 @@ pub struct ExponentialLaw {
     pub kinetic_coefficient: f64,
     /// alpha (s/m).
     pub decay: f64,
+}
+
+impl From<Coefficients> for ExponentialLaw {
+    fn from(c: Coefficients) -> Self {
+        Self {
+            static_coefficient: c.static_coefficient,
+            kinetic_coefficient: c.kinetic_coefficient,
+            decay: c.decay,
+        }
+    }
 }
 
 impl ExponentialLaw {
@@ -55,14 +78,17 @@ impl ExponentialLaw {
     /// - dS/dv = mu''(|v|) sign(v) F_n with mu'' = alpha^2 (mu_s - mu_k) exp(-alpha |v|),
     ///   dS/dF_n = mu'(|v|).
     ///
-    /// Force and slope are the numbers `FrictionLaw::sliding_force_and_slope` gives.
+    /// The force is the number `FrictionLaw::sliding_force` gives, the slope the one
+    /// [`ExponentialLaw::slope`] gives (to an ulp the slope of
+    /// `FrictionLaw::sliding_force_and_slope`): the numbers NeuralFriction has always
+    /// output for this law.
     pub fn jacobian(&self, sliding_velocity: f64, normal_force: f64) -> LawJacobian {
         let (mu, mu_slope) = self.coefficient_and_slope(sliding_velocity);
         let mu_curvature = -self.decay * mu_slope;
         let sign = signum_or_zero(sliding_velocity);
         LawJacobian {
             force: sign * mu * normal_force,
-            slope: mu_slope * normal_force,
+            slope: self.slope(sliding_velocity, normal_force),
             force_gradient: vec![mu_slope * normal_force, sign * mu],
             slope_gradient: vec![
                 mu_curvature * magnitude_slope(sliding_velocity) * normal_force,
@@ -75,6 +101,14 @@ impl ExponentialLaw {
 impl FrictionLaw for ExponentialLaw {
     fn name(&self) -> &str {
         FrictionLawKind::Exponential.name()
+    }
+
+    fn jacobian(&mut self, sliding_velocity: f64, normal_force: f64) -> Option<LawJacobian> {
+        Some(ExponentialLaw::jacobian(
+            self,
+            sliding_velocity,
+            normal_force,
+        ))
     }
 
     fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {
@@ -159,7 +193,11 @@ mod tests {
         for &(v, n) in &[(0.01, 100.0), (-0.2, 95.0), (0.35, 110.0), (-0.003, 0.5)] {
             let j = law.jacobian(v, n);
             let (force, slope) = f(v, n);
-            assert_eq!((j.force, j.slope), (force, slope));
+            assert_eq!(j.force, force);
+            assert_eq!(j.force, law.clone().sliding_force(v, n));
+            assert_eq!(j.slope, law.slope(v, n));
+            // The two slopes associate the same product differently: an ulp apart.
+            assert!((j.slope - slope).abs() <= 2.0 * f64::EPSILON * slope.abs());
             let dv = |k: usize| {
                 let (a, b) = (f(v + h, n), f(v - h, n));
                 [a.0 - b.0, a.1 - b.1][k] / (2.0 * h)

@@ -9,13 +9,16 @@
 //! rest (|v| z << g) dz/dt = v and F = sigma0 x: presliding is elastic.
 
 use super::exponential::ExponentialLaw;
-use super::parameters::{first_problem, ParameterProblem};
+use super::kind::FrictionLawKind;
+use super::law::FrictionLaw;
+use super::parameters::ParameterProblem;
+use super::registry::{LawBuild, LawDescription, LawParameter, LawTables, ParameterKind, Range};
 use super::state::relaxation::Relaxation;
 use super::state::{set_checked, ForceAtState, LawStep, StateError, StateVariable, StatefulLaw};
-use super::FrictionLaw;
 use crate::elementary::signum_or_zero;
 use crate::jacobian::magnitude_slope;
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// This law's state variable, listed in `super::state::STATE_VARIABLES` (defined
 /// there, so that the list imports no law).
@@ -44,40 +47,107 @@ pub struct LuGreParameters {
     pub viscous_damping: f64,
 }
 
+/// sigma0 (N/m). The bristles start undeflected (z = 0), so the initial force does not
+/// depend on it.
+pub const BRISTLE_STIFFNESS: LawParameter = LawParameter {
+    name: "friction.lugre.bristle_stiffness",
+    description: "LuGre bristle stiffness sigma0",
+    kind: ParameterKind::Real {
+        unit: Some("N/m"),
+        range: Range::Positive,
+    },
+    default: 1e7,
+    value_reference: 70,
+    initial_force: false,
+    initial_state: false,
+};
+
+/// sigma1 (N s/m).
+pub const BRISTLE_DAMPING: LawParameter = LawParameter {
+    name: "friction.lugre.bristle_damping",
+    description: "LuGre bristle damping sigma1",
+    kind: ParameterKind::Real {
+        unit: Some("N.s/m"),
+        range: Range::NonNegative,
+    },
+    default: 1e3,
+    value_reference: 71,
+    initial_force: true,
+    initial_state: false,
+};
+
+/// sigma2 (N s/m).
+pub const VISCOUS_DAMPING: LawParameter = LawParameter {
+    name: "friction.lugre.viscous_damping",
+    description: "LuGre viscous damping sigma2",
+    kind: ParameterKind::Real {
+        unit: Some("N.s/m"),
+        range: Range::NonNegative,
+    },
+    default: 0.0,
+    value_reference: 72,
+    initial_force: true,
+    initial_state: false,
+};
+
+/// LuGre in the registry: built from `[friction.lugre]` with g(v) the exponential law of
+/// the friction coefficients.
+pub static LAW: LawDescription = LawDescription {
+    kind: FrictionLawKind::Lugre,
+    build: LawBuild::Analytical(|coefficients, values| {
+        Arc::new(LuGreLaw::new(
+            LuGreParameters::from_values(values),
+            ExponentialLaw::from(*coefficients),
+        ))
+    }),
+    parameters: &[BRISTLE_STIFFNESS, BRISTLE_DAMPING, VISCOUS_DAMPING],
+    joint_check: None,
+    has_state: true,
+    presliding: true,
+    state_variables: &STATE,
+    neural_friction_code: Some(3),
+};
+
 impl Default for LuGreParameters {
     fn default() -> Self {
-        Self {
-            bristle_stiffness: 1e7,
-            bristle_damping: 1e3,
-            viscous_damping: 0.0,
-        }
+        Self::from_values(&LAW.defaults())
     }
 }
 
 impl LuGreParameters {
+    /// The parameters from their values in the order of [`LAW`]'s list.
+    pub fn from_values(values: &[f64]) -> Self {
+        Self {
+            bristle_stiffness: values[0],
+            bristle_damping: values[1],
+            viscous_damping: values[2],
+        }
+    }
+
+    /// The values in the order of [`LAW`]'s list.
+    pub fn values(&self) -> [f64; 3] {
+        [
+            self.bristle_stiffness,
+            self.bristle_damping,
+            self.viscous_damping,
+        ]
+    }
+
+    /// The parameters a friction section's tables hold (`Friction::laws`).
+    pub fn of(tables: &LawTables) -> Self {
+        Self::from_values(tables.values(FrictionLawKind::Lugre))
+    }
+
+    /// Writes these parameters into a friction section's tables.
+    pub fn write_into(&self, tables: &mut LawTables) {
+        for (parameter, value) in LAW.parameters.iter().zip(self.values()) {
+            tables.set(parameter, value);
+        }
+    }
+
     /// The first field that is out of range.
     pub fn problem(&self) -> Option<ParameterProblem> {
-        let checks = [
-            (
-                "friction.lugre.bristle_stiffness",
-                self.bristle_stiffness,
-                self.bristle_stiffness > 0.0,
-                "finite and > 0 (N/m)",
-            ),
-            (
-                "friction.lugre.bristle_damping",
-                self.bristle_damping,
-                self.bristle_damping >= 0.0,
-                "finite and >= 0 (N s/m)",
-            ),
-            (
-                "friction.lugre.viscous_damping",
-                self.viscous_damping,
-                self.viscous_damping >= 0.0,
-                "finite and >= 0 (N s/m)",
-            ),
-        ];
-        first_problem(checks)
+        LAW.problem(&self.values())
     }
 }
 

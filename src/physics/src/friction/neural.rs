@@ -4,10 +4,19 @@
 //! normal force F_n (N). Which one a run uses, as `friction.inference` asks, is
 //! `crate::law_source`.
 
-use super::{FrictionLaw, FrictionLawKind};
+use super::kind::FrictionLawKind;
+use super::law::FrictionLaw;
+use super::registry::{LawBuild, LawDescription};
 use crate::choice::Choice;
 use crate::neural::table::TableLaw;
 use crate::neural::{NeuralError, NeuralLaw};
+
+/// The network in the registry: its weights are loaded by the caller
+/// (`crate::law_source`); NeuralFriction evaluates it as `law = neural`.
+pub static LAW: LawDescription = LawDescription {
+    neural_friction_code: Some(1),
+    ..LawDescription::plain(FrictionLawKind::Neural, LawBuild::Network)
+};
 
 impl NeuralLaw {
     /// The law as the beam's `FrictionLaw`, refused with a clear error if the beam cannot

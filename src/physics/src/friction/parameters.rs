@@ -1,5 +1,5 @@
 //! How a law's parameter out of range is told: every law's parameter check
-//! (`LuGreParameters::problem`, `RateStateParameters::problem`) returns a
+//! (`registry::LawParameter::problem`, a law's joint check) returns a
 //! [`ParameterProblem`], so that the scene check, the command line and both FMUs give
 //! the same words.
 
@@ -24,19 +24,4 @@ impl fmt::Display for ParameterProblem {
             self.requirement
         )
     }
-}
-
-/// A parameter's check: (dotted name, value, whether its range holds, requirement).
-pub(crate) type Check = (&'static str, f64, bool, &'static str);
-
-/// The first check whose value is not finite or out of range.
-pub(crate) fn first_problem<const N: usize>(checks: [Check; N]) -> Option<ParameterProblem> {
-    checks
-        .into_iter()
-        .find(|(_, value, ok, _)| !(value.is_finite() && *ok))
-        .map(|(field, value, _, requirement)| ParameterProblem {
-            field,
-            value,
-            requirement: requirement.into(),
-        })
 }

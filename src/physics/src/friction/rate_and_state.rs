@@ -15,13 +15,17 @@
 //! with V = |v|. Both have the steady state theta_ss = D_c / V, where
 //! mu_ss = mu_0 + (a - b) ln(V / V_0): velocity weakening for b > a.
 
-use super::parameters::{first_problem, ParameterProblem};
+use super::kind::FrictionLawKind;
+use super::law::FrictionLaw;
+use super::parameters::ParameterProblem;
+use super::registry::{LawBuild, LawDescription, LawParameter, LawTables, ParameterKind, Range};
 use super::state::relaxation::Relaxation;
 use super::state::{set_checked, ForceAtState, LawStep, StateError, StateVariable, StatefulLaw};
-use super::FrictionLaw;
+use crate::choice::{Choice, ChoiceType};
 use crate::elementary;
 use crate::short::Short;
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// This law's state variable, listed in `super::state::STATE_VARIABLES` (defined
 /// there, so that the list imports no law).
@@ -123,66 +127,169 @@ pub struct RateStateParameters {
     pub state_evolution: StateEvolution,
 }
 
+const fn real(
+    name: &'static str,
+    description: &'static str,
+    unit: Option<&'static str>,
+    range: Range,
+    default: f64,
+    value_reference: u32,
+    [initial_force, initial_state]: [bool; 2],
+) -> LawParameter {
+    LawParameter {
+        name,
+        description,
+        kind: ParameterKind::Real { unit, range },
+        default,
+        value_reference,
+        initial_force,
+        initial_state,
+    }
+}
+
+// Which parameters reach the initial force and state: theta starts at D_c / V_0, where
+// b ln(V_0 theta / D_c) = 0 (to rounding), so b, D_c and the evolution law act only
+// through the steps; a, V_0 and mu_0 shape the force at once.
+
+/// a (1).
+pub const DIRECT_EFFECT: LawParameter = real(
+    "friction.rate_and_state.direct_effect",
+    "Rate-and-state direct effect a",
+    None,
+    Range::Positive,
+    0.01,
+    80,
+    [true, false],
+);
+/// b (1).
+pub const EVOLUTION_EFFECT: LawParameter = real(
+    "friction.rate_and_state.evolution_effect",
+    "Rate-and-state evolution effect b",
+    None,
+    Range::NonNegative,
+    0.015,
+    81,
+    [false, false],
+);
+/// D_c (m).
+pub const CHARACTERISTIC_SLIP: LawParameter = real(
+    "friction.rate_and_state.characteristic_slip",
+    "Rate-and-state characteristic slip D_c",
+    Some("m"),
+    Range::Positive,
+    1e-5,
+    82,
+    [false, true],
+);
+/// V_0 (m/s).
+pub const REFERENCE_VELOCITY: LawParameter = real(
+    "friction.rate_and_state.reference_velocity",
+    "Rate-and-state reference velocity V_0",
+    Some("m/s"),
+    Range::Positive,
+    1e-3,
+    83,
+    [true, true],
+);
+/// mu_0 (1).
+pub const REFERENCE_COEFFICIENT: LawParameter = real(
+    "friction.rate_and_state.reference_coefficient",
+    "Rate-and-state steady coefficient mu_0 at V_0",
+    None,
+    Range::NonNegative,
+    0.5,
+    84,
+    [true, false],
+);
+/// The evolution law of theta.
+pub const STATE_EVOLUTION: LawParameter = LawParameter {
+    name: "friction.rate_and_state.state_evolution",
+    description: "Rate-and-state evolution law of theta",
+    kind: ParameterKind::Choice(ChoiceType::of::<StateEvolution>()),
+    default: 1.0,
+    value_reference: 85,
+    initial_force: false,
+    initial_state: false,
+};
+
+/// Rate-and-state in the registry: built from `[friction.rate_and_state]`; a, mu_0 and
+/// V_0 together must keep the law's outputs finite ([`regularisation_problem`]).
+pub static LAW: LawDescription = LawDescription {
+    kind: FrictionLawKind::RateAndState,
+    build: LawBuild::Analytical(|_, values| {
+        Arc::new(RateStateLaw::new(RateStateParameters::from_values(values)))
+    }),
+    parameters: &[
+        DIRECT_EFFECT,
+        EVOLUTION_EFFECT,
+        CHARACTERISTIC_SLIP,
+        REFERENCE_VELOCITY,
+        REFERENCE_COEFFICIENT,
+        STATE_EVOLUTION,
+    ],
+    joint_check: Some(|values| {
+        regularisation_problem(
+            values[0],
+            values[4],
+            values[3],
+            [DIRECT_EFFECT.name, REFERENCE_VELOCITY.name],
+        )
+    }),
+    has_state: true,
+    presliding: false,
+    state_variables: &STATE,
+    neural_friction_code: Some(4),
+};
+
 impl Default for RateStateParameters {
     fn default() -> Self {
-        Self {
-            direct_effect: 0.01,
-            evolution_effect: 0.015,
-            characteristic_slip: 1e-5,
-            reference_velocity: 1e-3,
-            reference_coefficient: 0.5,
-            state_evolution: StateEvolution::Aging,
-        }
+        Self::from_values(&LAW.defaults())
     }
 }
 
 impl RateStateParameters {
+    /// The parameters from their values in the order of [`LAW`]'s list (the evolution
+    /// law by its code; an unknown code reads as the default, which the check refuses
+    /// before any law is built).
+    pub fn from_values(values: &[f64]) -> Self {
+        Self {
+            direct_effect: values[0],
+            evolution_effect: values[1],
+            characteristic_slip: values[2],
+            reference_velocity: values[3],
+            reference_coefficient: values[4],
+            state_evolution: StateEvolution::from_code(values[5] as i32).unwrap_or_default(),
+        }
+    }
+
+    /// The values in the order of [`LAW`]'s list.
+    pub fn values(&self) -> [f64; 6] {
+        [
+            self.direct_effect,
+            self.evolution_effect,
+            self.characteristic_slip,
+            self.reference_velocity,
+            self.reference_coefficient,
+            f64::from(self.state_evolution.code()),
+        ]
+    }
+
+    /// The parameters a friction section's tables hold (`Friction::laws`).
+    pub fn of(tables: &LawTables) -> Self {
+        Self::from_values(tables.values(FrictionLawKind::RateAndState))
+    }
+
+    /// Writes these parameters into a friction section's tables.
+    pub fn write_into(&self, tables: &mut LawTables) {
+        for (parameter, value) in LAW.parameters.iter().zip(self.values()) {
+            tables.set(parameter, value);
+        }
+    }
+
     /// The first field that is out of range: each on its own, then a, mu_0 and V_0
     /// together, whose law must have finite outputs ([`regularisation_problem`]).
     pub fn problem(&self) -> Option<ParameterProblem> {
-        let checks = [
-            (
-                "friction.rate_and_state.direct_effect",
-                self.direct_effect,
-                self.direct_effect > 0.0,
-                "finite and > 0 (1)",
-            ),
-            (
-                "friction.rate_and_state.evolution_effect",
-                self.evolution_effect,
-                self.evolution_effect >= 0.0,
-                "finite and >= 0 (1)",
-            ),
-            (
-                "friction.rate_and_state.characteristic_slip",
-                self.characteristic_slip,
-                self.characteristic_slip > 0.0,
-                "finite and > 0 (m)",
-            ),
-            (
-                "friction.rate_and_state.reference_velocity",
-                self.reference_velocity,
-                self.reference_velocity > 0.0,
-                "finite and > 0 (m/s)",
-            ),
-            (
-                "friction.rate_and_state.reference_coefficient",
-                self.reference_coefficient,
-                self.reference_coefficient >= 0.0,
-                "finite and >= 0 (1)",
-            ),
-        ];
-        first_problem(checks).or_else(|| {
-            regularisation_problem(
-                self.direct_effect,
-                self.reference_coefficient,
-                self.reference_velocity,
-                [
-                    "friction.rate_and_state.direct_effect",
-                    "friction.rate_and_state.reference_velocity",
-                ],
-            )
-        })
+        LAW.problem(&self.values())
     }
 
     /// The steady-state coefficient mu_ss(V) = mu_0 + (a - b) ln(V / V_0) of the

@@ -8,11 +8,11 @@
 //! inputs, extra features (which `FrictionLaw`, a law of v and F_n, has no room for) and
 //! the force's slope included.
 
+use crate::choice::Choice;
 use crate::friction::learned_state::{LearnedStateFriction, LearnedStateLaw};
-use crate::friction::lugre::LuGreLaw;
-use crate::friction::rate_and_state::RateStateLaw;
+use crate::friction::registry::{LawBuild, LawPrototype};
 use crate::friction::FrictionLawKind;
-use crate::friction::{coulomb::CoulombLaw, exponential::ExponentialLaw, FrictionLaw};
+use crate::friction::{exponential::ExponentialLaw, FrictionLaw};
 use crate::neural::inference::Inference;
 use crate::neural::table::TableLaw;
 use crate::neural::{NeuralError, NeuralLaw, SceneLawError};
@@ -37,14 +37,17 @@ pub mod learned_state;
 /// a law of its own, because a law keeps scratch buffers (`&mut self`). The same weights
 /// therefore give the same numbers in every run, bit for bit.
 ///
-/// New kinds of law (an imported ONNX network, a law with internal state) are new
-/// variants: every caller goes through [`LawSource::law`], so none of them changes.
+/// A new law built from its parameters is no new variant: its registry entry
+/// (`friction::registry`) makes it an [`LawSource::Analytical`]; every caller goes
+/// through [`LawSource::law`], so none of them changes.
 #[derive(Clone, Debug)]
 pub enum LawSource {
-    /// The paper's exponential law (Eq. 6).
-    Exponential(ExponentialLaw),
-    /// Plain Coulomb friction.
-    Coulomb(CoulombLaw),
+    /// A law built from the coefficients and its table (exponential, Coulomb, LuGre,
+    /// rate-and-state, ...), at its initial state.
+    Analytical {
+        kind: FrictionLawKind,
+        prototype: Arc<dyn LawPrototype>,
+    },
     /// A trained network, evaluated as `friction.inference` asks.
     Network(NetworkSource),
     /// `friction.law = external`: the force comes from the StickSlipBeam FMU's inputs.
@@ -52,10 +55,6 @@ pub enum LawSource {
     /// (`stand_in`), which the FMU's calibration runs also use; a stand-alone run refuses
     /// this source (`run::RunError::External`).
     External { stand_in: ExponentialLaw },
-    /// The LuGre law with state (`memory::lugre`), at its initial state.
-    LuGre(LuGreLaw),
-    /// The rate-and-state law with state (`memory::rate_state`), at its initial state.
-    RateAndState(RateStateLaw),
     /// The learned law with state (`friction::learned_state`): `friction.law = neural` with a
     /// weights file of format `stickslip-state-friction`.
     LearnedState(Arc<LearnedStateLaw>),
@@ -161,23 +160,17 @@ impl LawSource {
     /// loads. `friction` must have passed `Friction::check` (a scene's check, or
     /// NeuralFriction's at initialisation), which checks every parameter read here.
     pub fn analytical(friction: &Friction) -> Option<Self> {
-        Some(match friction.law {
-            FrictionLawKind::Exponential => LawSource::Exponential(friction.exponential_law()),
-            FrictionLawKind::Coulomb => LawSource::Coulomb(CoulombLaw {
-                kinetic_coefficient: friction.kinetic_coefficient,
+        let law = friction.law.entry();
+        match law.build {
+            LawBuild::Analytical(build) => Some(LawSource::Analytical {
+                kind: law.kind,
+                prototype: build(&friction.coefficients(), friction.laws.values(law.kind)),
             }),
-            FrictionLawKind::External => LawSource::External {
+            LawBuild::External => Some(LawSource::External {
                 stand_in: friction.exponential_law(),
-            },
-            FrictionLawKind::Lugre => LawSource::LuGre(LuGreLaw::new(
-                friction.lugre.clone(),
-                friction.exponential_law(),
-            )),
-            FrictionLawKind::RateAndState => {
-                LawSource::RateAndState(RateStateLaw::new(friction.rate_and_state.clone()))
-            }
-            FrictionLawKind::Neural => return None,
-        })
+            }),
+            LawBuild::Network => None,
+        }
     }
 
     /// The law a checked scene asks for. The neural law reads its weights file
@@ -226,7 +219,10 @@ impl LawSource {
     /// other law itself.
     pub fn stand_alone(&self) -> Self {
         match self {
-            LawSource::External { stand_in } => LawSource::Exponential(stand_in.clone()),
+            LawSource::External { stand_in } => LawSource::Analytical {
+                kind: FrictionLawKind::Exponential,
+                prototype: Arc::new(stand_in.clone()),
+            },
             other => other.clone(),
         }
     }
@@ -240,11 +236,8 @@ impl LawSource {
     /// serve the beam (features) or its inference (the table's inputs).
     pub fn law(&self) -> Result<Box<dyn FrictionLaw>, SceneLawError> {
         match self {
-            LawSource::Exponential(law) => Ok(Box::new(law.clone())),
-            LawSource::Coulomb(law) => Ok(Box::new(law.clone())),
+            LawSource::Analytical { prototype, .. } => Ok(prototype.fresh()),
             LawSource::External { stand_in } => Ok(Box::new(stand_in.clone())),
-            LawSource::LuGre(law) => Ok(Box::new(law.clone())),
-            LawSource::RateAndState(law) => Ok(Box::new(law.clone())),
             LawSource::LearnedState(law) => Ok(Box::new(LearnedStateFriction::new(law.clone()))),
             LawSource::Network(n) => network_law((*n.network).clone(), n.inference, n.normal_force)
                 .map_err(|source| n.origin.error(source)),
@@ -259,11 +252,8 @@ impl LawSource {
     pub fn fingerprint(&self) -> Option<String> {
         match self {
             LawSource::Network(n) => n.identity.map(|id| format!("network {id:016x}")),
-            LawSource::Exponential(_) => Some("exponential".into()),
-            LawSource::Coulomb(_) => Some("coulomb".into()),
+            LawSource::Analytical { kind, .. } => Some(kind.name().into()),
             LawSource::External { .. } => Some("external".into()),
-            LawSource::LuGre(_) => Some("lugre".into()),
-            LawSource::RateAndState(_) => Some("rate-and-state".into()),
             LawSource::LearnedState(law) => learned_state::fingerprint(law),
         }
     }

@@ -6,10 +6,10 @@
 use std::sync::Arc;
 
 use super::law::LearnedStateLaw;
+use crate::friction::law::FrictionLaw;
 use crate::friction::state::{
     set_checked, ForceAtState, LawStep, StateError, StateVariable, StatefulLaw,
 };
-use crate::friction::FrictionLaw;
 
 /// This law's state variable, listed in `crate::friction::state::STATE_VARIABLES` (defined
 /// there, so that the list imports no law).
