@@ -19,7 +19,7 @@ fn laws_that_cannot_be_on_the_axis_are_refused_with_the_reason() {
         ),
         ("lugre:w.json", "only the neural law takes a weights file"),
         (
-            "stribeck",
+            "dahl",
             "expected one of exponential, coulomb, neural, lugre, rate-and-state",
         ),
     ] {

@@ -20,5 +20,6 @@ mod model_description;
 mod old_states;
 mod state_corruption;
 mod state_tampering;
+mod stribeck;
 mod threads_resources;
 mod values3;

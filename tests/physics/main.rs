@@ -22,4 +22,5 @@ mod scene_validation;
 mod slip_solve;
 mod state_laws;
 mod statics;
+mod stribeck;
 mod switch_stop;

@@ -32,5 +32,8 @@ crate::choice! {
         /// Rate-and-state friction (Dieterich-Ruina), regularised at v = 0, with the state
         /// theta ([`super::rate_and_state`]), parameters in `friction.rate_and_state`.
         RateAndState = "rate-and-state": "rate-and-state: mu = a asinh(v / (2 V_0) exp((mu_0 + b ln(V_0 theta / D_c)) / a)), theta by the aging or slip law (friction.rate_and_state)",
+        /// Stribeck friction with viscous friction ([`super::stribeck`]), parameters in
+        /// `friction.stribeck`: the example of a law added through the registry.
+        Stribeck = "stribeck": "mu(v) = mu_k + (mu_s - mu_k) exp(-(v / v_s)^2), plus sigma_v v (friction.stribeck)",
     }
 }

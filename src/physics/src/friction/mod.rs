@@ -28,6 +28,7 @@ pub mod parameters;
 pub mod rate_and_state;
 pub mod registry;
 pub mod state;
+pub mod stribeck;
 
 pub use kind::FrictionLawKind;
 pub use law::FrictionLaw;
@@ -45,6 +46,7 @@ impl FrictionLawKind {
             FrictionLawKind::External => &EXTERNAL,
             FrictionLawKind::Lugre => &lugre::LAW,
             FrictionLawKind::RateAndState => &rate_and_state::LAW,
+            FrictionLawKind::Stribeck => &stribeck::LAW,
         }
     }
 

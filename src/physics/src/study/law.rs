@@ -155,7 +155,7 @@ mod tests {
             Err(LawError::WeightsOfAnalyticalLaw { .. })
         ));
         assert_eq!("neural:".parse::<Law>(), Err(LawError::EmptyWeights));
-        let unknown = "stribeck".parse::<Law>().unwrap_err().to_string();
+        let unknown = "dahl".parse::<Law>().unwrap_err().to_string();
         assert!(
             unknown.contains("rate-and-state") && !unknown.contains("external"),
             "{unknown}"
