@@ -40,6 +40,7 @@ pub mod friction;
 pub mod integrator;
 pub mod jacobian;
 pub mod law_source;
+pub mod linear_structure;
 pub mod mesh;
 pub mod metrics;
 pub mod modal;
