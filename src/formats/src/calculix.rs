@@ -275,7 +275,9 @@ mod tests {
     #[test]
     fn a_missing_file_is_named() {
         let e = read_job(Path::new("/nonexistent/job")).unwrap_err();
-        assert_eq!(e.file, "/nonexistent/job.dof");
-        assert!(matches!(e.problem, Problem::Io(_)));
+        assert_eq!(
+            e.to_string(),
+            "/nonexistent/job.dof: cannot be read: No such file or directory (os error 2)"
+        );
     }
 }
