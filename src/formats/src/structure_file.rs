@@ -295,3 +295,64 @@ impl DofSet {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::{calculix, matrix_market};
+
+    /// Every reader on 20,000 corruptions of a valid file (bytes replaced, deleted or
+    /// repeated at deterministic pseudo-random places) returns a value or an error naming
+    /// the file: none panics, and every error's line is a line of the input.
+    #[test]
+    fn corrupted_files_are_refused_without_panicking() {
+        let sti = "1 1  4.0000000000000e+00\n1 2 -1.0000000000000e+00\n2 2  5.0000000000000e+00\n";
+        let dof = "1.2\n3.1\n";
+        let mtx = "%%MatrixMarket matrix coordinate real symmetric\n% c\n2 2 3\n1 1 2.0\n2 1 -1\n2 2 1e0\n";
+        let map = "# node direction\n1 1\n1 2\n";
+        let alphabet = b"0123456789.-+eE \n%#x";
+        let mut state: u64 = 0x2545_F491_4F6C_DD1D;
+        let mut next = |bound: usize| {
+            // xorshift64 (Marsaglia 2003): enough to spread the corruptions.
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % bound as u64) as usize
+        };
+        for round in 0..20_000 {
+            let original = [sti, dof, mtx, map][round % 4];
+            let mut bytes = original.as_bytes().to_vec();
+            for _ in 0..1 + next(3) {
+                let at = next(bytes.len());
+                match next(3) {
+                    0 => bytes[at] = alphabet[next(alphabet.len())],
+                    1 => {
+                        bytes.remove(at);
+                    }
+                    _ => {
+                        let end = (at + next(8)).min(bytes.len());
+                        let copy = bytes[at..end].to_vec();
+                        bytes.splice(at..at, copy);
+                    }
+                }
+                if bytes.is_empty() {
+                    break;
+                }
+            }
+            let text = String::from_utf8(bytes).expect("the alphabet is ASCII");
+            let lines = text.lines().count();
+            let error = match round % 4 {
+                0 => calculix::read_matrix("f", &text, 2, "d").err(),
+                1 => calculix::read_dofs("f", &text).err(),
+                2 => matrix_market::read_matrix("f", &text).err(),
+                _ => matrix_market::read_dof_map("f", &text).err(),
+            };
+            if let Some(e) = error {
+                assert_eq!(e.file, "f");
+                assert!(
+                    e.line.is_none_or(|l| (1..=lines).contains(&l)),
+                    "{e}\n{text}"
+                );
+            }
+        }
+    }
+}

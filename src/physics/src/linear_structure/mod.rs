@@ -41,6 +41,18 @@ use stickslip_formats::structure_file::{DofLabel, Stored, StructureMatrices, Tri
 /// follower load, a gyroscopic term: 1e-3 and up).
 pub const SYMMETRY_TOLERANCE: f64 = 1e-12;
 
+/// Band matrices alive at the peak of [`LinearStructure::new`]: K, M, C, the factor of K
+/// (stored twice, by rows and by columns) and the working copy of the mass matrix's
+/// factorisation (three more).
+const BAND_COPIES: f64 = 8.0;
+
+/// The most memory (bytes) the band storage may take: a 3D solid of 40,560 DOFs (an
+/// 80 x 12 x 12 C3D8 block from ccx) has a band of 1,409 after reverse Cuthill-McKee,
+/// 3.7 GB at [`BAND_COPIES`], and its factorisation would take about 40 s at the
+/// 1 GFlop/s measured on the 10k-DOF block, where faer's sparse one takes 1.8 s
+/// (docs/structures.md, "Factorisation").
+const BAND_MEMORY_LIMIT: f64 = 2e9;
+
 /// Why a structure was refused.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum StructureError {
@@ -81,6 +93,19 @@ pub enum StructureError {
         row: usize,
         pivot: f64,
         reason: &'static str,
+    },
+    #[error("the {matrix} matrix has an entry ({row}, {col}) outside its {size} rows")]
+    EntryOutOfRange {
+        matrix: &'static str,
+        row: usize,
+        col: usize,
+        size: usize,
+    },
+    #[error("the structure's half-bandwidth after reverse Cuthill-McKee is {band} for {dofs} free DOFs: the band Cholesky would take about {gigabytes:.1} GB (limit {} GB); a structure this wide (a 3D solid) needs a sparse supernodal factorisation, which is not here yet (docs/structures.md, \"Factorisation\")", BAND_MEMORY_LIMIT / 1e9)]
+    BandTooWide {
+        dofs: usize,
+        band: usize,
+        gigabytes: f64,
     },
     #[error("every DOF of the structure is clamped: nothing is left to move")]
     NothingFree,
@@ -142,6 +167,20 @@ impl LinearStructure {
                     dofs: dofs.len(),
                 });
             }
+            // The readers never give an entry outside the matrix; data built otherwise
+            // might.
+            if let Some(t) = triplets
+                .entries
+                .iter()
+                .find(|t| t.row >= triplets.size || t.col >= triplets.size)
+            {
+                return Err(StructureError::EntryOutOfRange {
+                    matrix: name,
+                    row: t.row + 1,
+                    col: t.col + 1,
+                    size: triplets.size,
+                });
+            }
             upper.push(symmetric_upper(name, triplets, dofs)?);
         }
         // Free DOFs in file order, then in band order.
@@ -168,6 +207,14 @@ impl LinearStructure {
             position[old] = new;
         }
         let band = ordering::half_bandwidth(&graph, &position);
+        let bytes = BAND_COPIES * order.len() as f64 * (band + 1) as f64 * 8.0;
+        if bytes > BAND_MEMORY_LIMIT {
+            return Err(StructureError::BandTooWide {
+                dofs: order.len(),
+                band,
+                gigabytes: bytes / 1e9,
+            });
+        }
         let solver_row: Vec<usize> = free_index
             .iter()
             .map(|&k| if k == usize::MAX { k } else { position[k] })
@@ -527,6 +574,62 @@ mod tests {
     }
 
     #[test]
+    fn a_structure_too_wide_for_the_band_is_refused_before_allocating() {
+        // A star: DOF 0 coupled to all others. Cuthill-McKee starts at a leaf, the hub
+        // comes second and every other leaf after it, so the reversed order has the hub
+        // next to last and a band of n - 2: 10,000 x 9,999 x 8 copies x 8 bytes = 6.4 GB.
+        let n = 10_000;
+        let mut k = vec![Triplet {
+            row: 0,
+            col: 0,
+            value: n as f64,
+        }];
+        let mut m = Vec::new();
+        for i in 0..n {
+            if i > 0 {
+                k.push(Triplet {
+                    row: 0,
+                    col: i,
+                    value: -1.0,
+                });
+                k.push(Triplet {
+                    row: i,
+                    col: i,
+                    value: 2.0,
+                });
+            }
+            m.push(Triplet {
+                row: i,
+                col: i,
+                value: 1.0,
+            });
+        }
+        let triplets = |entries| Triplets {
+            size: n,
+            stored: Stored::Upper,
+            entries,
+        };
+        let matrices = StructureMatrices {
+            stiffness: triplets(k),
+            mass: triplets(m),
+            damping: None,
+            dofs: (1..=n as u64).map(|node| label(node, 1)).collect(),
+        };
+        match LinearStructure::new(&matrices, &[]).unwrap_err() {
+            StructureError::BandTooWide {
+                dofs,
+                band,
+                gigabytes,
+            } => {
+                assert_eq!(dofs, n);
+                assert_eq!(band, n - 2);
+                assert!((gigabytes - 6.4).abs() < 0.01, "{gigabytes}");
+            }
+            other => panic!("{other}"),
+        }
+    }
+
+    #[test]
     fn the_dof_map_must_match() {
         let matrices = chain(4, 1.0e6, 2.0);
         let e = LinearStructure::new(&matrices, &[label(9, 1)]).unwrap_err();
@@ -547,6 +650,12 @@ mod tests {
                 ..
             })
         ));
+        let mut outside = matrices.clone();
+        outside.mass.entries[0].col = 5;
+        assert_eq!(
+            LinearStructure::new(&outside, &[]).unwrap_err().to_string(),
+            "the mass matrix has an entry (1, 6) outside its 5 rows"
+        );
         let all: Vec<DofLabel> = matrices.dofs.clone();
         assert_eq!(
             LinearStructure::new(&matrices, &all).unwrap_err(),
