@@ -32,12 +32,12 @@ impl Graph {
         self.neighbours[i].len()
     }
 
-    /// Breadth-first level structure from `root` over the unvisited vertices: the
-    /// vertices in visiting order and the number of levels.
-    fn levels(&self, root: usize, visited: &[bool]) -> (Vec<usize>, usize, Vec<usize>) {
-        let mut seen = visited.to_vec();
+    /// Breadth-first level structure from `root` over the vertices not `visited`: its
+    /// depth and its last level. `mark` is all false on entry and on return, so that a
+    /// search costs the size of its component, not of the graph.
+    fn levels(&self, root: usize, visited: &[bool], mark: &mut [bool]) -> (usize, Vec<usize>) {
         let mut order = vec![root];
-        seen[root] = true;
+        mark[root] = true;
         let mut depth = 0;
         let mut level_start = 0;
         let mut last_level = vec![root];
@@ -45,8 +45,8 @@ impl Graph {
             let level_end = order.len();
             for k in level_start..level_end {
                 for &j in &self.neighbours[order[k]] {
-                    if !seen[j] {
-                        seen[j] = true;
+                    if !visited[j] && !mark[j] {
+                        mark[j] = true;
                         order.push(j);
                     }
                 }
@@ -57,20 +57,23 @@ impl Graph {
             }
             level_start = level_end;
         }
-        (order, depth, last_level)
+        for &v in &order {
+            mark[v] = false;
+        }
+        (depth, last_level)
     }
 
     /// A pseudo-peripheral vertex of `start`'s component: repeat "jump to a vertex of least
     /// degree in the deepest level" while the depth grows (George and Liu).
-    fn peripheral(&self, start: usize, visited: &[bool]) -> usize {
+    fn peripheral(&self, start: usize, visited: &[bool], mark: &mut [bool]) -> usize {
         let mut root = start;
-        let (_, mut depth, mut last) = self.levels(root, visited);
+        let (mut depth, mut last) = self.levels(root, visited, mark);
         loop {
             let candidate = *last
                 .iter()
                 .min_by_key(|&&v| (self.degree(v), v))
                 .expect("a level is never empty");
-            let (_, d, l) = self.levels(candidate, visited);
+            let (d, l) = self.levels(candidate, visited, mark);
             if d <= depth {
                 return root;
             }
@@ -87,12 +90,13 @@ impl Graph {
 pub(crate) fn reverse_cuthill_mckee(graph: &Graph) -> Vec<usize> {
     let n = graph.neighbours.len();
     let mut visited = vec![false; n];
+    let mut mark = vec![false; n];
     let mut order = Vec::with_capacity(n);
     for start in 0..n {
         if visited[start] {
             continue;
         }
-        let root = graph.peripheral(start, &visited);
+        let root = graph.peripheral(start, &visited, &mut mark);
         let first = order.len();
         order.push(root);
         visited[root] = true;
@@ -174,5 +178,12 @@ mod tests {
         let mut order = reverse_cuthill_mckee(&graph);
         order.sort_unstable();
         assert_eq!(order, vec![0, 1, 2, 3, 4]);
+        // 200,000 isolated vertices (a structure of independent springs): each search
+        // costs its component, so this takes milliseconds, not n^2 = 4e10 steps.
+        let n = 200_000;
+        let isolated = Graph::new(n, std::iter::empty());
+        let started = std::time::Instant::now();
+        assert_eq!(reverse_cuthill_mckee(&isolated).len(), n);
+        assert!(started.elapsed().as_secs_f64() < 5.0);
     }
 }
