@@ -1,6 +1,7 @@
 //! The paper beam meshed in CalculiX (examples/calculix-beam: CPE8 with the plane-stress
 //! equivalent constants, the built-in mesh's nodes and clamp) read back through
-//! `stickslip_formats::calculix` into a `LinearStructure`, against the built-in plane
+//! `stickslip_formats::calculix` (through `linear_structure::read_calculix`) into a
+//! `LinearStructure`, against the built-in plane
 //! stress model at the same mesh (issue 35, "Must show").
 //!
 //! Tolerance 2e-4 relative: the files carry 14 significant digits and the paper beam's
@@ -12,12 +13,11 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use stickslip::linear_structure::LinearStructure;
+use stickslip::linear_structure::{read_calculix, read_matrix_market, LinearStructure};
 use stickslip::mesh::StripMesh;
 use stickslip::modal::lanczos_modes;
 use stickslip::scene::CheckedScene;
 use stickslip::structure::StructuralModel;
-use stickslip_formats::calculix::read_job;
 use stickslip_formats::structure_file::DofLabel;
 
 const TOLERANCE: f64 = 2e-4;
@@ -63,7 +63,7 @@ fn the_deck_is_the_built_in_mesh() {
 
 /// Tip deflection under a unit tip load and f1..f3 of a structure read from `job`.
 fn read_back(job: &Path) -> (f64, Vec<f64>) {
-    let matrices = read_job(job).unwrap();
+    let matrices = read_calculix(job).unwrap();
     let structure = LinearStructure::new(&matrices, &[]).unwrap();
     let (_, mesh) = paper_mesh();
     // The built-in tip load: a uniform shear on the end face, whose work-conjugate is the
@@ -206,7 +206,7 @@ fn fourteen_digits_of_k_move_the_tip_by_about_1e_4() {
 /// the same band positions; a general pair's mean (v + v) / 2 is v exactly).
 #[test]
 fn matrix_market_files_of_the_beam_read_back_the_same() {
-    let matrices = read_job(&example().join("beam")).unwrap();
+    let matrices = read_calculix(&example().join("beam")).unwrap();
     let dir = std::env::temp_dir().join(format!("beam-mtx-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let write = |name: &str, t: &stickslip_formats::structure_file::Triplets, general: bool| {
@@ -240,7 +240,7 @@ fn matrix_market_files_of_the_beam_read_back_the_same() {
     for general in [false, true] {
         let k = write("k.mtx", &matrices.stiffness, general);
         let m = write("m.mtx", &matrices.mass, general);
-        let read = stickslip_formats::matrix_market::read_structure(&k, &m, None, &dofs).unwrap();
+        let read = read_matrix_market(&k, &m, None, &dofs).unwrap();
         assert_eq!(read.dofs, matrices.dofs);
         let structure = LinearStructure::new(&read, &[]).unwrap();
         let f = structure.natural_frequencies(3).unwrap();

@@ -8,7 +8,8 @@
 //! - `matrix_market`: Matrix Market `.mtx` coordinate files and a DOF map file, into the
 //!   same;
 //! - `structure_file`: what those two give (triplets, DOF labels) and their errors, which
-//!   name the file, the line and the fault;
+//!   name the file, the line and the fault; both parse text (`FileText`): the physics
+//!   opens the files (`stickslip::files`);
 //! - `sniff`: which kind of network file a user handed in, told from its name or its
 //!   first bytes ([`sniff::WeightsFileKind`]).
 //!

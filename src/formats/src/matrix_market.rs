@@ -24,31 +24,29 @@
 //! is proportional to the input, whatever the size line claims.
 
 use crate::structure_file::{
-    direction, index, node, read_text, value, DofLabel, DofSet, EntrySet, Problem, ReadError,
-    Source, Stored, StructureMatrices, Triplet, Triplets,
+    direction, index, node, value, DofLabel, DofSet, EntrySet, FileText, Problem, ReadError,
+    Stored, StructureMatrices, Triplet, Triplets,
 };
-use std::path::Path;
 
-/// Reads a structure from Matrix Market files: K, M, optionally C, and the DOF map.
+/// The structure in the texts of Matrix Market files (K, M, optionally C) and a DOF map
+/// file.
 pub fn read_structure(
-    stiffness: &Path,
-    mass: &Path,
-    damping: Option<&Path>,
-    dof_map: &Path,
+    stiffness: FileText,
+    mass: FileText,
+    damping: Option<FileText>,
+    dof_map: FileText,
 ) -> Result<StructureMatrices, ReadError> {
-    let map_name = dof_map.display().to_string();
-    let dofs = read_dof_map(&map_name, &read_text(dof_map)?)?;
-    let matrix = |path: &Path| {
-        let name = path.display().to_string();
-        let triplets = read_matrix(&name, &read_text(path)?)?;
+    let dofs = read_dof_map(dof_map.name, dof_map.text)?;
+    let matrix = |file: FileText| {
+        let triplets = read_matrix(file.name, file.text)?;
         if triplets.size != dofs.len() {
             return Err(ReadError {
-                file: name,
+                file: file.name.to_string(),
                 line: None,
                 problem: Problem::RowCount {
                     matrix: triplets.size,
                     dofs: dofs.len(),
-                    dof_file: map_name.clone(),
+                    dof_file: dof_map.name.to_string(),
                 },
             });
         }
@@ -64,7 +62,7 @@ pub fn read_structure(
 
 /// Reads a `.mtx` file's text (`name` appears in errors).
 pub fn read_matrix(name: &str, text: &str) -> Result<Triplets, ReadError> {
-    let source = Source { name, text };
+    let source = FileText { name, text };
     let mut lines = text.lines().enumerate().map(|(k, l)| (k + 1, l.trim()));
     let stored = match lines.next() {
         None => return Err(source.error(None, Problem::Empty("no Matrix Market banner"))),
@@ -193,7 +191,7 @@ fn matrix_entry(content: &str, size: usize, stored: Stored) -> Result<Triplet, P
 
 /// Reads a DOF map file's text (`name` appears in errors): `node direction` per line.
 pub fn read_dof_map(name: &str, text: &str) -> Result<Vec<DofLabel>, ReadError> {
-    let source = Source { name, text };
+    let source = FileText { name, text };
     let mut set = DofSet::new("");
     for (line, content) in source.data_lines(&['#']) {
         let fields: Vec<&str> = content.split_whitespace().collect();
@@ -371,22 +369,18 @@ mod tests {
 
     #[test]
     fn the_dof_map_must_have_one_label_per_row() {
-        let dir = std::env::temp_dir().join(format!("mtx-rows-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let k = dir.join("k.mtx");
-        let dofs = dir.join("k.dofs");
-        std::fs::write(&k, SYMMETRIC).unwrap();
-        std::fs::write(&dofs, "1 1\n1 2\n2 1\n").unwrap();
-        let e = read_structure(&k, &k, None, &dofs).unwrap_err();
-        std::fs::remove_dir_all(&dir).unwrap();
+        let k = FileText {
+            name: "k.mtx",
+            text: SYMMETRIC,
+        };
+        let dofs = FileText {
+            name: "k.dofs",
+            text: "1 1\n1 2\n2 1\n",
+        };
+        let e = read_structure(k, k, None, dofs).unwrap_err();
         assert_eq!(
-            e.problem,
-            Problem::RowCount {
-                matrix: 2,
-                dofs: 3,
-                dof_file: dofs.display().to_string()
-            }
+            e.to_string(),
+            "k.mtx: the matrix has 2 rows but k.dofs lists 3 DOFs: one label per row is needed"
         );
-        assert_eq!(e.line, None);
     }
 }

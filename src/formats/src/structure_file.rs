@@ -86,8 +86,6 @@ impl fmt::Display for ReadError {
 /// What is wrong with a structure file.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum Problem {
-    #[error("cannot be read: {0}")]
-    Io(String),
     #[error("is empty: {0}")]
     Empty(&'static str),
     #[error("{found} fields where {expected} are expected ({form})")]
@@ -141,14 +139,17 @@ pub enum Problem {
     TooManyEntries { declared: usize },
 }
 
-/// A file's name and text, the context of every error about it.
-pub(crate) struct Source<'a> {
+/// A file's name (as errors show it) and its text. The readers take text, not paths: the
+/// files a user hands in are opened in one place (`stickslip::files`, which refuses
+/// FIFOs, devices, oversized and non-UTF-8 files before any parser sees them).
+#[derive(Clone, Copy, Debug)]
+pub struct FileText<'a> {
     pub name: &'a str,
     pub text: &'a str,
 }
 
-impl Source<'_> {
-    pub fn error(&self, line: Option<usize>, problem: Problem) -> ReadError {
+impl FileText<'_> {
+    pub(crate) fn error(&self, line: Option<usize>, problem: Problem) -> ReadError {
         ReadError {
             file: self.name.to_string(),
             line,
@@ -158,7 +159,7 @@ impl Source<'_> {
 
     /// The lines with their 1-based numbers, without the blank ones and those that start
     /// with one of `comment` (after leading blanks).
-    pub fn data_lines<'s>(
+    pub(crate) fn data_lines<'s>(
         &'s self,
         comment: &'s [char],
     ) -> impl Iterator<Item = (usize, &'s str)> + 's {
@@ -168,15 +169,6 @@ impl Source<'_> {
             .map(|(k, l)| (k + 1, l.trim()))
             .filter(move |(_, l)| !l.is_empty() && !l.starts_with(comment))
     }
-}
-
-/// Reads a whole file as text; the error names it.
-pub fn read_text(path: &std::path::Path) -> Result<String, ReadError> {
-    std::fs::read_to_string(path).map_err(|e| ReadError {
-        file: path.display().to_string(),
-        line: None,
-        problem: Problem::Io(e.to_string()),
-    })
 }
 
 /// A 1-based index, at most `size`, as 0-based.

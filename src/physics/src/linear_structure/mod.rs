@@ -19,11 +19,17 @@
 //! of tens of thousands of DOFs would want a supernodal factorisation, which is the
 //! 3D example's decision (not made here).
 //!
+//! The files are read by [`read_calculix`] and [`read_matrix_market`] (opened through
+//! `files`, parsed by `stickslip_formats`).
+//!
 //! Provided: the static displacement under a load given at labelled DOFs, and the lowest
 //! natural frequencies by shift-invert Lanczos on the factor of K (`modal::lanczos`, the
 //! plane-stress mesh's solver).
 
 mod ordering;
+mod read;
+
+pub use read::{read_calculix, read_matrix_market, StructureFileError};
 
 use crate::banded::{BandCholesky, SymBandMatrix};
 use crate::modal::{self, Modes};
