@@ -382,5 +382,19 @@ mod tests {
             e.to_string(),
             "k.mtx: the matrix has 2 rows but k.dofs lists 3 DOFs: one label per row is needed"
         );
+        let two = FileText {
+            name: "k.dofs",
+            text: "1 1\n1 2\n",
+        };
+        let c = FileText {
+            name: "c.mtx",
+            text: "%%MatrixMarket matrix coordinate real general\n3 3 1\n1 1 1\n",
+        };
+        let with_damping = read_structure(k, k, Some(k), two).unwrap();
+        assert_eq!(with_damping.damping.unwrap().entries.len(), 3);
+        assert_eq!(
+            read_structure(k, k, Some(c), two).unwrap_err().to_string(),
+            "c.mtx: the matrix has 3 rows but k.dofs lists 2 DOFs: one label per row is needed"
+        );
     }
 }

@@ -437,7 +437,7 @@ mod tests {
     /// not the file). Node 0 is in the file and must be clamped.
     fn chain(n: usize, k: f64, m: f64) -> StructureMatrices {
         let rows = n + 1;
-        let file_row = |node: usize| (node * 7) % rows; // 7 is prime to the sizes used
+        let file_row = |node: usize| (node * 7) % rows; // a permutation when 7 does not divide rows
         let mut dofs = vec![label(0, 1); rows];
         for node in 0..rows {
             dofs[file_row(node)] = label(node as u64 + 1, 1);
@@ -497,6 +497,31 @@ mod tests {
                 "mode {j}: {fj} vs {exact}"
             );
         }
+    }
+
+    #[test]
+    fn damping_is_carried_in_the_same_order_and_checked_like_the_others() {
+        let mut matrices = chain(5, 1.0e6, 2.0);
+        let mut damping = matrices.stiffness.clone();
+        damping.entries.iter_mut().for_each(|e| e.value *= 1e-3);
+        matrices.damping = Some(damping);
+        let s = LinearStructure::new(&matrices, &[label(1, 1)]).unwrap();
+        let c = s.damping().unwrap();
+        for i in 0..s.dofs() {
+            for j in 0..s.dofs() {
+                // Stiffness-proportional C = 1e-3 K, entry by entry in the band order.
+                assert_eq!(c.get(i, j), 1e-3 * s.stiffness().get(i, j), "({i}, {j})");
+            }
+        }
+        let mut short = matrices.damping.clone().unwrap();
+        short.size = 3;
+        matrices.damping = Some(short);
+        assert_eq!(
+            LinearStructure::new(&matrices, &[label(1, 1)])
+                .unwrap_err()
+                .to_string(),
+            "the damping matrix has 3 rows but the DOF map lists 6 DOFs"
+        );
     }
 
     #[test]
