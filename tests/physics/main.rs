@@ -7,6 +7,7 @@ mod authors_rules;
 mod authors_scene;
 mod auto;
 mod auto_horizon;
+mod calculix_beam;
 mod choices;
 mod contact;
 mod coupling;

@@ -3,11 +3,17 @@
 //! - `onnx`: an ONNX `ModelProto` (a protobuf reader of the ONNX schema and a
 //!   graph-to-layers converter, pure Rust) into a chain of dense layers
 //!   ([`onnx::OnnxNetwork`]);
+//! - `calculix`: the matrices CalculiX writes for `*FREQUENCY, SOLVER=MATRIXSTORAGE`
+//!   (`JOB.sti`, `JOB.mas`, `JOB.dof`) into [`structure_file::StructureMatrices`];
+//! - `matrix_market`: Matrix Market `.mtx` coordinate files and a DOF map file, into the
+//!   same;
+//! - `structure_file`: what those two give (triplets, DOF labels) and their errors, which
+//!   name the file, the line and the fault; both parse text (`FileText`): the physics
+//!   opens the files (`stickslip::files`);
 //! - `sniff`: which kind of network file a user handed in, told from its name or its
 //!   first bytes ([`sniff::WeightsFileKind`]).
 //!
-//! The structure readers that come next (CalculiX .inp, Matrix Market, Gmsh; issue 35)
-//! belong here too, as `calculix`, `matrix_market`, `gmsh`.
+//! A Gmsh reader (issue 35) belongs here too, as `gmsh`.
 //!
 //! # Direction
 //! This crate knows nothing of the physics: it does not depend on `stickslip`, and its
@@ -17,5 +23,8 @@
 //! `friction.weights = "x.onnx"` is read inside `run_scene` with no callback. Nothing
 //! here panics on bad input: every refusal is an error naming what is wrong.
 
+pub mod calculix;
+pub mod matrix_market;
 pub mod onnx;
 pub mod sniff;
+pub mod structure_file;

@@ -61,6 +61,15 @@ pub const RECORDS_FILE: InputFile = InputFile {
     limit: 1024 * MIB,
 };
 
+/// A structure's matrix or DOF map (CalculiX `.sti`/`.mas`/`.dof`, Matrix Market `.mtx`,
+/// a DOF map file): about 30 bytes per stored entry, so the paper beam's K is 0.33 MB and
+/// a 3D solid of 50,000 DOFs (about 2 million upper entries) near 60 MB; the cap leaves
+/// room for 15 times that, past what the band factorisation accepts.
+pub const STRUCTURE_FILE: InputFile = InputFile {
+    what: "structure file",
+    limit: 1024 * MIB,
+};
+
 /// Why an input file was refused. (An I/O error is kept as its message, so that errors
 /// that hold this one, such as the scene's, stay `Clone` and `PartialEq`.)
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

@@ -10,7 +10,9 @@
 //! `simulation` ties these together step by step; `run` runs a scene to its end;
 //! `metrics` reads breakaway, slips and period off a run; `study` measures speed against
 //! accuracy, `transfer` carries a front point's mode count to another scene, and `auto`
-//! picks the cheapest fidelity that meets a tolerance. Beside the
+//! picks the cheapest fidelity that meets a tolerance. `linear_structure` is a user's
+//! structure from another FE code (matrices read by `stickslip_formats::calculix` or
+//! `matrix_market`), checked and solved for statics and modes. Beside the
 //! dynamics: `statics`, the paper's static tip-load case and its mesh convergence
 //! (Sec. 2.1); `stability`, closed-form cantilever frequencies, Rayleigh damping at two
 //! modes and the belt speed above which steady sliding is stable. `choice` is the
@@ -40,6 +42,7 @@ pub mod friction;
 pub mod integrator;
 pub mod jacobian;
 pub mod law_source;
+pub mod linear_structure;
 pub mod mesh;
 pub mod metrics;
 pub mod modal;

@@ -12,7 +12,7 @@
 //! A final Rayleigh-Ritz step on the basis makes the reduced M = I and
 //! K = diag(omega_i^2), so its matrices are diagonal.
 
-use crate::banded::{dot, dots, SymBandMatrix};
+use crate::banded::{dot, dots, BandCholesky, SymBandMatrix};
 use crate::elementary;
 use crate::scene::FidelityLevel;
 use crate::structure::{ModelError, StructuralModel};
@@ -93,7 +93,7 @@ const EIGENVALUE_TOLERANCE: f64 = 1e-10;
 fn checked_count(
     model: &StructuralModel,
     count: usize,
-) -> Result<(usize, crate::banded::BandCholesky), ModelError> {
+) -> Result<(usize, BandCholesky), ModelError> {
     let n = model.dofs();
     if count == 0 || count > n {
         return Err(ModelError::TooManyModes {
@@ -219,10 +219,22 @@ fn start_vector(n: usize) -> Vec<f64> {
 /// closely spaced bending and axial modes make the ratio omega_q^2 / omega_(p+1)^2 that
 /// sets its rate close to 1 (measured in `reduce`'s doc).
 pub fn lanczos_modes(model: &StructuralModel, count: usize) -> Result<Modes, ModelError> {
-    let (n, factor) = checked_count(model, count)?;
+    let (_, factor) = checked_count(model, count)?;
+    lanczos(&model.mass, &factor, count)
+}
+
+/// [`lanczos_modes`] on a mass matrix and the factor of a stiffness matrix of the same
+/// size, for any structure with banded matrices (`linear_structure` too); `count` is
+/// between 1 and the size.
+pub(crate) fn lanczos(
+    mass: &SymBandMatrix,
+    factor: &BandCholesky,
+    count: usize,
+) -> Result<Modes, ModelError> {
+    let n = mass.size();
     let mut scratch = vec![0.0; n];
     let mut q = start_vector(n);
-    let norm = model.mass.bilinear(&q, &q, &mut scratch).sqrt();
+    let norm = mass.bilinear(&q, &q, &mut scratch).sqrt();
     q.iter_mut().for_each(|e| *e /= norm);
     // Lanczos vectors and their products with M (for the M inner products).
     let mut basis: Vec<Vec<f64>> = Vec::new();
@@ -231,7 +243,7 @@ pub fn lanczos_modes(model: &StructuralModel, count: usize) -> Result<Modes, Mod
     let mut beta: Vec<f64> = Vec::new();
     loop {
         let mut mq = vec![0.0; n];
-        model.mass.mul_vec(&q, &mut mq);
+        mass.mul_vec(&q, &mut mq);
         let mut w = mq.clone();
         factor.solve_in_place(&mut w);
         basis.push(q);
@@ -239,7 +251,7 @@ pub fn lanczos_modes(model: &StructuralModel, count: usize) -> Result<Modes, Mod
         let j = basis.len() - 1;
         alpha.push(dot(&w, &m_basis[j]));
         reorthogonalise(&mut w, &basis, &m_basis);
-        let b = model.mass.bilinear(&w, &w, &mut scratch).sqrt();
+        let b = mass.bilinear(&w, &w, &mut scratch).sqrt();
         let steps = basis.len();
         // A NaN b (a broken factor) counts as exhausted too.
         let exhausted = steps == n || b.is_nan() || b <= 1e-14 * alpha[0].abs();
@@ -250,7 +262,7 @@ pub fn lanczos_modes(model: &StructuralModel, count: usize) -> Result<Modes, Mod
                     <= RITZ_TOLERANCE * eig.eigenvalues[i].abs()
             });
             if converged {
-                return ritz_modes(model, &basis, &eig, &order[..count]);
+                return ritz_modes(mass, &basis, &eig, &order[..count]);
             }
             if exhausted {
                 return Err(ModelError::NoConvergence { iterations: steps });
@@ -301,7 +313,7 @@ fn ritz_values(alpha: &[f64], beta: &[f64]) -> (SymmetricEigen<f64, Dyn>, Vec<us
 /// omega^2 = 1 / theta_i, vector Q_m s_i normalised in M. A theta that is not positive
 /// (no mode of a clamped structure) is no convergence.
 fn ritz_modes(
-    model: &StructuralModel,
+    mass: &SymBandMatrix,
     basis: &[Vec<f64>],
     eig: &SymmetricEigen<f64, Dyn>,
     wanted: &[usize],
@@ -322,7 +334,7 @@ fn ritz_modes(
             let s = eig.eigenvectors[(r, i)];
             x.iter_mut().zip(v).for_each(|(xi, vi)| *xi += s * vi);
         }
-        let norm = model.mass.bilinear(&x, &x, &mut scratch).sqrt();
+        let norm = mass.bilinear(&x, &x, &mut scratch).sqrt();
         x.iter_mut().for_each(|e| *e /= norm);
         eigenvalues.push(1.0 / theta);
         vectors.push(x);
