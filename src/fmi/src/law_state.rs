@@ -4,53 +4,15 @@
 //! the physics crate is the one place that says what a state variable is. A run whose
 //! law has not the variable outputs 0, and the description says so.
 //!
-//! The rows live in `'static` tables, so their descriptions are built at compile time
-//! ([`Text`]): the entry's own description followed by [`ABSENT`].
+//! The rows are made from the list when a table is first built ([`law_state_outputs`]),
+//! so a new entry of the list is an output of both FMUs with no row written for it.
+
+use crate::variables::{Access, Causality, Dependencies, Variability, Variable};
+use stickslip::friction::state::STATE_VARIABLES;
 
 /// What every state output's description adds to its variable's: the value of a law
 /// without it.
 pub const ABSENT: &str = "; the friction law's state, 0 for a law without this variable";
-
-/// Room for a description built at compile time (bytes).
-const CAPACITY: usize = 256;
-
-/// A string joined at compile time, for the `&'static str` of a table row: declared as
-/// a `static`, read with [`Text::as_str`].
-pub struct Text {
-    bytes: [u8; CAPACITY],
-    len: usize,
-}
-
-impl Text {
-    /// `first` followed by `second`; fails to compile when they exceed [`CAPACITY`].
-    pub const fn join(first: &str, second: &str) -> Self {
-        let (a, b) = (first.as_bytes(), second.as_bytes());
-        assert!(a.len() + b.len() <= CAPACITY, "description too long");
-        let mut bytes = [0; CAPACITY];
-        let mut i = 0;
-        while i < a.len() {
-            bytes[i] = a[i];
-            i += 1;
-        }
-        let mut j = 0;
-        while j < b.len() {
-            bytes[a.len() + j] = b[j];
-            j += 1;
-        }
-        Self {
-            bytes,
-            len: a.len() + b.len(),
-        }
-    }
-
-    /// The joined string (two `str`s joined at a character boundary stay UTF-8).
-    pub const fn as_str(&'static self) -> &'static str {
-        match std::str::from_utf8(self.bytes.split_at(self.len).0) {
-            Ok(text) => text,
-            Err(_) => panic!("joined text is not UTF-8"),
-        }
-    }
-}
 
 /// A state variable's unit as an FMU unit: "1" (dimensionless) is no unit, as for every
 /// other dimensionless variable of the tables.
@@ -61,36 +23,40 @@ pub const fn fmi_unit(unit: &'static str) -> Option<&'static str> {
     }
 }
 
-/// The Real output row of entry `$index` of `STATE_VARIABLES`, value reference `$vr`,
-/// read off the model as `$value`, depending on `$depends_on`.
-macro_rules! law_state_output {
-    ($vr:expr, $index:literal, $depends_on:expr, |$m:ident: $model:ty| $value:expr) => {{
-        static DESCRIPTION: $crate::law_state::Text = $crate::law_state::Text::join(
-            ::stickslip::friction::state::STATE_VARIABLES[$index].description,
-            $crate::law_state::ABSENT,
-        );
-        $crate::declare::real_output!(
-            $vr,
-            ::stickslip::friction::state::STATE_VARIABLES[$index].name,
-            $crate::law_state::fmi_unit(::stickslip::friction::state::STATE_VARIABLES[$index].unit),
-            DESCRIPTION.as_str(),
-            $depends_on,
-            |$m: $model| $value
-        )
-    }};
+/// One Real output per entry of `STATE_VARIABLES`, in its order: value references
+/// `first_value_reference` + k, named and described by entry k, read off the model as
+/// `value(model, k)`, depending on `depends_on(k)`.
+pub fn law_state_outputs<M: 'static>(
+    first_value_reference: u32,
+    depends_on: impl Fn(usize) -> Dependencies,
+    value: fn(&M, usize) -> f64,
+) -> Vec<Variable<M>> {
+    STATE_VARIABLES
+        .iter()
+        .enumerate()
+        .map(|(k, variable)| Variable {
+            name: variable.name,
+            value_reference: first_value_reference + k as u32,
+            causality: Causality::Output,
+            variability: Variability::Continuous,
+            // Once per row, when the table is first built.
+            description: Box::leak(format!("{}{ABSENT}", variable.description).into_boxed_str()),
+            access: Access::Real {
+                unit: fmi_unit(variable.unit),
+                get: Box::new(move |m: &M| value(m, k)),
+                set: None,
+            },
+            depends_on: Some(depends_on(k)),
+        })
+        .collect()
 }
-
-pub(crate) use law_state_output;
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    static JOINED: Text = Text::join("bristle z", ABSENT);
-
     #[test]
-    fn text_joins_and_units_map() {
-        assert_eq!(JOINED.as_str(), format!("bristle z{ABSENT}"));
+    fn units_map() {
         assert_eq!(fmi_unit("1"), None);
         assert_eq!(fmi_unit("m"), Some("m"));
     }

@@ -8,7 +8,7 @@ use crate::declare::{
     choice_parameter, count_parameter, law_parameters, non_negative, real_input, real_output,
     real_parameter, weights_parameter,
 };
-use crate::law_state::law_state_output;
+use crate::law_state::law_state_outputs;
 use crate::variables::{
     Access, Causality, Dependencies, InitialDependencies, Variability, Variable,
 };
@@ -24,13 +24,6 @@ use stickslip::simulation::ExternalCoupling;
 
 const BELT_SPEED: u32 = 100;
 const NORMAL_FORCE: u32 = 101;
-
-// The law's state outputs are value references 210, 211, ..., one row per entry of
-// STATE_VARIABLES, in its order (see the end of the table). A new entry needs its row.
-const _: () = assert!(
-    stickslip::friction::state::STATE_VARIABLES.len() == 3,
-    "add a law_state_output! row for each entry of STATE_VARIABLES"
-);
 
 /// What every output of the beam depends on. An output is read off the simulation
 /// state, which only fmi2DoStep advances: an input set at a communication point acts on
@@ -453,17 +446,22 @@ pub(super) static VARIABLES: LazyLock<Vec<Variable<StickSlipBeam>>> = LazyLock::
         },
         depends_on: Some(BEAM_OUTPUT),
     },
-    law_state_output!(210, 0, BEAM_OUTPUT, |m: StickSlipBeam| m
-        .output(|s| s.law_state[0])),
-    law_state_output!(211, 1, BEAM_OUTPUT, |m: StickSlipBeam| m
-        .output(|s| s.law_state[1])),
-    law_state_output!(212, 2, BEAM_OUTPUT, |m: StickSlipBeam| m
-        .output(|s| s.law_state[2])),
     ];
+    // The law's state outputs, value references 210, 211, ..., one per entry of
+    // STATE_VARIABLES, in its order, at the end of the table.
+    let law_state = law_state_outputs(
+        210,
+        |_| BEAM_OUTPUT,
+        |m: &StickSlipBeam, k| m.sample().map_or(0.0, |s| s.law_state[k]),
+    );
     let laws = law_parameters(
         "friction.law",
         |m: &StickSlipBeam| &m.settings.scene.friction.laws,
         |m: &mut StickSlipBeam| &mut m.settings.scene.friction.laws,
     );
-    head.into_iter().chain(laws).chain(tail).collect()
+    head.into_iter()
+        .chain(laws)
+        .chain(tail)
+        .chain(law_state)
+        .collect()
 });

@@ -7,7 +7,7 @@ use crate::declare::{
     choice_parameter, law_parameters, non_negative, real_input, real_output, real_parameter,
     weights_parameter,
 };
-use crate::law_state::law_state_output;
+use crate::law_state::law_state_outputs;
 use crate::variables::{
     ArrayVariable, Dependencies, DependencyKind, InitialDependencies, Variable,
 };
@@ -76,8 +76,9 @@ const STATIC_LIMIT: Dependencies = Dependencies {
 /// reaches them directly. In Initialization Mode they hold the initial state: z = 0
 /// and psi = 0 whatever the parameters, theta = D_c / V_0 with `law = rate-and-state`
 /// (and 0 with any other law).
-/// The state outputs' value references, in the order of `STATE_VARIABLES`.
-pub(super) const STATE_OUTPUT: [u32; STATE_VARIABLES.len()] = [30, 31, 32];
+/// The first state output's value reference: 30, 31, ... in the order of
+/// `STATE_VARIABLES` (room up to 39).
+pub(super) const FIRST_STATE_OUTPUT: u32 = 30;
 
 /// Per state output: the law and the parameters the initial state of the law that has
 /// the state variable depends on (the registry's `initial_state`: rate-and-state's
@@ -237,20 +238,18 @@ pub(super) static VARIABLES: LazyLock<Vec<Variable<NeuralFriction>>> = LazyLock:
         EVALUATED_VELOCITY,
         |m: NeuralFriction| m.outputs.velocity
     ),
-    law_state_output!(STATE_OUTPUT[0], 0, state_output(0), |m: NeuralFriction| m
-        .outputs
-        .state[0]),
-    law_state_output!(STATE_OUTPUT[1], 1, state_output(1), |m: NeuralFriction| m
-        .outputs
-        .state[1]),
-    law_state_output!(STATE_OUTPUT[2], 2, state_output(2), |m: NeuralFriction| m
-        .outputs
-        .state[2]),
     ];
+    let law_state = law_state_outputs(FIRST_STATE_OUTPUT, state_output, |m: &NeuralFriction, k| {
+        m.outputs.state[k]
+    });
     let laws = law_parameters(
         "law",
         |m: &NeuralFriction| &m.settings.laws,
         |m: &mut NeuralFriction| &mut m.settings.laws,
     );
-    head.into_iter().chain(laws).chain(tail).collect()
+    head.into_iter()
+        .chain(laws)
+        .chain(tail)
+        .chain(law_state)
+        .collect()
 });
