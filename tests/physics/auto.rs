@@ -244,3 +244,35 @@ fn the_chain_bounds_the_error_where_the_first_partner_is_as_wrong() {
     assert!(1.25 * first_link < truth, "{first_link} {truth}");
     assert!(tried.estimated_error >= truth, "{tried:?} {truth}");
 }
+
+/// The paper authors' contact options (free first slip step, lagged slip force, damping
+/// only in slip) belong to generalised-alpha's switch, so the scene's rules refuse every
+/// Moreau-Jean point: `auto` chooses among the others (its first calibration run, on a
+/// Moreau-Jean point, failed before), and refuses with the scene's reason only when
+/// nothing is left.
+#[test]
+fn auto_leaves_out_the_points_the_scenes_rules_refuse() {
+    use stickslip::auto::{for_scene, paper_front};
+    use stickslip::law_source::LawSource;
+    use stickslip::scene_preset::ScenePreset;
+    let mut scene = ScenePreset::PaperAuthors.scene();
+    scene.time.end = 0.5;
+    let front = paper_front().unwrap();
+    let admitted = for_scene(&scene, &front).unwrap();
+    assert!(front
+        .iter()
+        .any(|p| p.configuration.scheme == Scheme::MoreauJean));
+    assert!(admitted
+        .iter()
+        .all(|p| p.configuration.scheme == Scheme::GeneralizedAlpha));
+    assert!(admitted.len() >= 2, "{}", admitted.len());
+    let law = LawSource::resolve(&scene.clone().check().unwrap()).unwrap();
+    let choice = choose(&scene, &law, 1e-5, &front, &mut |_| {}).unwrap();
+    assert_eq!(choice.configuration.scheme, Scheme::GeneralizedAlpha);
+    assert!(choice.estimated_error <= 1e-5);
+    // The default scene keeps the whole front.
+    assert_eq!(
+        for_scene(&Scene::default(), &front).unwrap().len(),
+        front.len()
+    );
+}

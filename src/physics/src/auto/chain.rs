@@ -92,8 +92,10 @@ pub fn choose_over(
     check_request(tolerance, horizon)?;
     check_front(front)?;
     let started = Instant::now();
-    // The front's mode counts as this scene's spectrum asks for them (`transfer`).
-    let front = &crate::transfer::front_for_scene(scene, front);
+    // The front as this scene takes it: mode counts by its spectrum (`transfer`), only
+    // the configurations its rules admit.
+    let front = &super::front::for_scene(scene, front)?;
+    check_front(front)?;
     let mut count = 0;
     let window = calibration_window(scene, law, horizon, front, started, &mut count, progress)?;
     let reach = Reach::of(horizon, window);

@@ -3,6 +3,7 @@
 use super::{
     AutoError, CHAIN_COST_RATIO, CHEAP_RUN_SECONDS, PAPER_FRONT_JSON, PARTNER_ACCURACY_RATIO,
 };
+use crate::scene::Scene;
 use crate::study::FrontPoint;
 
 /// The paper-scene front, cheapest first.
@@ -28,6 +29,30 @@ pub fn check_front(front: &[FrontPoint]) -> Result<(), AutoError> {
         }
     }
     Ok(())
+}
+
+/// The front as `scene` takes it: its mode counts as the scene's spectrum asks for them
+/// (`crate::transfer::front_for_scene`), and only the points whose configuration the
+/// scene's own rules admit. The paper authors' contact options (a free first slip step,
+/// the lagged slip force, damping only in slip) belong to generalised-alpha's switch, so
+/// a scene with them has no Moreau-Jean point; such a point would fail its calibration
+/// run. Refused with the scene's reason when no point is left.
+pub fn for_scene(scene: &Scene, front: &[FrontPoint]) -> Result<Vec<FrontPoint>, AutoError> {
+    let mut refusal = None;
+    let admitted: Vec<FrontPoint> = crate::transfer::front_for_scene(scene, front)
+        .into_iter()
+        .filter(|point| match point.configuration.apply(scene).check() {
+            Ok(_) => true,
+            Err(reason) => {
+                refusal.get_or_insert(reason);
+                false
+            }
+        })
+        .collect();
+    match refusal {
+        Some(reason) if admitted.is_empty() => Err(AutoError::Scene(reason)),
+        _ => Ok(admitted),
+    }
 }
 
 /// The comparison partner of front point `k`, if it has one.

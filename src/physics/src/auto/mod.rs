@@ -125,7 +125,7 @@ mod verification;
 pub use bound::{window_deviation, Horizon, Reach, DIRECT_LIMIT};
 pub use chain::{choose, choose_over, Candidate, Selection};
 pub use deviation::first_cycle_deviation;
-pub use front::{check_front, paper_front, partner, refinement};
+pub use front::{check_front, for_scene, paper_front, partner, refinement};
 pub use horizon::calibration_horizon;
 pub use resolve::{choose_cached, describe, resolve, span, tolerance_of};
 pub use verification::{finer, verification_scenes, verify, Verification};

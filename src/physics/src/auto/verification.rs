@@ -89,7 +89,7 @@ pub fn verify(
     reference: &Measured,
 ) -> Result<Verification, AutoError> {
     let choice = choose(scene, law, tolerance, front, &mut |_| {})?;
-    let front = &crate::transfer::front_for_scene(scene, front);
+    let front = &super::front::for_scene(scene, front)?;
     let run_of = |configuration: Configuration| -> Result<Measured, AutoError> {
         measure(scene, law, configuration).map_err(|f| AutoError::Verification(f.reason))
     };
