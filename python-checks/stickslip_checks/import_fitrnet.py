@@ -53,6 +53,26 @@ def parser() -> argparse.ArgumentParser:
     return p
 
 
+def write_atomically(model, out: Path) -> None:
+    """Writes the ONNX model to `out` whole or not at all: into a temporary file beside
+    it, renamed into place once written (as the Rust side's outputs are), so that an
+    interrupted or failed write never leaves a truncated file under the name."""
+    import os
+    import tempfile
+
+    import onnx
+
+    handle, staged = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".tmp",
+                                      dir=out.parent if str(out.parent) else ".")
+    os.close(handle)
+    try:
+        onnx.save(model, staged)
+        os.replace(staged, out)
+    except BaseException:
+        Path(staged).unlink(missing_ok=True)
+        raise
+
+
 def main(argv: list[str] | None = None) -> int:
     args = parser().parse_args(argv)
     try:
@@ -64,9 +84,11 @@ def main(argv: list[str] | None = None) -> int:
     except (fitrnet.FitrnetError, OSError) as error:
         print(f"error: {error}", file=sys.stderr)
         return 1
-    import onnx
-
-    onnx.save(model, args.out)
+    try:
+        write_atomically(model, args.out)
+    except OSError as error:
+        print(f"error: {args.out}: cannot be written: {error}", file=sys.stderr)
+        return 1
     sizes = [network.weights[0].shape[1], *(w.shape[0] for w in network.weights)]
     print(f"read {args.model}: fitrnet {'-'.join(map(str, sizes))} {network.activation}, "
           f"inputs {'standardised' if network.standardised else 'raw'}, "

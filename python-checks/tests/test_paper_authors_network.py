@@ -308,3 +308,17 @@ def test_network_runs_in_the_beam(built, raw, converted, fidelity):
     print(f"{fidelity}: first re-stick {1e3 * shift:.3f} mm from the analytical run's "
           f"(bound 2 dF / k = {2e3 * deviation / k_tip:.3f} mm, dF = {deviation:.2f} N)")
     assert shift <= 2.0 * deviation / k_tip
+
+
+def test_a_failed_write_leaves_no_file_and_an_unwritable_folder_is_an_error(tmp_path, capsys):
+    """The ONNX file is written whole or not at all: into a temporary file beside it,
+    renamed into place. A destination folder that does not exist is an error naming the
+    path, and nothing is left behind."""
+    missing = tmp_path / "no-such-folder" / "authors.onnx"
+    assert import_fitrnet([str(paper_authors.MAT), "--out", str(missing)]) == 1
+    assert "cannot be written" in capsys.readouterr().err
+    assert not missing.parent.exists()
+    out = tmp_path / "authors.onnx"
+    assert import_fitrnet([str(paper_authors.MAT), "--out", str(out)]) == 0
+    assert out.stat().st_size > 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["authors.onnx"]
