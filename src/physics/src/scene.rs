@@ -22,6 +22,7 @@
 //! dt = 1e-4 s, t_end = 1.2 s. The paper does not give Poisson's ratio; 0.3 (steel) is used.
 
 use crate::friction::parameters::ParameterProblem;
+use crate::linear_structure::StructureSection;
 use crate::friction::registry::{Coefficients, LawTables};
 use crate::friction::{exponential::ExponentialLaw, FrictionLawKind};
 use crate::neural::inference::Inference;
@@ -512,6 +513,10 @@ pub struct Scene {
     pub time: Time,
     pub fidelity: Fidelity,
     pub integrator: Integrator,
+    /// A user's structure from files in place of the built-in beam (absent: the beam);
+    /// `linear_structure::section` gives the section's fields.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub structure: Option<StructureSection>,
 }
 
 /// A scene field outside its allowed range, or a file that does not parse.
@@ -944,6 +949,9 @@ impl Scene {
         self.time.check()?;
         self.fidelity.check(&self.geometry)?;
         self.integrator.check()?;
+        if let Some(section) = &self.structure {
+            section.check(self.fidelity.level, self.contact.holding_force)?;
+        }
         Ok(CheckedScene(self))
     }
 
@@ -973,7 +981,12 @@ impl Scene {
         .map_err(|e| match e {
             SceneError::Parse(msg) => SceneError::Parse(format!("{}: {msg}", path.display())),
             other => other,
-        })?;
+        });
+        let mut scene = scene?;
+        if let Some(section) = &mut scene.structure {
+            // The structure's files are named relative to the scene file.
+            section.resolve_paths(path.parent().unwrap_or(Path::new("")));
+        }
         scene.check()
     }
 }

@@ -28,8 +28,10 @@
 
 mod ordering;
 mod read;
+mod section;
 
 pub use read::{read_calculix, read_matrix_market, StructureFileError};
+pub use section::{SceneDof, StructureFormat, StructureSection};
 
 use crate::banded::{BandCholesky, SymBandMatrix};
 use crate::modal::{self, Modes};
