@@ -22,9 +22,9 @@
 //! dt = 1e-4 s, t_end = 1.2 s. The paper does not give Poisson's ratio; 0.3 (steel) is used.
 
 use crate::friction::parameters::ParameterProblem;
-use crate::linear_structure::StructureSection;
 use crate::friction::registry::{Coefficients, LawTables};
 use crate::friction::{exponential::ExponentialLaw, FrictionLawKind};
+use crate::linear_structure::StructureSection;
 use crate::neural::inference::Inference;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
