@@ -95,6 +95,9 @@ pub struct StructureSection {
     pub clamped: Vec<SceneDof>,
 }
 
+/// A path field's dotted name and whether the scene gives it.
+type GivenField = (&'static str, bool);
+
 fn refused(field: &'static str, value: impl ToString, requirement: impl ToString) -> SceneError {
     SceneError::Invalid {
         field,
@@ -130,25 +133,24 @@ impl StructureSection {
     /// `contact.holding_force = reaction` (the paper's rule uses the beam's EI).
     pub fn check(&self, level: FidelityLevel, holding: HoldingForce) -> Result<(), SceneError> {
         let format = self.format.word();
-        let (needed, foreign): (&[(&'static str, bool)], &[(&'static str, bool)]) =
-            match self.format {
-                StructureFormat::Calculix => (
-                    &[("structure.job", self.job.is_some())],
-                    &[
-                        ("structure.stiffness", self.stiffness.is_some()),
-                        ("structure.mass", self.mass.is_some()),
-                        ("structure.dofs", self.dofs.is_some()),
-                    ],
-                ),
-                StructureFormat::MatrixMarket => (
-                    &[
-                        ("structure.stiffness", self.stiffness.is_some()),
-                        ("structure.mass", self.mass.is_some()),
-                        ("structure.dofs", self.dofs.is_some()),
-                    ],
-                    &[("structure.job", self.job.is_some())],
-                ),
-            };
+        let (needed, foreign): (&[GivenField], &[GivenField]) = match self.format {
+            StructureFormat::Calculix => (
+                &[("structure.job", self.job.is_some())],
+                &[
+                    ("structure.stiffness", self.stiffness.is_some()),
+                    ("structure.mass", self.mass.is_some()),
+                    ("structure.dofs", self.dofs.is_some()),
+                ],
+            ),
+            StructureFormat::MatrixMarket => (
+                &[
+                    ("structure.stiffness", self.stiffness.is_some()),
+                    ("structure.mass", self.mass.is_some()),
+                    ("structure.dofs", self.dofs.is_some()),
+                ],
+                &[("structure.job", self.job.is_some())],
+            ),
+        };
         if let Some((field, _)) = needed.iter().find(|(_, given)| !given) {
             return Err(refused(
                 field,
