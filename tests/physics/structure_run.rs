@@ -217,3 +217,49 @@ fn fields_that_do_not_fit_the_format_or_the_scene_are_refused() {
         &["contact.holding_force", "3 EI delta / L^3"],
     );
 }
+
+/// The same beam written as Matrix Market files (the lower triangle of ccx's upper one,
+/// `symmetric`) with a DOF map file, named by a `format = "matrix-market"` section
+/// with paths relative to its scene file: the same values in the same order, so the
+/// same model to the bit (the readers differ, the checked structure does not).
+#[test]
+fn the_beam_as_matrix_market_files_gives_the_same_model() {
+    let dir = std::env::temp_dir().join(format!("structure-run-{}-mtx", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let labels = std::fs::read_to_string(example().join("beam.dof")).unwrap();
+    let rows = labels.lines().count();
+    for (from, to) in [("beam.sti", "k.mtx"), ("beam.mas", "m.mtx")] {
+        let text = std::fs::read_to_string(example().join(from)).unwrap();
+        let entries: Vec<String> = text
+            .lines()
+            .map(|line| {
+                let f: Vec<&str> = line.split_whitespace().collect();
+                format!("{} {} {}", f[1], f[0], f[2])
+            })
+            .collect();
+        let header = format!(
+            "%%MatrixMarket matrix coordinate real symmetric\n{rows} {rows} {}\n",
+            entries.len()
+        );
+        std::fs::write(dir.join(to), header + &entries.join("\n") + "\n").unwrap();
+    }
+    let map: String = labels.lines().map(|l| l.replace('.', " ") + "\n").collect();
+    std::fs::write(dir.join("k.dofs"), map).unwrap();
+    let scene_path = dir.join("scene.toml");
+    std::fs::write(
+        &scene_path,
+        "[structure]\nformat = \"matrix-market\"\nstiffness = \"k.mtx\"\nmass = \"m.mtx\"\ndofs = \"k.dofs\"\ncontact = { node = 502, direction = 2 }\n",
+    )
+    .unwrap();
+    let scene = Scene::load(&scene_path).unwrap();
+    let model = StructuralModel::build(&scene);
+    std::fs::remove_dir_all(&dir).unwrap();
+    let model = model.unwrap();
+    assert!(model.label.contains("matrix-market k"), "{}", model.label);
+    let calculix = StructuralModel::build(&calculix_scene()).unwrap();
+    assert_eq!(model.tip, calculix.tip);
+    assert_eq!(
+        model.static_tip_deflection(1.0).unwrap(),
+        calculix.static_tip_deflection(1.0).unwrap()
+    );
+}
