@@ -530,3 +530,30 @@ fn the_slip_rule_flags_reach_the_scene_and_a_law_with_state_refuses_them() {
         );
     }
 }
+
+/// A scene file with a `[structure]` runs on that structure (the CalculiX beam, its
+/// files named relative to the scene file, whatever the working directory), and a flag
+/// that asks for a built-in model is refused naming the field.
+#[test]
+fn a_scene_with_a_structure_runs_on_it() {
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/calculix-beam/scene.toml");
+    let scene = scene.to_str().unwrap();
+    let (ok, stdout, stderr) = stickslip(&["simulate", "--scene", scene]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("structure, 1002 DOFs (calculix beam), contact node 502 direction 2"),
+        "{stdout}"
+    );
+    // One step after the built-in plane stress's 0.4000 s (docs/structures.md).
+    assert!(
+        stdout.contains("breakaway time          0.4001 s"),
+        "{stdout}"
+    );
+    let (ok, _, stderr) = stickslip(&["simulate", "--scene", scene, "--fidelity", "beam"]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("fidelity.level = beam; it must be plane-stress with a [structure]"),
+        "{stderr}"
+    );
+}

@@ -24,4 +24,5 @@ mod slip_solve;
 mod state_laws;
 mod statics;
 mod stribeck;
+mod structure_run;
 mod switch_stop;

@@ -7,7 +7,12 @@ use crate::structure::{ModelError, StructuralModel};
 
 impl StructuralModel {
     /// The model the scene's fidelity asks for; an unresolved `auto` level is refused.
+    /// A scene with a `[structure]` gets that structure's full model (its check allows
+    /// only `fidelity.level = plane-stress` with it).
     pub fn build(scene: &CheckedScene) -> Result<Self, ModelError> {
+        if let Some(section) = &scene.structure {
+            return Self::from_section(section);
+        }
         let fidelity = &scene.fidelity;
         match fidelity.level {
             FidelityLevel::Beam => Ok(Self::beam(scene, fidelity.beam_elements)),

@@ -58,3 +58,4 @@ pub mod statics;
 pub mod structure;
 pub mod study;
 pub mod transfer;
+pub mod user_structure;

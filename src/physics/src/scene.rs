@@ -25,6 +25,7 @@ use crate::friction::parameters::ParameterProblem;
 use crate::friction::registry::{Coefficients, LawTables};
 use crate::friction::{exponential::ExponentialLaw, FrictionLawKind};
 use crate::neural::inference::Inference;
+use crate::user_structure::StructureSection;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -512,6 +513,10 @@ pub struct Scene {
     pub time: Time,
     pub fidelity: Fidelity,
     pub integrator: Integrator,
+    /// A user's structure from files in place of the built-in beam (absent: the beam);
+    /// `user_structure` gives the section's fields.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub structure: Option<StructureSection>,
 }
 
 /// A scene field outside its allowed range, or a file that does not parse.
@@ -656,6 +661,38 @@ impl Loading {
         }
         non_negative("loading.normal_force", self.normal_force, "N")
     }
+}
+
+/// The `[structure]` section's fields (`user_structure`), then what the rest of the
+/// scene must be with a user's structure: `fidelity.level = plane-stress` (meaning the
+/// full model: the modal reduction of a user's structure and `auto` are not here yet,
+/// and `beam` names the built-in beam) and `contact.holding_force = reaction` (the
+/// paper's rule uses the beam's EI).
+fn check_structure(
+    section: &StructureSection,
+    level: FidelityLevel,
+    holding: HoldingForce,
+) -> Result<(), SceneError> {
+    section.check_fields().map_err(|p| SceneError::Invalid {
+        field: p.field,
+        value: p.value,
+        requirement: p.requirement,
+    })?;
+    if level != FidelityLevel::PlaneStress {
+        return Err(SceneError::Invalid {
+            field: "fidelity.level",
+            value: crate::choice::Choice::name(level).into(),
+            requirement: "plane-stress with a [structure]: it means the structure's full model (modal reduction of a user's structure and auto are not here yet)".into(),
+        });
+    }
+    if holding != HoldingForce::Reaction {
+        return Err(SceneError::Invalid {
+            field: "contact.holding_force",
+            value: crate::choice::Choice::name(holding).into(),
+            requirement: "reaction with a [structure]: the paper's rule 3 EI delta / L^3 is the built-in beam's".into(),
+        });
+    }
+    Ok(())
 }
 
 impl Friction {
@@ -944,6 +981,9 @@ impl Scene {
         self.time.check()?;
         self.fidelity.check(&self.geometry)?;
         self.integrator.check()?;
+        if let Some(section) = &self.structure {
+            check_structure(section, self.fidelity.level, self.contact.holding_force)?;
+        }
         Ok(CheckedScene(self))
     }
 
@@ -973,7 +1013,12 @@ impl Scene {
         .map_err(|e| match e {
             SceneError::Parse(msg) => SceneError::Parse(format!("{}: {msg}", path.display())),
             other => other,
-        })?;
+        });
+        let mut scene = scene?;
+        if let Some(section) = &mut scene.structure {
+            // The structure's files are named relative to the scene file.
+            section.resolve_paths(path.parent().unwrap_or(Path::new("")));
+        }
         scene.check()
     }
 }

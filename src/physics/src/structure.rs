@@ -61,6 +61,10 @@ pub enum ModelError {
     /// into a concrete level; it names no model.
     #[error("fidelity.level = auto names no model: it must be resolved (stickslip::auto::resolve, which the command line and the FMU call) into modal, beam or plane-stress before a model is built")]
     UnresolvedAuto,
+    /// A scene's `[structure]` whose files or DOFs were refused (the message names the
+    /// file, the line or the DOF).
+    #[error("[structure]: {0}")]
+    UserStructure(String),
 }
 
 pub(crate) fn singular(matrix: &'static str) -> impl Fn(NotPositiveDefinite) -> ModelError {

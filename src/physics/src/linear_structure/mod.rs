@@ -28,6 +28,7 @@
 
 mod ordering;
 mod read;
+pub mod scene_model;
 
 pub use read::{read_calculix, read_matrix_market, StructureFileError};
 

@@ -1,0 +1,54 @@
+//! A scene's `[structure]` (`crate::user_structure`) as the model the time loop runs: its
+//! files read and checked into a [`LinearStructure`], the full model with the contact
+//! DOF as the tip.
+
+use super::read::{read_calculix, read_matrix_market};
+use super::LinearStructure;
+use crate::scene::FidelityLevel;
+use crate::structure::{ModelError, StructuralModel};
+use crate::user_structure::{StructureFormat, StructureSection};
+use std::path::PathBuf;
+use stickslip_formats::structure_file::DofLabel;
+
+/// The files of `section` read and checked into a [`LinearStructure`].
+pub fn load(section: &StructureSection) -> Result<LinearStructure, ModelError> {
+    let given = |p: &Option<PathBuf>| p.clone().unwrap_or_default();
+    let matrices = match section.format {
+        StructureFormat::Calculix => read_calculix(&given(&section.job)),
+        StructureFormat::MatrixMarket => read_matrix_market(
+            &given(&section.stiffness),
+            &given(&section.mass),
+            None,
+            &given(&section.dofs),
+        ),
+    }
+    .map_err(|e| ModelError::UserStructure(e.to_string()))?;
+    let clamped: Vec<DofLabel> = section.clamped.iter().map(|d| d.label()).collect();
+    LinearStructure::new(&matrices, &clamped).map_err(|e| ModelError::UserStructure(e.to_string()))
+}
+
+impl StructuralModel {
+    /// The full model of a `[structure]`: its M and K on the free DOFs, the tip the
+    /// contact DOF with weight 1.
+    pub fn from_section(section: &StructureSection) -> Result<Self, ModelError> {
+        let structure = load(section)?;
+        let contact = section.contact.label();
+        let tip = structure.index_of(contact).map_err(|_| {
+            ModelError::UserStructure(format!(
+                "structure.contact = {contact} is not a free DOF of the structure ({} free DOFs: not in the files' DOF map, or removed by them or by structure.clamped; friction acts on a DOF that can move)",
+                structure.dofs()
+            ))
+        })?;
+        Ok(Self {
+            level: FidelityLevel::PlaneStress,
+            label: format!(
+                "structure, {} DOFs ({}), contact {contact}",
+                structure.dofs(),
+                section.source()
+            ),
+            mass: structure.mass().clone(),
+            stiffness: structure.stiffness().clone(),
+            tip: vec![(tip, 1.0)],
+        })
+    }
+}

@@ -1,0 +1,224 @@
+//! The scene's `[structure]` section: a user's structure from files, in place of the
+//! built-in beam (issue 35 item 2, the full model).
+//!
+//! ```toml
+//! [structure]
+//! format = "calculix"          # or "matrix-market"
+//! job = "beam"                 # calculix: dir/JOB for JOB.sti, JOB.mas, JOB.dof
+//! # stiffness = "k.mtx"        # matrix-market: K, M and the DOF map file
+//! # mass = "m.mtx"
+//! # dofs = "k.dofs"
+//! contact = { node = 202, direction = 2 }      # where friction acts and the belt moves
+//! clamped = [{ node = 7, direction = 3 }]      # DOFs the files did not remove (optional)
+//! ```
+//!
+//! Paths are relative to the scene file ([`crate::scene::Scene::load`] makes them
+//! absolute) or absolute; a scene given as text takes them relative to the working
+//! directory. The section is checked twice: its fields by [`StructureSection::check_fields`]
+//! inside `Scene::check` (no file is opened there; the rules it sets for the rest of the
+//! scene are the scene's), the files and the DOFs by `StructuralModel::from_section`
+//! (`crate::linear_structure`) when the model is built. This module is plain data: it
+//! imports neither the scene nor the solvers, so that both may import it.
+//!
+//! The structure is the full model: M and K as given, clamped DOFs removed, the scene's
+//! Rayleigh damping C = a M + b K on them as on the beam (the integrator forms it from
+//! the model's M and K). The tip is the contact DOF: u_tip = u_contact, and the friction
+//! force enters as a force on that DOF (N, or N m on a rotation).
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use stickslip_formats::structure_file::{DofLabel, MAX_DIRECTION};
+
+/// How the structure's files are written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StructureFormat {
+    /// CalculiX's `*MATRIX STORAGE` output: `job`.sti, .mas, .dof.
+    Calculix,
+    /// Matrix Market `.mtx` files for K and M with a DOF map file.
+    MatrixMarket,
+}
+
+impl StructureFormat {
+    pub fn word(self) -> &'static str {
+        match self {
+            StructureFormat::Calculix => "calculix",
+            StructureFormat::MatrixMarket => "matrix-market",
+        }
+    }
+}
+
+/// A DOF named in the scene: node number (the file's) and direction (1 to 6: x, y, z,
+/// then rotations about them).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDof {
+    pub node: u64,
+    pub direction: u8,
+}
+
+impl SceneDof {
+    pub fn label(self) -> DofLabel {
+        DofLabel {
+            node: self.node,
+            direction: self.direction,
+        }
+    }
+}
+
+/// The `[structure]` section.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StructureSection {
+    pub format: StructureFormat,
+    /// calculix: the job path without extension.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub job: Option<PathBuf>,
+    /// matrix-market: K's file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness: Option<PathBuf>,
+    /// matrix-market: M's file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<PathBuf>,
+    /// matrix-market: a damping matrix's file; refused by the check (the integrator's
+    /// damping is Rayleigh, C = a M + b K, from the scene's `[damping]`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<PathBuf>,
+    /// matrix-market: the DOF map file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dofs: Option<PathBuf>,
+    /// The DOF where friction acts and the belt moves.
+    pub contact: SceneDof,
+    /// DOFs to fix that the files did not remove.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub clamped: Vec<SceneDof>,
+}
+
+/// A path field's dotted name and whether the scene gives it.
+type GivenField = (&'static str, bool);
+
+/// A field of the section out of its rule: its dotted name, its value as written and
+/// what it must be (the scene turns it into its `SceneError::Invalid`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FieldProblem {
+    pub field: &'static str,
+    pub value: String,
+    pub requirement: String,
+}
+
+fn refused(field: &'static str, value: impl ToString, requirement: impl ToString) -> FieldProblem {
+    FieldProblem {
+        field,
+        value: value.to_string(),
+        requirement: requirement.to_string(),
+    }
+}
+
+fn check_dof(field: &'static str, dof: SceneDof) -> Result<(), FieldProblem> {
+    if dof.node == 0 {
+        return Err(refused(
+            field,
+            dof.label(),
+            "a node number >= 1 (the file's numbering)",
+        ));
+    }
+    if !(1..=MAX_DIRECTION).contains(&dof.direction) {
+        return Err(refused(
+            field,
+            dof.label(),
+            format!("a direction in 1..={MAX_DIRECTION} (x, y, z, then rotations about them)"),
+        ));
+    }
+    Ok(())
+}
+
+impl StructureSection {
+    /// The fields (no file opened): the format's paths present and the other format's
+    /// absent, no damping file, the DOFs well formed, the contact not clamped. What the
+    /// rest of the scene must be with a user's structure is the scene's check.
+    pub fn check_fields(&self) -> Result<(), FieldProblem> {
+        let format = self.format.word();
+        let (needed, foreign): (&[GivenField], &[GivenField]) = match self.format {
+            StructureFormat::Calculix => (
+                &[("structure.job", self.job.is_some())],
+                &[
+                    ("structure.stiffness", self.stiffness.is_some()),
+                    ("structure.mass", self.mass.is_some()),
+                    ("structure.dofs", self.dofs.is_some()),
+                ],
+            ),
+            StructureFormat::MatrixMarket => (
+                &[
+                    ("structure.stiffness", self.stiffness.is_some()),
+                    ("structure.mass", self.mass.is_some()),
+                    ("structure.dofs", self.dofs.is_some()),
+                ],
+                &[("structure.job", self.job.is_some())],
+            ),
+        };
+        if let Some((field, _)) = needed.iter().find(|(_, given)| !given) {
+            return Err(refused(
+                field,
+                "(absent)",
+                format!("given with structure.format = {format}"),
+            ));
+        }
+        if let Some((field, _)) = foreign.iter().find(|(_, given)| *given) {
+            return Err(refused(
+                field,
+                "(given)",
+                format!("absent with structure.format = {format}: it belongs to the other format"),
+            ));
+        }
+        if let Some(path) = &self.damping {
+            return Err(refused(
+                "structure.damping",
+                path.display(),
+                "absent: a damping matrix from a file is not used yet; the scene's Rayleigh damping ([damping]: C = a M + b K) acts on the structure",
+            ));
+        }
+        check_dof("structure.contact", self.contact)?;
+        for &dof in &self.clamped {
+            check_dof("structure.clamped", dof)?;
+        }
+        if self.clamped.contains(&self.contact) {
+            return Err(refused(
+                "structure.contact",
+                self.contact.label(),
+                "a free DOF: structure.clamped fixes it, so friction could not move it",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Makes relative paths relative to `dir` (the scene file's directory).
+    pub fn resolve_paths(&mut self, dir: &Path) {
+        for path in [
+            &mut self.job,
+            &mut self.stiffness,
+            &mut self.mass,
+            &mut self.damping,
+            &mut self.dofs,
+        ]
+        .into_iter()
+        .flatten()
+        {
+            if path.is_relative() {
+                *path = dir.join(&*path);
+            }
+        }
+    }
+
+    /// The files' name for labels: "calculix beam" for job `dir/beam`.
+    pub fn source(&self) -> String {
+        let stem = |p: &Option<PathBuf>| {
+            p.as_deref()
+                .and_then(Path::file_stem)
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        };
+        match self.format {
+            StructureFormat::Calculix => format!("calculix {}", stem(&self.job)),
+            StructureFormat::MatrixMarket => format!("matrix-market {}", stem(&self.stiffness)),
+        }
+    }
+}

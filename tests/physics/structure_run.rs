@@ -1,0 +1,265 @@
+//! Stick-slip on a user's structure (issue 35 item 2, the full model): the paper scene
+//! on the CalculiX beam (examples/calculix-beam/scene.toml: the committed ccx files,
+//! friction at the mid-height node of the free end) against the built-in plane stress at
+//! the same mesh (100 x 1 Q8, the deck's nodes) with its tip moved to that same node.
+//!
+//! Tolerance 0.5 % on breakaway, period and the tip corridor (issue 35's promise for the
+//! full model). What separates the two is the files' 14 digits: the static tip differs
+//! by 8.3e-5 and f1 by 4.3e-5 (calculix_beam.rs), and the run by one step at most in
+//! breakaway (1e-4 s of 0.4 s, 2.5e-4). The contact point is part of the comparison:
+//! the built-in model's own tip (the end face's mean, Simpson weights) is a different
+//! observation, so the reference uses the mid node too.
+
+use std::path::{Path, PathBuf};
+use stickslip::law_source::LawSource;
+use stickslip::metrics::Summary;
+use stickslip::run::run_scene;
+use stickslip::scene::{CheckedScene, FidelityLevel, Scene};
+use stickslip::simulation::Simulator;
+use stickslip::structure::StructuralModel;
+
+fn example() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/calculix-beam")
+}
+
+/// The example scene as the command line loads it (paths relative to the scene file).
+fn calculix_scene() -> CheckedScene {
+    Scene::load(&example().join("scene.toml")).unwrap()
+}
+
+/// The built-in plane stress of the paper scene (100 x 1 Q8, the deck's mesh) observed
+/// and loaded at the end face's mid node in y, as the example's contact (node 502).
+fn built_in_at_mid_node(scene: &CheckedScene) -> StructuralModel {
+    let mut model = StructuralModel::plane_stress(scene, scene.fidelity.element_size);
+    // The face's three nodes carry Simpson weights 1/6, 4/6, 1/6: the mid node is the
+    // heaviest.
+    let &(mid, weight) = model.tip.iter().max_by(|a, b| a.1.total_cmp(&b.1)).unwrap();
+    assert!((weight - 4.0 / 6.0).abs() < 1e-12, "{:?}", model.tip);
+    model.tip = vec![(mid, 1.0)];
+    model
+}
+
+fn summary_on(scene: CheckedScene, model: StructuralModel) -> Summary {
+    let law = LawSource::resolve(&scene).unwrap().law().unwrap();
+    let mut sim = Simulator::with_model(scene, model, law).unwrap();
+    sim.keep_all_transitions();
+    let samples = sim.run(1).unwrap();
+    Summary::new(&samples, sim.transitions())
+}
+
+fn within(what: &str, a: f64, b: f64, tolerance: f64) {
+    let relative = (a - b) / b;
+    println!("{what}: CalculiX {a:.6e}, built-in {b:.6e}, relative {relative:+.2e}");
+    assert!(relative.abs() < tolerance, "{what}: {a} vs {b}");
+}
+
+#[test]
+fn the_paper_scene_on_the_calculix_beam_matches_the_built_in_plane_stress() {
+    let scene = calculix_scene();
+    let model = StructuralModel::build(&scene).unwrap();
+    assert_eq!(model.dofs(), 1002);
+    assert!(model.label.contains("calculix beam"), "{}", model.label);
+    let paper = CheckedScene::paper();
+    let reference = built_in_at_mid_node(&paper);
+    // Static: the files' 14 digits move the tip by about 1e-4 (calculix_beam.rs).
+    within(
+        "static tip under 1 N (m)",
+        model.static_tip_deflection(1.0).unwrap(),
+        reference.static_tip_deflection(1.0).unwrap(),
+        2e-4,
+    );
+    let law = LawSource::resolve(&scene).unwrap();
+    let run = run_scene(scene, &law, 1).unwrap();
+    let built_in = summary_on(paper, reference);
+    let ours = &run.summary;
+    within(
+        "breakaway (s)",
+        ours.breakaway.unwrap(),
+        built_in.breakaway.unwrap(),
+        5e-3,
+    );
+    within(
+        "period (s)",
+        ours.period.unwrap(),
+        built_in.period.unwrap(),
+        5e-3,
+    );
+    let (lo, hi) = ours.corridor.unwrap();
+    let (lo_ref, hi_ref) = built_in.corridor.unwrap();
+    within("corridor min (m)", lo, lo_ref, 5e-3);
+    within("corridor max (m)", hi, hi_ref, 5e-3);
+    assert_eq!(ours.major_slips.len(), built_in.major_slips.len());
+}
+
+/// The example's section with `edit` applied to its TOML text, loaded from a scene file
+/// next to the committed matrices (so that relative paths resolve as the example's).
+fn edited(name: &str, edit: impl Fn(&str) -> String) -> Result<CheckedScene, String> {
+    let text = std::fs::read_to_string(example().join("scene.toml")).unwrap();
+    let dir = std::env::temp_dir().join(format!("structure-run-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for ext in ["sti", "mas", "dof"] {
+        let file = format!("beam.{ext}");
+        std::fs::copy(example().join(&file), dir.join(&file)).unwrap();
+    }
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, edit(&text)).unwrap();
+    let loaded = Scene::load(&path).map_err(|e| e.to_string());
+    let built = loaded.and_then(|scene| {
+        StructuralModel::build(&scene)
+            .map(|_| scene)
+            .map_err(|e| e.to_string())
+    });
+    std::fs::remove_dir_all(&dir).unwrap();
+    built
+}
+
+fn refused(name: &str, edit: impl Fn(&str) -> String, needles: &[&str]) {
+    let error = edited(name, edit).err().unwrap();
+    println!("{name}: {error}");
+    for needle in needles {
+        assert!(error.contains(needle), "{name}: '{needle}' not in: {error}");
+    }
+}
+
+#[test]
+fn the_example_loads_from_a_copy_with_its_paths_relative_to_the_scene_file() {
+    assert!(edited("copy", str::to_string).is_ok());
+}
+
+#[test]
+fn a_missing_file_is_refused_naming_it() {
+    refused(
+        "missing",
+        |t| t.replace("job = \"beam\"", "job = \"nothere\""),
+        &["[structure]", "nothere.dof", "no such file"],
+    );
+}
+
+#[test]
+fn a_contact_dof_not_in_the_files_is_refused_naming_it() {
+    refused(
+        "unknown",
+        |t| t.replace("node = 502", "node = 9999"),
+        &[
+            "structure.contact",
+            "node 9999 direction 2",
+            "1002 free DOFs",
+        ],
+    );
+}
+
+#[test]
+fn an_unknown_clamped_dof_is_refused_naming_it() {
+    refused(
+        "unknown-clamped",
+        |t| format!("{t}clamped = [{{ node = 9999, direction = 1 }}]\n"),
+        &["clamped DOF node 9999 direction 1", "not in the DOF map"],
+    );
+}
+
+#[test]
+fn a_clamped_contact_dof_is_refused() {
+    // Clamped by the scene: refused by the scene's check.
+    refused(
+        "clamped-by-scene",
+        |t| format!("{t}clamped = [{{ node = 502, direction = 2 }}]\n"),
+        &[
+            "structure.contact",
+            "node 502 direction 2",
+            "structure.clamped fixes it",
+        ],
+    );
+    // Removed by the files (the deck's *BOUNDARY fixes node 2 in y): refused when read.
+    refused(
+        "clamped-by-files",
+        |t| t.replace("node = 502", "node = 2"),
+        &["structure.contact = node 2 direction 2", "not a free DOF"],
+    );
+}
+
+#[test]
+fn fields_that_do_not_fit_the_format_or_the_scene_are_refused() {
+    refused(
+        "no-job",
+        |t| t.replace("job = \"beam\"", ""),
+        &["structure.job", "given with structure.format = calculix"],
+    );
+    refused(
+        "foreign",
+        |t| format!("{t}stiffness = \"k.mtx\"\n"),
+        &["structure.stiffness", "belongs to the other format"],
+    );
+    refused(
+        "damping",
+        |t| format!("{t}damping = \"c.mtx\"\n"),
+        &["structure.damping", "Rayleigh"],
+    );
+    refused(
+        "direction",
+        |t| t.replace("direction = 2", "direction = 7"),
+        &["structure.contact", "direction in 1..=6"],
+    );
+    for level in [
+        FidelityLevel::Modal,
+        FidelityLevel::Beam,
+        FidelityLevel::Auto,
+    ] {
+        let word = stickslip::choice::Choice::name(level);
+        refused(
+            word,
+            |t| format!("[fidelity]\nlevel = \"{word}\"\ntolerance = 1e-4\n{t}"),
+            &["fidelity.level", "plane-stress with a [structure]"],
+        );
+    }
+    refused(
+        "holding",
+        |t| format!("[contact]\nholding_force = \"euler-bernoulli\"\n{t}"),
+        &["contact.holding_force", "3 EI delta / L^3"],
+    );
+}
+
+/// The same beam written as Matrix Market files (the lower triangle of ccx's upper one,
+/// `symmetric`) with a DOF map file, named by a `format = "matrix-market"` section
+/// with paths relative to its scene file: the same values in the same order, so the
+/// same model to the bit (the readers differ, the checked structure does not).
+#[test]
+fn the_beam_as_matrix_market_files_gives_the_same_model() {
+    let dir = std::env::temp_dir().join(format!("structure-run-{}-mtx", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let labels = std::fs::read_to_string(example().join("beam.dof")).unwrap();
+    let rows = labels.lines().count();
+    for (from, to) in [("beam.sti", "k.mtx"), ("beam.mas", "m.mtx")] {
+        let text = std::fs::read_to_string(example().join(from)).unwrap();
+        let entries: Vec<String> = text
+            .lines()
+            .map(|line| {
+                let f: Vec<&str> = line.split_whitespace().collect();
+                format!("{} {} {}", f[1], f[0], f[2])
+            })
+            .collect();
+        let header = format!(
+            "%%MatrixMarket matrix coordinate real symmetric\n{rows} {rows} {}\n",
+            entries.len()
+        );
+        std::fs::write(dir.join(to), header + &entries.join("\n") + "\n").unwrap();
+    }
+    let map: String = labels.lines().map(|l| l.replace('.', " ") + "\n").collect();
+    std::fs::write(dir.join("k.dofs"), map).unwrap();
+    let scene_path = dir.join("scene.toml");
+    std::fs::write(
+        &scene_path,
+        "[structure]\nformat = \"matrix-market\"\nstiffness = \"k.mtx\"\nmass = \"m.mtx\"\ndofs = \"k.dofs\"\ncontact = { node = 502, direction = 2 }\n",
+    )
+    .unwrap();
+    let scene = Scene::load(&scene_path).unwrap();
+    let model = StructuralModel::build(&scene);
+    std::fs::remove_dir_all(&dir).unwrap();
+    let model = model.unwrap();
+    assert!(model.label.contains("matrix-market k"), "{}", model.label);
+    let calculix = StructuralModel::build(&calculix_scene()).unwrap();
+    assert_eq!(model.tip, calculix.tip);
+    assert_eq!(
+        model.static_tip_deflection(1.0).unwrap(),
+        calculix.static_tip_deflection(1.0).unwrap()
+    );
+}
