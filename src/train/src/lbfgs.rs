@@ -129,12 +129,7 @@ where
             break stop;
         }
         let slope = descent_direction(&mut pairs, &gradient, &mut direction);
-        let initial_step = if pairs.is_empty() {
-            // Unit-length first step: the gradient's scale says nothing about curvature.
-            1.0 / dot(&gradient, &gradient).sqrt()
-        } else {
-            1.0
-        };
+        let initial_step = pairs.initial_step(&gradient);
 
         let budget = options
             .max_line_search_evaluations
@@ -235,6 +230,17 @@ impl CurvaturePairs {
 
     fn clear(&mut self) {
         self.pairs.clear();
+    }
+
+    /// The line search's first trial step alpha: 1, the quasi-Newton step, once a pair
+    /// scales H; without one a step of unit length along -g, since the gradient's scale
+    /// says nothing about curvature.
+    fn initial_step(&self, gradient: &[f64]) -> f64 {
+        if self.is_empty() {
+            1.0 / dot(gradient, gradient).sqrt()
+        } else {
+            1.0
+        }
     }
 
     /// d = -H g by the two-loop recursion (N&W Alg. 7.4) with H_0 = gamma I,
