@@ -148,6 +148,35 @@ impl SceneArgs {
             Some(path) => Scene::load(path)?.into_scene(),
             None => self.preset.unwrap_or_default().scene(),
         };
+        self.override_contact(&mut scene);
+        self.override_fidelity_and_time(&mut scene);
+        self.override_friction(&mut scene);
+        // Before the damping, which checks the scene: the tolerance must be in it.
+        let auto_tolerance = self.auto_tolerance(&mut scene)?;
+        if let Some(zeta) = self.damping_ratio {
+            // At the first and third cantilever frequencies (the same numbers
+            // `stickslip estimates` prints).
+            let checked = scene.clone().check()?;
+            if !(zeta.is_finite() && zeta >= 0.0) {
+                return Err(CliError::DampingRatio(zeta));
+            }
+            scene.damping = stickslip::stability::rayleigh_at_modes_1_and_3(&checked, zeta);
+        }
+        let Some(tolerance) = auto_tolerance else {
+            return Ok((scene.check()?, None));
+        };
+        let front = stickslip::auto::paper_front()?;
+        let source = law_of(&scene.clone().check()?)?;
+        let (resolved, choice) =
+            stickslip::auto::resolve(scene, &source, &front, &mut |line| eprintln!("{line}"))?;
+        if let Some(choice) = &choice {
+            eprintln!("{}", stickslip::auto::describe(choice, tolerance));
+        }
+        Ok((resolved.check()?, Some(source)))
+    }
+
+    /// The flags of the scene's `[contact]` section.
+    fn override_contact(&self, scene: &mut Scene) {
         if let Some(p) = self.preload {
             scene.contact.preload = p;
         }
@@ -166,6 +195,10 @@ impl SceneArgs {
         if let Some(cutoff) = self.slip_modes_below {
             scene.contact.slip_modes_below = cutoff;
         }
+    }
+
+    /// The flags of the `[fidelity]`, `[time]` and `[integrator]` sections.
+    fn override_fidelity_and_time(&self, scene: &mut Scene) {
         if let Some(level) = self.fidelity {
             scene.fidelity.level = level;
         }
@@ -190,6 +223,11 @@ impl SceneArgs {
         if let Some(r) = self.rho_inf {
             scene.integrator.rho_inf = r;
         }
+    }
+
+    /// The flags of the `[friction]` section and its laws' tables (the named flags
+    /// first, then each `--law-parameter` in the order given).
+    fn override_friction(&self, scene: &mut Scene) {
         if let Some(f) = self.friction {
             scene.friction.law = f;
         }
@@ -217,28 +255,6 @@ impl SceneArgs {
         for (parameter, value) in &self.law_parameters {
             scene.friction.laws.set(parameter, *value);
         }
-        // Before the damping, which checks the scene: the tolerance must be in it.
-        let auto_tolerance = self.auto_tolerance(&mut scene)?;
-        if let Some(zeta) = self.damping_ratio {
-            // At the first and third cantilever frequencies (the same numbers
-            // `stickslip estimates` prints).
-            let checked = scene.clone().check()?;
-            if !(zeta.is_finite() && zeta >= 0.0) {
-                return Err(CliError::DampingRatio(zeta));
-            }
-            scene.damping = stickslip::stability::rayleigh_at_modes_1_and_3(&checked, zeta);
-        }
-        let Some(tolerance) = auto_tolerance else {
-            return Ok((scene.check()?, None));
-        };
-        let front = stickslip::auto::paper_front()?;
-        let source = law_of(&scene.clone().check()?)?;
-        let (resolved, choice) =
-            stickslip::auto::resolve(scene, &source, &front, &mut |line| eprintln!("{line}"))?;
-        if let Some(choice) = &choice {
-            eprintln!("{}", stickslip::auto::describe(choice, tolerance));
-        }
-        Ok((resolved.check()?, Some(source)))
     }
 
     /// With fidelity auto (from `--fidelity auto` or the scene file): puts `--tolerance`

@@ -16,7 +16,7 @@ use stickslip::friction::rate_and_state::StateEvolution;
 use stickslip::friction::state::response::{velocity_step, velocity_step_curve};
 use stickslip_train::learned_state::{
     read_series_csv, series_csv, train_state_law, LearnedEvolution, StateTrainConfig,
-    TribometerSpec,
+    StateTrainReport, TribometerSpec,
 };
 
 /// `stickslip train-memory`.
@@ -93,35 +93,24 @@ pub fn run_train_memory(args: &TrainMemoryArgs) -> Result<StateLawFile, CliError
     {
         check_output_directory(path)?;
     }
-    let synthetic = args.data.is_none().then(|| TribometerSpec {
-        noise_std: args.noise,
-        law: stickslip::friction::rate_and_state::RateStateParameters {
-            state_evolution: args.state_evolution,
-            ..TribometerSpec::default().law
-        },
-        ..TribometerSpec::default()
-    });
+    let synthetic = args.synthetic_spec();
     let (records, description, noise) = match (&args.data, &synthetic) {
         (Some(path), _) => (read_series_csv(path)?, file_name(path), 0.0),
         (None, Some(spec)) => (spec.generate(args.seed)?, spec.describe(), spec.noise_std),
         (None, None) => unreachable!("synthetic is Some exactly when data is None"),
     };
-    let config = StateTrainConfig {
-        hidden: args.hidden,
-        lambda: args.lambda,
-        max_iterations: args.iterations,
-        seed: args.seed,
-        test_every: args.test_every,
-        evolution: args.learned_evolution,
-        train_initial_state: args.train_initial_state,
-        ..StateTrainConfig::default()
-    };
     let quiet = args.quiet;
-    let (file, report) = train_state_law(&records, &config, &description, noise, |i, loss| {
-        if !quiet && i % 50 == 0 {
-            eprintln!("iteration {i}: loss {loss:.6e} N^2");
-        }
-    })?;
+    let (file, report) = train_state_law(
+        &records,
+        &args.train_config(),
+        &description,
+        noise,
+        |i, loss| {
+            if !quiet && i % 50 == 0 {
+                eprintln!("iteration {i}: loss {loss:.6e} N^2");
+            }
+        },
+    )?;
     // Every output after training, all or none.
     let mut outputs = Outputs::new();
     file.validate(&args.out.display().to_string())?;
@@ -129,6 +118,52 @@ pub fn run_train_memory(args: &TrainMemoryArgs) -> Result<StateLawFile, CliError
     if let Some(path) = &args.export_data {
         outputs.add(path, series_csv(&records))?;
     }
+    print_summary(args, records.len(), &file, &report);
+    if let Some(spec) = &synthetic {
+        let csv = compare_step_responses(spec, &file);
+        if let Some(path) = &args.step_response {
+            outputs.add(path, csv)?;
+        }
+    }
+    outputs.commit()?;
+    Ok(file)
+}
+
+impl TrainMemoryArgs {
+    /// The synthetic records' settings, without `--data`.
+    fn synthetic_spec(&self) -> Option<TribometerSpec> {
+        self.data.is_none().then(|| TribometerSpec {
+            noise_std: self.noise,
+            law: stickslip::friction::rate_and_state::RateStateParameters {
+                state_evolution: self.state_evolution,
+                ..TribometerSpec::default().law
+            },
+            ..TribometerSpec::default()
+        })
+    }
+
+    fn train_config(&self) -> StateTrainConfig {
+        StateTrainConfig {
+            hidden: self.hidden,
+            lambda: self.lambda,
+            max_iterations: self.iterations,
+            seed: self.seed,
+            test_every: self.test_every,
+            evolution: self.learned_evolution,
+            train_initial_state: self.train_initial_state,
+            ..StateTrainConfig::default()
+        }
+    }
+}
+
+/// Prints what was trained: each evolution's errors when both were, then the learned
+/// parameters, the errors and how the fit ended.
+fn print_summary(
+    args: &TrainMemoryArgs,
+    record_count: usize,
+    file: &StateLawFile,
+    report: &StateTrainReport,
+) {
     if report.candidates.len() > 1 {
         for (evolution, m) in &report.candidates {
             println!(
@@ -142,7 +177,7 @@ pub fn run_train_memory(args: &TrainMemoryArgs) -> Result<StateLawFile, CliError
     let p = &file.law;
     println!(
         "{} records ({} samples) -> {}\nlearned ({} law): mu_0 {:.5} at V_0 {} m/s, a {:.5}, b {:.5}, D_c {:.4e} m; correction {} units\nRMS force error: train {:.4} N, test {:.4} N; {} iterations ({:?}); D_c grid start {:.1e} m",
-        records.len(),
+        record_count,
         file.training.samples,
         args.out.display(),
         p.state_evolution.name(),
@@ -158,32 +193,32 @@ pub fn run_train_memory(args: &TrainMemoryArgs) -> Result<StateLawFile, CliError
         file.training.stop_reason,
         report.grid_best.1,
     );
-    if let Some(spec) = &synthetic {
-        let d_c = spec.law.characteristic_slip;
-        let mut truth = spec.generating_law();
-        let mut learned = LearnedStateFriction::new(Arc::new(file.law()));
-        let mut csv = String::from("step,slip[m],mu_learned,mu_generating\n");
-        for steps in [(1e-3, 1e-2), (1e-1, 1e-2)] {
-            // From 2 D_c before the step to 8 D_c after it, every D_c / 20.
-            let window = (2.0 * d_c, 8.0 * d_c, 0.05 * d_c);
-            let got = velocity_step_curve(&mut learned, steps, 100.0, 1e3 * d_c, window);
-            let want = velocity_step_curve(&mut truth, steps, 100.0, 1e3 * d_c, window);
-            for ((slip, mu), (_, mu_truth)) in got.iter().zip(&want) {
-                let _ = writeln!(csv, "{} -> {} m/s,{slip},{mu},{mu_truth}", steps.0, steps.1);
-            }
-            let want = velocity_step(&mut truth, steps, 100.0, 1e3 * d_c, 1e-3 * d_c);
-            let got = velocity_step(&mut learned, steps, 100.0, 1e3 * d_c, 1e-3 * d_c);
-            println!(
-                "step {} -> {} m/s at 100 N: direct effect {:.5} (generating {:.5}), decay length {:.4e} m (generating {:.4e} m)",
-                steps.0, steps.1, got.direct_effect, want.direct_effect, got.decay_length, want.decay_length
-            );
+}
+
+/// The learned law against the generating one over two velocity steps (1 -> 10 mm/s,
+/// 100 -> 10 mm/s at 100 N): prints the direct effect and decay length of each and
+/// returns the curves as CSV (step, slip[m], mu_learned, mu_generating).
+fn compare_step_responses(spec: &TribometerSpec, file: &StateLawFile) -> String {
+    let d_c = spec.law.characteristic_slip;
+    let mut truth = spec.generating_law();
+    let mut learned = LearnedStateFriction::new(Arc::new(file.law()));
+    let mut csv = String::from("step,slip[m],mu_learned,mu_generating\n");
+    for steps in [(1e-3, 1e-2), (1e-1, 1e-2)] {
+        // From 2 D_c before the step to 8 D_c after it, every D_c / 20.
+        let window = (2.0 * d_c, 8.0 * d_c, 0.05 * d_c);
+        let got = velocity_step_curve(&mut learned, steps, 100.0, 1e3 * d_c, window);
+        let want = velocity_step_curve(&mut truth, steps, 100.0, 1e3 * d_c, window);
+        for ((slip, mu), (_, mu_truth)) in got.iter().zip(&want) {
+            let _ = writeln!(csv, "{} -> {} m/s,{slip},{mu},{mu_truth}", steps.0, steps.1);
         }
-        if let Some(path) = &args.step_response {
-            outputs.add(path, csv)?;
-        }
+        let want = velocity_step(&mut truth, steps, 100.0, 1e3 * d_c, 1e-3 * d_c);
+        let got = velocity_step(&mut learned, steps, 100.0, 1e3 * d_c, 1e-3 * d_c);
+        println!(
+            "step {} -> {} m/s at 100 N: direct effect {:.5} (generating {:.5}), decay length {:.4e} m (generating {:.4e} m)",
+            steps.0, steps.1, got.direct_effect, want.direct_effect, got.decay_length, want.decay_length
+        );
     }
-    outputs.commit()?;
-    Ok(file)
+    csv
 }
 
 fn file_name(path: &Path) -> String {

@@ -117,72 +117,19 @@ where
             "the loss at the initial weights is {value}; check the data for extreme values"
         )));
     }
-    callback(
-        &IterationInfo {
-            iteration: 0,
-            value,
-            gradient_norm: max_abs(&gradient),
-            evaluations,
-            step: 0.0,
-        },
-        x,
-    );
+    callback(&IterationInfo::at(0, value, &gradient, evaluations, 0.0), x);
 
-    // (s, y, 1 / s'y), newest last.
-    let mut memory: VecDeque<(Vec<f64>, Vec<f64>, f64)> = VecDeque::with_capacity(options.history);
+    let mut pairs = CurvaturePairs::new(options.history);
     let mut direction = vec![0.0; n];
-    let mut alphas = vec![0.0; options.history.max(1)];
     let mut x_trial = vec![0.0; n];
     let mut g_trial = vec![0.0; n];
     let mut iterations = 0;
     let stop = loop {
-        if max_abs(&gradient) <= options.gradient_tolerance {
-            break StopReason::GradientTolerance;
+        if let Some(stop) = budget_or_gradient_stop(options, &gradient, iterations, evaluations) {
+            break stop;
         }
-        if iterations >= options.max_iterations {
-            break StopReason::MaxIterations;
-        }
-        if evaluations >= options.max_evaluations {
-            break StopReason::MaxEvaluations;
-        }
-
-        // d = -H g by the two-loop recursion.
-        direction.copy_from_slice(&gradient);
-        for (k, (s, y, rho)) in memory.iter().enumerate().rev() {
-            let a = rho * dot(s, &direction);
-            alphas[k] = a;
-            direction.iter_mut().zip(y).for_each(|(q, yi)| *q -= a * yi);
-        }
-        if let Some((s, y, _)) = memory.back() {
-            let gamma = dot(s, y) / dot(y, y);
-            direction.iter_mut().for_each(|q| *q *= gamma);
-        }
-        for (k, (s, y, rho)) in memory.iter().enumerate() {
-            let b = rho * dot(y, &direction);
-            let a = alphas[k];
-            direction
-                .iter_mut()
-                .zip(s)
-                .for_each(|(r, si)| *r += (a - b) * si);
-        }
-        direction.iter_mut().for_each(|r| *r = -*r);
-        let mut slope = dot(&gradient, &direction);
-        // Also catches NaN: a NaN slope is not a descent direction either.
-        if slope.is_nan() || slope >= 0.0 || !slope.is_finite() {
-            // Lost descent (rounding): restart from steepest descent.
-            memory.clear();
-            direction
-                .iter_mut()
-                .zip(&gradient)
-                .for_each(|(d, g)| *d = -g);
-            slope = -dot(&gradient, &gradient);
-        }
-        let initial_step = if memory.is_empty() {
-            // Unit-length first step: the gradient's scale says nothing about curvature.
-            1.0 / dot(&gradient, &gradient).sqrt()
-        } else {
-            1.0
-        };
+        let slope = descent_direction(&mut pairs, &gradient, &mut direction);
+        let initial_step = pairs.initial_step(&gradient);
 
         let budget = options
             .max_line_search_evaluations
@@ -205,34 +152,13 @@ where
         };
         iterations += 1;
 
-        // s = x_new - x, y = g_new - g.
-        let (mut s, mut y) = match memory.len() == options.history.max(1) {
-            true => {
-                let (s, y, _) = memory.pop_front().unwrap_or_default();
-                (s, y)
-            }
-            false => (vec![0.0; n], vec![0.0; n]),
-        };
-        for i in 0..n {
-            s[i] = x_trial[i] - x[i];
-            y[i] = g_trial[i] - gradient[i];
-        }
-        let sy = dot(&s, &y);
-        if sy > f64::EPSILON * dot(&y, &y) {
-            memory.push_back((s, y, 1.0 / sy));
-        }
+        pairs.remember(&x_trial, x, &g_trial, &gradient);
         x.copy_from_slice(&x_trial);
         gradient.copy_from_slice(&g_trial);
         let previous = value;
         value = new_value;
         callback(
-            &IterationInfo {
-                iteration: iterations,
-                value,
-                gradient_norm: max_abs(&gradient),
-                evaluations,
-                step,
-            },
+            &IterationInfo::at(iterations, value, &gradient, evaluations, step),
             x,
         );
         if previous - value <= options.relative_loss_tolerance * previous.abs().max(value.abs()) {
@@ -245,6 +171,140 @@ where
         evaluations,
         stop,
     })
+}
+
+impl IterationInfo {
+    fn at(iteration: usize, value: f64, gradient: &[f64], evaluations: usize, step: f64) -> Self {
+        IterationInfo {
+            iteration,
+            value,
+            gradient_norm: max_abs(gradient),
+            evaluations,
+            step,
+        }
+    }
+}
+
+/// The stop before an iteration: the gradient small enough (max_i |g_i|), or the
+/// iterations or evaluations spent; `None` goes on.
+fn budget_or_gradient_stop(
+    options: &LbfgsOptions,
+    gradient: &[f64],
+    iterations: usize,
+    evaluations: usize,
+) -> Option<StopReason> {
+    if max_abs(gradient) <= options.gradient_tolerance {
+        return Some(StopReason::GradientTolerance);
+    }
+    if iterations >= options.max_iterations {
+        return Some(StopReason::MaxIterations);
+    }
+    if evaluations >= options.max_evaluations {
+        return Some(StopReason::MaxEvaluations);
+    }
+    None
+}
+
+/// The limited memory of L-BFGS: the last `history` pairs s = x_new - x,
+/// y = g_new - g with rho = 1 / s'y, newest last, which stand for the inverse Hessian H.
+struct CurvaturePairs {
+    /// (s, y, rho), newest last.
+    pairs: VecDeque<(Vec<f64>, Vec<f64>, f64)>,
+    history: usize,
+    /// Scratch of the two-loop recursion, one per pair.
+    alphas: Vec<f64>,
+}
+
+impl CurvaturePairs {
+    fn new(history: usize) -> Self {
+        CurvaturePairs {
+            pairs: VecDeque::with_capacity(history),
+            history,
+            alphas: vec![0.0; history.max(1)],
+        }
+    }
+
+    fn is_empty(&self) -> bool {
+        self.pairs.is_empty()
+    }
+
+    fn clear(&mut self) {
+        self.pairs.clear();
+    }
+
+    /// The line search's first trial step alpha: 1, the quasi-Newton step, once a pair
+    /// scales H; without one a step of unit length along -g, since the gradient's scale
+    /// says nothing about curvature.
+    fn initial_step(&self, gradient: &[f64]) -> f64 {
+        if self.is_empty() {
+            1.0 / dot(gradient, gradient).sqrt()
+        } else {
+            1.0
+        }
+    }
+
+    /// d = -H g by the two-loop recursion (N&W Alg. 7.4) with H_0 = gamma I,
+    /// gamma = s'y / y'y of the newest pair (Eq. 7.20); d = -g with no pair.
+    fn direction(&mut self, gradient: &[f64], direction: &mut [f64]) {
+        direction.copy_from_slice(gradient);
+        for (k, (s, y, rho)) in self.pairs.iter().enumerate().rev() {
+            let a = rho * dot(s, direction);
+            self.alphas[k] = a;
+            direction.iter_mut().zip(y).for_each(|(q, yi)| *q -= a * yi);
+        }
+        if let Some((s, y, _)) = self.pairs.back() {
+            let gamma = dot(s, y) / dot(y, y);
+            direction.iter_mut().for_each(|q| *q *= gamma);
+        }
+        for (k, (s, y, rho)) in self.pairs.iter().enumerate() {
+            let b = rho * dot(y, direction);
+            let a = self.alphas[k];
+            direction
+                .iter_mut()
+                .zip(s)
+                .for_each(|(r, si)| *r += (a - b) * si);
+        }
+        direction.iter_mut().for_each(|r| *r = -*r);
+    }
+
+    /// Keeps the step's pair (the oldest's vectors reused once `history` are held) if
+    /// s'y > eps y'y: a pair without positive curvature would break H's definiteness.
+    fn remember(&mut self, x_new: &[f64], x: &[f64], g_new: &[f64], g: &[f64]) {
+        let n = x.len();
+        let (mut s, mut y) = match self.pairs.len() == self.history.max(1) {
+            true => {
+                let (s, y, _) = self.pairs.pop_front().unwrap_or_default();
+                (s, y)
+            }
+            false => (vec![0.0; n], vec![0.0; n]),
+        };
+        for i in 0..n {
+            s[i] = x_new[i] - x[i];
+            y[i] = g_new[i] - g[i];
+        }
+        let sy = dot(&s, &y);
+        if sy > f64::EPSILON * dot(&y, &y) {
+            self.pairs.push_back((s, y, 1.0 / sy));
+        }
+    }
+}
+
+/// Writes the quasi-Newton direction into `direction` and returns its slope g'd; if
+/// that is not a descent direction (rounding), forgets the pairs and restarts from
+/// steepest descent.
+fn descent_direction(pairs: &mut CurvaturePairs, gradient: &[f64], direction: &mut [f64]) -> f64 {
+    pairs.direction(gradient, direction);
+    let slope = dot(gradient, direction);
+    // Also catches NaN: a NaN slope is not a descent direction either.
+    if slope.is_nan() || slope >= 0.0 || !slope.is_finite() {
+        pairs.clear();
+        direction
+            .iter_mut()
+            .zip(gradient)
+            .for_each(|(d, g)| *d = -g);
+        return -dot(gradient, gradient);
+    }
+    slope
 }
 
 struct LineSearch {
@@ -283,6 +343,130 @@ fn cubic_step(a: Point, b: Point) -> f64 {
     }
 }
 
+/// Trial points x + alpha d along the search line, evaluated into `x_trial` and
+/// `g_trial` (which then hold the last one), counted.
+struct LineProbe<'a, F> {
+    objective: &'a mut F,
+    x: &'a [f64],
+    direction: &'a [f64],
+    x_trial: &'a mut [f64],
+    g_trial: &'a mut [f64],
+    evaluations: usize,
+}
+
+impl<F> LineProbe<'_, F>
+where
+    F: FnMut(&[f64], &mut [f64]) -> f64,
+{
+    fn at(&mut self, alpha: f64) -> Point {
+        for ((xt, xi), di) in self.x_trial.iter_mut().zip(self.x).zip(self.direction) {
+            *xt = xi + alpha * di;
+        }
+        let value = (self.objective)(self.x_trial, self.g_trial);
+        self.evaluations += 1;
+        Point {
+            alpha,
+            value,
+            slope: dot(self.g_trial, self.direction),
+        }
+    }
+}
+
+/// The strong Wolfe conditions for a step from the start (value0, slope0).
+struct Wolfe {
+    value0: f64,
+    slope0: f64,
+    c1: f64,
+    c2: f64,
+}
+
+impl Wolfe {
+    /// Sufficient decrease fails (or the value is not finite).
+    fn armijo_fails(&self, p: Point) -> bool {
+        !p.value.is_finite() || p.value > self.value0 + self.c1 * p.alpha * self.slope0
+    }
+
+    fn curvature_holds(&self, p: Point) -> bool {
+        p.slope.abs() <= -self.c2 * self.slope0
+    }
+}
+
+/// What bracketing found: a point that already satisfies the conditions (or the last
+/// Armijo point when the budget ran out still descending), or an interval (lo, hi)
+/// that contains one.
+enum Bracket {
+    Accepted(Point),
+    Interval(Point, Point),
+}
+
+/// Bracketing phase (N&W Alg. 3.5): doubles alpha from `initial_step` until a Wolfe
+/// point is found or bracketed.
+fn bracket<F>(
+    probe: &mut LineProbe<'_, F>,
+    wolfe: &Wolfe,
+    initial_step: f64,
+    budget: usize,
+) -> Bracket
+where
+    F: FnMut(&[f64], &mut [f64]) -> f64,
+{
+    let mut previous = Point {
+        alpha: 0.0,
+        value: wolfe.value0,
+        slope: wolfe.slope0,
+    };
+    let mut alpha = initial_step;
+    loop {
+        let p = probe.at(alpha);
+        if wolfe.armijo_fails(p) || (probe.evaluations > 1 && p.value >= previous.value) {
+            return Bracket::Interval(previous, p);
+        }
+        if wolfe.curvature_holds(p) {
+            return Bracket::Accepted(p);
+        }
+        if p.slope >= 0.0 {
+            return Bracket::Interval(p, previous);
+        }
+        if probe.evaluations >= budget {
+            // Still descending after the budget: take the last (Armijo) point.
+            return Bracket::Accepted(p);
+        }
+        previous = p;
+        alpha *= 2.0;
+    }
+}
+
+/// Zoom phase (N&W Alg. 3.6) on (lo, hi), lo satisfying sufficient decrease with the
+/// lowest value: the Wolfe point, or (budget spent, interval collapsed) the last lo.
+fn zoom<F>(
+    probe: &mut LineProbe<'_, F>,
+    wolfe: &Wolfe,
+    mut lo: Point,
+    mut hi: Point,
+    budget: usize,
+) -> Result<Point, Point>
+where
+    F: FnMut(&[f64], &mut [f64]) -> f64,
+{
+    while probe.evaluations < budget
+        && (hi.alpha - lo.alpha).abs() > 1e-14 * lo.alpha.abs().max(1e-300)
+    {
+        let p = probe.at(cubic_step(lo, hi));
+        if wolfe.armijo_fails(p) || p.value >= lo.value {
+            hi = p;
+        } else {
+            if wolfe.curvature_holds(p) {
+                return Ok(p);
+            }
+            if p.slope * (hi.alpha - lo.alpha) >= 0.0 {
+                hi = lo;
+            }
+            lo = p;
+        }
+    }
+    Err(lo)
+}
+
 #[allow(clippy::too_many_arguments)]
 fn line_search<F>(
     objective: &mut F,
@@ -299,89 +483,35 @@ fn line_search<F>(
 where
     F: FnMut(&[f64], &mut [f64]) -> f64,
 {
-    let c1 = options.sufficient_decrease;
-    let c2 = options.curvature;
-    let mut evaluations = 0;
-    let mut evaluate = |alpha: f64, x_trial: &mut [f64], g_trial: &mut [f64]| {
-        for ((xt, xi), di) in x_trial.iter_mut().zip(x).zip(direction) {
-            *xt = xi + alpha * di;
-        }
-        let value = objective(x_trial, g_trial);
-        Point {
-            alpha,
-            value,
-            slope: dot(g_trial, direction),
-        }
+    let wolfe = Wolfe {
+        value0,
+        slope0,
+        c1: options.sufficient_decrease,
+        c2: options.curvature,
     };
-    let armijo_fails = |p: Point| !p.value.is_finite() || p.value > value0 + c1 * p.alpha * slope0;
-    let curvature_holds = |p: Point| p.slope.abs() <= -c2 * slope0;
-
-    let start = Point {
-        alpha: 0.0,
-        value: value0,
-        slope: slope0,
+    let mut probe = LineProbe {
+        objective,
+        x,
+        direction,
+        x_trial,
+        g_trial,
+        evaluations: 0,
     };
-    let mut previous = start;
-    let mut alpha = initial_step;
-    // Bracketing phase (Alg. 3.5): find an interval that contains a Wolfe point.
-    let (mut lo, mut hi) = loop {
-        let p = evaluate(alpha, x_trial, g_trial);
-        evaluations += 1;
-        if armijo_fails(p) || (evaluations > 1 && p.value >= previous.value) {
-            break (previous, p);
-        }
-        if curvature_holds(p) {
-            return LineSearch {
-                accepted: Some((p.alpha, p.value)),
-                evaluations,
-            };
-        }
-        if p.slope >= 0.0 {
-            break (p, previous);
-        }
-        if evaluations >= budget {
-            // Still descending after the budget: take the last (Armijo) point.
-            return LineSearch {
-                accepted: Some((p.alpha, p.value)),
-                evaluations,
-            };
-        }
-        previous = p;
-        alpha *= 2.0;
-    };
-    // Zoom phase (Alg. 3.6): lo satisfies sufficient decrease and has the lowest value.
-    while evaluations < budget && (hi.alpha - lo.alpha).abs() > 1e-14 * lo.alpha.abs().max(1e-300) {
-        let p = evaluate(cubic_step(lo, hi), x_trial, g_trial);
-        evaluations += 1;
-        if armijo_fails(p) || p.value >= lo.value {
-            hi = p;
-        } else {
-            if curvature_holds(p) {
-                return LineSearch {
-                    accepted: Some((p.alpha, p.value)),
-                    evaluations,
-                };
+    let accepted = match bracket(&mut probe, &wolfe, initial_step, budget) {
+        Bracket::Accepted(p) => Some(p),
+        Bracket::Interval(lo, hi) => match zoom(&mut probe, &wolfe, lo, hi, budget) {
+            Ok(p) => Some(p),
+            // Out of budget: fall back to the best point with sufficient decrease, if
+            // any (evaluated again, so that x_trial and g_trial hold it).
+            Err(lo) if lo.alpha > 0.0 => {
+                Some(probe.at(lo.alpha)).filter(|p| p.value.is_finite() && p.value < value0)
             }
-            if p.slope * (hi.alpha - lo.alpha) >= 0.0 {
-                hi = lo;
-            }
-            lo = p;
-        }
-    }
-    // Out of budget: fall back to the best point with sufficient decrease, if any.
-    if lo.alpha > 0.0 {
-        let p = evaluate(lo.alpha, x_trial, g_trial);
-        evaluations += 1;
-        if p.value.is_finite() && p.value < value0 {
-            return LineSearch {
-                accepted: Some((p.alpha, p.value)),
-                evaluations,
-            };
-        }
-    }
+            Err(_) => None,
+        },
+    };
     LineSearch {
-        accepted: None,
-        evaluations,
+        accepted: accepted.map(|p| (p.alpha, p.value)),
+        evaluations: probe.evaluations,
     }
 }
 

@@ -1,5 +1,7 @@
 //! The safeguarded Newton solve of the slip force (see the module notes of `contact`).
 
+use std::ops::ControlFlow;
+
 use super::argument::{Point, SlipArgument};
 use super::kinetic::CountedLaw;
 use super::limits::{SLIP_ITERATIONS, SLIP_TOLERANCE};
@@ -56,7 +58,10 @@ pub(super) fn newton(
 ) -> (f64, bool) {
     let reversal = argument.reversal();
     let mut reversal_seen = false;
-    let (mut below, mut above) = (f64::NEG_INFINITY, f64::INFINITY);
+    let mut bracket = RootBracket {
+        below: f64::NEG_INFINITY,
+        above: f64::INFINITY,
+    };
     let resolution = law.kinetic.resolution();
     let mut current = Residual::new(argument.at(start), law);
     // The Newton correction that led to `current`, if a Newton step did.
@@ -69,30 +74,13 @@ pub(super) fn newton(
         if current.value == 0.0 {
             return (current.force, true);
         }
-        if current.value < 0.0 {
-            below = below.max(current.force);
-        } else {
-            above = above.min(current.force);
-        }
+        bracket.narrow(&current);
         let newton = current.newton();
         let newton_valid = current.slope > 0.0 && newton.is_finite();
-        if newton_valid {
-            let correction = (newton - current.force).abs();
-            let tolerance = (SLIP_TOLERANCE * (1.0 + newton.abs())).max(resolution);
-            let rate = last_correction.map_or(1.0, |last| correction / last);
-            if correction <= tolerance
-                || (rate < 0.5 && rate / (1.0 - rate) * correction <= tolerance)
-            {
-                return (newton, true);
-            }
+        if newton_valid && converged(&current, newton, last_correction, resolution) {
+            return (newton, true);
         }
-        let next = if newton_valid && below < newton && newton < above {
-            newton
-        } else if below.is_finite() && above.is_finite() {
-            0.5 * (below + above)
-        } else {
-            current.law
-        };
+        let next = bracket.next(newton, newton_valid, &current);
         last_correction = (next == newton).then(|| (newton - current.force).abs());
         let next = argument.at(next);
         current = match reversal {
@@ -102,37 +90,9 @@ pub(super) fn newton(
             {
                 reversal_seen = true;
                 last_correction = None;
-                // Look first on the side of the current iterate (below if it has none).
-                let first_above = current.direction == argument.direction_above();
-                let first = Residual::new(argument.beside_reversal(reversal, first_above), law);
-                if first.value == 0.0 {
-                    return (reversal, true);
-                }
-                if (first.value < 0.0) == first_above {
-                    // r(F_j+) < 0 or r(F_j-) > 0: the root lies on this side.
-                    if first_above {
-                        below = reversal;
-                    } else {
-                        above = reversal;
-                    }
-                    first
-                } else {
-                    let second =
-                        Residual::new(argument.beside_reversal(reversal, !first_above), law);
-                    if second.value == 0.0 {
-                        return (reversal, true);
-                    }
-                    if (second.value < 0.0) == first_above || !second.law.is_finite() {
-                        // r(F_j-) < 0 < r(F_j+): zero lies in the jump, no solution
-                        // of the single-valued equation; the set-valued law's is F_j.
-                        return (reversal, false);
-                    }
-                    if first_above {
-                        above = reversal;
-                    } else {
-                        below = reversal;
-                    }
-                    second
+                match across_reversal(argument, reversal, &current, &mut bracket, law) {
+                    ControlFlow::Continue(beside) => beside,
+                    ControlFlow::Break(answer) => return answer,
                 }
             }
             // (A one-sided evaluation at the jump is the next iterate like any other:
@@ -141,4 +101,93 @@ pub(super) fn newton(
         };
     }
     (current.force, false)
+}
+
+/// The bracket (below, above) of the root (N): r(below) < 0 < r(above).
+struct RootBracket {
+    below: f64,
+    above: f64,
+}
+
+impl RootBracket {
+    /// Moves the end on the residual's side to its force.
+    fn narrow(&mut self, r: &Residual) {
+        if r.value < 0.0 {
+            self.below = self.below.max(r.force);
+        } else {
+            self.above = self.above.min(r.force);
+        }
+    }
+
+    /// The next iterate (N): the Newton iterate if valid and inside the bracket, else
+    /// bisection, else (an end still open) the fixed-point step F_law.
+    fn next(&self, newton: f64, newton_valid: bool, current: &Residual) -> f64 {
+        if newton_valid && self.below < newton && newton < self.above {
+            newton
+        } else if self.below.is_finite() && self.above.is_finite() {
+            0.5 * (self.below + self.above)
+        } else {
+            current.law
+        }
+    }
+
+    /// Closes the bracket at the reversal force F_j (N), the root lying above it
+    /// (`root_above`) or below.
+    fn close_at(&mut self, reversal: f64, root_above: bool) {
+        if root_above {
+            self.below = reversal;
+        } else {
+            self.above = reversal;
+        }
+    }
+}
+
+/// The convergence test of [`newton`] for the Newton iterate `newton` (N) from
+/// `current`: the correction below the tolerance, or shrinking at a rate q < 1/2 with
+/// the error bound q / (1 - q) |correction| below it.
+fn converged(
+    current: &Residual,
+    newton: f64,
+    last_correction: Option<f64>,
+    resolution: f64,
+) -> bool {
+    let correction = (newton - current.force).abs();
+    let tolerance = (SLIP_TOLERANCE * (1.0 + newton.abs())).max(resolution);
+    let rate = last_correction.map_or(1.0, |last| correction / last);
+    correction <= tolerance || (rate < 0.5 && rate / (1.0 - rate) * correction <= tolerance)
+}
+
+/// The first iterate that would change the direction of sliding: looks at the sides of
+/// the reversal force F_j (N), first the current iterate's (below if it has none).
+/// Continues from the side that holds the root, with the bracket closed at F_j, or
+/// breaks with the answer: F_j where r is 0 beside it or where the root lies in the
+/// jump (no solution of the single-valued equation; the set-valued law's is F_j).
+fn across_reversal(
+    argument: &SlipArgument,
+    reversal: f64,
+    current: &Residual,
+    bracket: &mut RootBracket,
+    law: &mut CountedLaw<'_, '_>,
+) -> ControlFlow<(f64, bool), Residual> {
+    let first_above = current.direction == argument.direction_above();
+    let first = Residual::new(argument.beside_reversal(reversal, first_above), law);
+    if first.value == 0.0 {
+        return ControlFlow::Break((reversal, true));
+    }
+    if (first.value < 0.0) == first_above {
+        // r(F_j+) < 0 or r(F_j-) > 0: the root lies on this side.
+        bracket.close_at(reversal, first_above);
+        return ControlFlow::Continue(first);
+    }
+    let second = Residual::new(argument.beside_reversal(reversal, !first_above), law);
+    if second.value == 0.0 {
+        return ControlFlow::Break((reversal, true));
+    }
+    if (second.value < 0.0) == first_above || !second.law.is_finite() {
+        // r(F_j-) < 0 < r(F_j+): zero lies in the jump, no solution
+        // of the single-valued equation; the set-valued law's is F_j.
+        return ControlFlow::Break((reversal, false));
+    }
+    bracket.close_at(reversal, !first_above);
+    ControlFlow::Continue(second)
 }

@@ -140,16 +140,7 @@ impl LinearStructure {
     /// files that already removed a fixed DOF, as CalculiX's do, must not name it again).
     pub fn new(matrices: &StructureMatrices, clamped: &[DofLabel]) -> Result<Self, StructureError> {
         let dofs = &matrices.dofs;
-        let mut row_of: HashMap<DofLabel, usize> = HashMap::with_capacity(dofs.len());
-        for (row, &label) in dofs.iter().enumerate() {
-            if let Some(first) = row_of.insert(label, row) {
-                return Err(StructureError::DuplicateDof {
-                    label,
-                    first: first + 1,
-                    second: row + 1,
-                });
-            }
-        }
+        let row_of = Self::row_of_labels(dofs)?;
         let mut free = vec![true; dofs.len()];
         for &label in clamped {
             let row = *row_of.get(&label).ok_or(StructureError::UnknownDof {
@@ -160,12 +151,64 @@ impl LinearStructure {
             })?;
             free[row] = false;
         }
+        let upper = Self::checked_upper_triangles(matrices)?;
+        let band_order = BandOrder::new(&free, &upper)?;
+        let kept = |&(i, j, _): &(usize, usize, f64)| free[i] && free[j];
+        let assemble = |entries: &[(usize, usize, f64)]| {
+            let mut m = SymBandMatrix::zeros(band_order.dofs(), band_order.band);
+            for e in entries.iter().filter(|e| kept(e)) {
+                m.add(band_order.solver_row[e.0], band_order.solver_row[e.1], e.2);
+            }
+            m
+        };
+        let stiffness = assemble(&upper[0]);
+        let mass = assemble(&upper[1]);
+        let damping = upper.get(2).map(|u| assemble(u));
+        let labels: Vec<DofLabel> = band_order
+            .order
+            .iter()
+            .map(|&k| dofs[band_order.file_rows[k]])
+            .collect();
+        let factor = Self::factor_definite("stiffness", &stiffness, &labels, &row_of)?;
+        Self::factor_definite("mass", &mass, &labels, &row_of)?;
+        let index = labels.iter().enumerate().map(|(k, &l)| (l, k)).collect();
+        Ok(Self {
+            labels,
+            index,
+            mass,
+            stiffness,
+            damping,
+            factor,
+        })
+    }
+
+    /// The file row (0-based) of each DOF label; a label twice is refused.
+    fn row_of_labels(dofs: &[DofLabel]) -> Result<HashMap<DofLabel, usize>, StructureError> {
+        let mut row_of: HashMap<DofLabel, usize> = HashMap::with_capacity(dofs.len());
+        for (row, &label) in dofs.iter().enumerate() {
+            if let Some(first) = row_of.insert(label, row) {
+                return Err(StructureError::DuplicateDof {
+                    label,
+                    first: first + 1,
+                    second: row + 1,
+                });
+            }
+        }
+        Ok(row_of)
+    }
+
+    /// The upper triangle of K, M and (if given) C in file rows, in that order, each
+    /// checked for its size against the DOF map, entries inside it, and symmetry.
+    fn checked_upper_triangles(
+        matrices: &StructureMatrices,
+    ) -> Result<Vec<UpperTriangle>, StructureError> {
+        let dofs = &matrices.dofs;
         let named = [
             ("stiffness", Some(&matrices.stiffness)),
             ("mass", Some(&matrices.mass)),
             ("damping", matrices.damping.as_ref()),
         ];
-        let mut upper: Vec<Vec<(usize, usize, f64)>> = Vec::new();
+        let mut upper: Vec<UpperTriangle> = Vec::new();
         for (name, triplets) in named.iter().filter_map(|(n, t)| t.map(|t| (*n, t))) {
             if triplets.size != dofs.len() {
                 return Err(StructureError::RowCount {
@@ -190,79 +233,30 @@ impl LinearStructure {
             }
             upper.push(symmetric_upper(name, triplets, dofs)?);
         }
-        // Free DOFs in file order, then in band order.
-        let file_rows: Vec<usize> = (0..dofs.len()).filter(|&r| free[r]).collect();
-        if file_rows.is_empty() {
-            return Err(StructureError::NothingFree);
-        }
-        let mut free_index = vec![usize::MAX; dofs.len()];
-        for (k, &r) in file_rows.iter().enumerate() {
-            free_index[r] = k;
-        }
-        let kept = |&(i, j, _): &(usize, usize, f64)| free[i] && free[j];
-        let graph = ordering::Graph::new(
-            file_rows.len(),
-            upper
-                .iter()
-                .flatten()
-                .filter(|e| kept(e))
-                .map(|&(i, j, _)| (free_index[i], free_index[j])),
-        );
-        let order = ordering::reverse_cuthill_mckee(&graph);
-        let mut position = vec![0; order.len()];
-        for (new, &old) in order.iter().enumerate() {
-            position[old] = new;
-        }
-        let band = ordering::half_bandwidth(&graph, &position);
-        let bytes = BAND_COPIES * order.len() as f64 * (band + 1) as f64 * 8.0;
-        if bytes > BAND_MEMORY_LIMIT {
-            return Err(StructureError::BandTooWide {
-                dofs: order.len(),
-                band,
-                gigabytes: bytes / 1e9,
-            });
-        }
-        let solver_row: Vec<usize> = free_index
-            .iter()
-            .map(|&k| if k == usize::MAX { k } else { position[k] })
-            .collect();
-        let assemble = |entries: &[(usize, usize, f64)]| {
-            let mut m = SymBandMatrix::zeros(order.len(), band);
-            for e in entries.iter().filter(|e| kept(e)) {
-                m.add(solver_row[e.0], solver_row[e.1], e.2);
+        Ok(upper)
+    }
+
+    /// The Cholesky factor of `m` (the matrix `name`), or the DOF where it is not
+    /// positive definite, by its label and file row.
+    fn factor_definite(
+        name: &'static str,
+        m: &SymBandMatrix,
+        labels: &[DofLabel],
+        row_of: &HashMap<DofLabel, usize>,
+    ) -> Result<BandCholesky, StructureError> {
+        m.cholesky().map_err(|e| {
+            let label = labels[e.row];
+            StructureError::NotPositiveDefinite {
+                matrix: name,
+                label,
+                row: row_of[&label] + 1,
+                pivot: e.pivot,
+                reason: if name == "stiffness" {
+                    "so the structure can move there without deforming (clamp a rigid-body motion or a mechanism at or near that DOF)"
+                } else {
+                    "so some motion there has no mass"
+                },
             }
-            m
-        };
-        let stiffness = assemble(&upper[0]);
-        let mass = assemble(&upper[1]);
-        let damping = upper.get(2).map(|u| assemble(u));
-        let labels: Vec<DofLabel> = order.iter().map(|&k| dofs[file_rows[k]]).collect();
-        let definite = |name: &'static str, m: &SymBandMatrix| {
-            m.cholesky().map_err(|e| {
-                let label = labels[e.row];
-                StructureError::NotPositiveDefinite {
-                    matrix: name,
-                    label,
-                    row: row_of[&label] + 1,
-                    pivot: e.pivot,
-                    reason: if name == "stiffness" {
-                        "so the structure can move there without deforming (clamp a rigid-body motion or a mechanism at or near that DOF)"
-                    } else {
-                        "so some motion there has no mass"
-                    },
-                }
-            })
-        };
-        let factor = definite("stiffness", &stiffness)?;
-        definite("mass", &mass)?;
-        let index = labels.iter().enumerate().map(|(k, &l)| (l, k)).collect();
-        Ok(Self {
-            labels,
-            index,
-            mass,
-            stiffness,
-            damping,
-            factor,
         })
     }
 
@@ -352,6 +346,74 @@ impl LinearStructure {
             .iter()
             .map(|w2| w2.sqrt() / (2.0 * std::f64::consts::PI))
             .collect())
+    }
+}
+
+/// A matrix's upper triangle as (file row, file column, value) entries, i <= j.
+type UpperTriangle = Vec<(usize, usize, f64)>;
+
+/// The free DOFs' order for the band solver: reverse Cuthill-McKee on the graph of the
+/// kept entries, with its half-bandwidth, refused if the band would not fit in memory.
+struct BandOrder {
+    /// File rows of the free DOFs, in file order.
+    file_rows: Vec<usize>,
+    /// For each band position, the index into `file_rows`.
+    order: Vec<usize>,
+    /// Half-bandwidth in that order.
+    band: usize,
+    /// Solver row of each file row (`usize::MAX` for a clamped one).
+    solver_row: Vec<usize>,
+}
+
+impl BandOrder {
+    fn new(free: &[bool], upper: &[UpperTriangle]) -> Result<Self, StructureError> {
+        // Free DOFs in file order, then in band order.
+        let file_rows: Vec<usize> = (0..free.len()).filter(|&r| free[r]).collect();
+        if file_rows.is_empty() {
+            return Err(StructureError::NothingFree);
+        }
+        let mut free_index = vec![usize::MAX; free.len()];
+        for (k, &r) in file_rows.iter().enumerate() {
+            free_index[r] = k;
+        }
+        let kept = |&(i, j, _): &(usize, usize, f64)| free[i] && free[j];
+        let graph = ordering::Graph::new(
+            file_rows.len(),
+            upper
+                .iter()
+                .flatten()
+                .filter(|e| kept(e))
+                .map(|&(i, j, _)| (free_index[i], free_index[j])),
+        );
+        let order = ordering::reverse_cuthill_mckee(&graph);
+        let mut position = vec![0; order.len()];
+        for (new, &old) in order.iter().enumerate() {
+            position[old] = new;
+        }
+        let band = ordering::half_bandwidth(&graph, &position);
+        let bytes = BAND_COPIES * order.len() as f64 * (band + 1) as f64 * 8.0;
+        if bytes > BAND_MEMORY_LIMIT {
+            return Err(StructureError::BandTooWide {
+                dofs: order.len(),
+                band,
+                gigabytes: bytes / 1e9,
+            });
+        }
+        let solver_row: Vec<usize> = free_index
+            .iter()
+            .map(|&k| if k == usize::MAX { k } else { position[k] })
+            .collect();
+        Ok(Self {
+            file_rows,
+            order,
+            band,
+            solver_row,
+        })
+    }
+
+    /// The number of free DOFs.
+    fn dofs(&self) -> usize {
+        self.order.len()
     }
 }
 

@@ -29,7 +29,7 @@ use super::loss::{loss_and_gradient, steady_starts};
 use super::series::{rms_error, simulate_from, ForceSeries};
 use crate::data::{seeded_rng, INIT_STREAM};
 use crate::error::TrainError;
-use crate::lbfgs::{minimize, LbfgsOptions};
+use crate::lbfgs::{minimize, LbfgsOptions, LbfgsResult};
 use stickslip::friction::learned_state::{
     Correction, InputScale, LearnedStateLaw, StateEvolution, StateLawFile, StateLawParameters,
     StateMetrics, StateTrainingInfo, TrainingRanges,
@@ -124,140 +124,22 @@ pub(super) fn fit_state_law(
     noise_std: f64,
     on_iteration: &mut impl FnMut(usize, f64),
 ) -> Result<(StateLawFile, StateTrainReport), TrainError> {
-    if !(config.lambda >= 0.0 && config.lambda.is_finite()) {
-        return Err(TrainError::InvalidInput(format!(
-            "lambda must be >= 0, got {}",
-            config.lambda
-        )));
-    }
-    if config.max_iterations == 0 {
-        return Err(TrainError::InvalidInput(
-            "at least one iteration is needed".into(),
-        ));
-    }
-    for record in records {
-        if config.train_initial_state {
-            record.check_samples()?;
-        } else {
-            record.check()?;
-        }
-    }
-    let held_out = |i: usize| config.test_every > 0 && (i + 1).is_multiple_of(config.test_every);
-    let train: Vec<&ForceSeries> = records
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| !held_out(*i))
-        .map(|(_, r)| r)
-        .collect();
-    let test: Vec<&ForceSeries> = records
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| held_out(*i))
-        .map(|(_, r)| r)
-        .collect();
-    if train.is_empty() {
-        return Err(TrainError::InvalidInput(
-            "no record is left for training".into(),
-        ));
-    }
-    let speeds = range(
-        train
-            .iter()
-            .flat_map(|r| r.velocity.iter().map(|v| v.abs()))
-            .filter(|v| *v > 0.0),
-    );
-    let velocities = range(train.iter().flat_map(|r| r.velocity.iter().copied()));
-    let normal_forces = range(train.iter().flat_map(|r| r.normal_force.iter().copied()));
-    // V_0 only shifts mu_0; a power of ten inside the data's speeds keeps mu_0 readable.
-    let reference_velocity = stickslip::elementary::powf(
-        10f64,
-        (0.5 * stickslip::elementary::log10(speeds[0] * speeds[1])).round(),
-    );
-    let level = {
-        let (mut sum, mut n) = (0.0, 0.0);
-        for r in &train {
-            for k in 0..r.len() {
-                if r.velocity[k] != 0.0 {
-                    sum += r.force[k] * r.velocity[k].signum() / r.normal_force[k];
-                    n += 1.0;
-                }
-            }
-        }
-        sum / n
-    };
-    let options = |iterations| LbfgsOptions {
-        max_iterations: iterations,
-        ..LbfgsOptions::default()
-    };
+    check_inputs(records, config)?;
+    let (train, test) = split_held_out(records, config.test_every)?;
+    let summary = DataSummary::of(&train);
 
-    // Structured part from each D_c of the grid; keep the best.
-    let mut best: Option<(f64, LearnedStateLaw)> = None;
-    for d_c in DC_GRID {
-        let mut law = LearnedStateLaw {
-            parameters: StateLawParameters {
-                reference_coefficient: level,
-                reference_velocity,
-                direct_effect: 0.01,
-                evolution_effect: 0.01,
-                characteristic_slip: d_c,
-                state_evolution: evolution,
-            },
-            correction: None,
-        };
-        let (mut x, law_len) = with_starts(&law, &train, config.train_initial_state);
-        let mut fit_law = law.clone();
-        let result = minimize(
-            |x, g| loss_and_gradient(&mut fit_law, &train, 0.0, law_len, x, g),
-            &mut x,
-            &options(config.grid_iterations),
-            |_, _| {},
-        );
-        let Ok(result) = result else { continue };
-        law.set_trainable(&x[..law_len]);
-        if best.as_ref().is_none_or(|(loss, _)| result.value < *loss) {
-            best = Some((result.value, law));
-        }
-    }
-    let (grid_loss, mut law) = best.ok_or_else(|| {
-        TrainError::Training("the loss is not finite from any start of the D_c grid".into())
-    })?;
+    let (grid_loss, mut law) = fit_structured_on_grid(&train, config, evolution, &summary)?;
     let grid_best = (grid_loss, law.parameters.characteristic_slip);
-
     if config.hidden > 0 {
-        let mut states = Vec::new();
-        let starts = steady_starts(&law, &train);
-        for (r, start) in train.iter().zip(starts) {
-            states.extend(simulate_from(&law, r, start).1);
-        }
-        let mut rng = seeded_rng(config.seed, INIT_STREAM);
-        // Glorot-uniform hidden weights; output weights 0, so training starts from the
-        // structured fit exactly.
-        let limit = (6.0f64 / 3.0).sqrt();
-        law.correction = Some(Correction {
-            inputs: [
-                scale("state", "1", range(states.into_iter())),
-                scale("normal_force", "N", normal_forces),
-            ],
-            hidden_weights: (0..config.hidden)
-                .map(|_| [rng.gen_range(-limit..limit), rng.gen_range(-limit..limit)])
-                .collect(),
-            hidden_biases: vec![0.0; config.hidden],
-            output_weights: vec![0.0; config.hidden],
-        });
+        law.correction = Some(initial_correction(
+            &law,
+            &train,
+            config,
+            summary.normal_forces,
+        ));
     }
-    let (mut x, law_len) = with_starts(&law, &train, config.train_initial_state);
-    let mut fit_law = law.clone();
-    let mut iteration_count = 0;
-    let result = minimize(
-        |x, g| loss_and_gradient(&mut fit_law, &train, config.lambda, law_len, x, g),
-        &mut x,
-        &options(config.max_iterations),
-        |info, _| {
-            iteration_count = info.iteration;
-            on_iteration(info.iteration, info.value);
-        },
-    )?;
-    law.set_trainable(&x[..law_len]);
+    let (x, law_len, result) = fit_everything(&mut law, &train, config, on_iteration)?;
+
     let train_starts = if config.train_initial_state {
         x[law_len..].to_vec()
     } else {
@@ -276,7 +158,232 @@ pub(super) fn fit_state_law(
             rms_error(&law, &test, &test_starts)
         },
     };
-    let training = StateTrainingInfo {
+    let training = training_info(&train, &test, config, data, noise_std, result);
+    let ranges = TrainingRanges {
+        sliding_velocity: summary.velocities,
+        normal_force: summary.normal_forces,
+    };
+    let file = StateLawFile::new(&law, ranges, training, metrics);
+    file.validate("(trained)")?;
+    Ok((
+        file,
+        StateTrainReport {
+            grid_best,
+            final_loss: result.value,
+            iterations: result.iterations,
+            evaluations: result.evaluations,
+            candidates: vec![(evolution, metrics)],
+        },
+    ))
+}
+
+/// Refuses settings no fit can use and records that do not hold together (with a
+/// trained initial state the records need only their samples, not a steady start).
+fn check_inputs(records: &[ForceSeries], config: &StateTrainConfig) -> Result<(), TrainError> {
+    if !(config.lambda >= 0.0 && config.lambda.is_finite()) {
+        return Err(TrainError::InvalidInput(format!(
+            "lambda must be >= 0, got {}",
+            config.lambda
+        )));
+    }
+    if config.max_iterations == 0 {
+        return Err(TrainError::InvalidInput(
+            "at least one iteration is needed".into(),
+        ));
+    }
+    for record in records {
+        if config.train_initial_state {
+            record.check_samples()?;
+        } else {
+            record.check()?;
+        }
+    }
+    Ok(())
+}
+
+/// The training and held-out records: every `test_every`-th record (1-based) is held
+/// out; 0 holds out none.
+fn split_held_out(
+    records: &[ForceSeries],
+    test_every: usize,
+) -> Result<(Vec<&ForceSeries>, Vec<&ForceSeries>), TrainError> {
+    let held_out = |i: usize| test_every > 0 && (i + 1).is_multiple_of(test_every);
+    let train: Vec<&ForceSeries> = records
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !held_out(*i))
+        .map(|(_, r)| r)
+        .collect();
+    let test: Vec<&ForceSeries> = records
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| held_out(*i))
+        .map(|(_, r)| r)
+        .collect();
+    if train.is_empty() {
+        return Err(TrainError::InvalidInput(
+            "no record is left for training".into(),
+        ));
+    }
+    Ok((train, test))
+}
+
+/// What the training records span and where the structured fit starts.
+struct DataSummary {
+    /// Range of the sliding velocity (m/s), signed.
+    velocities: [f64; 2],
+    /// Range of the normal force (N).
+    normal_forces: [f64; 2],
+    /// V_0 (m/s): a power of ten inside the data's speeds.
+    reference_velocity: f64,
+    /// Mean of F sign(v) / N over the sliding samples: the start of mu_0.
+    level: f64,
+}
+
+impl DataSummary {
+    fn of(train: &[&ForceSeries]) -> DataSummary {
+        let speeds = range(
+            train
+                .iter()
+                .flat_map(|r| r.velocity.iter().map(|v| v.abs()))
+                .filter(|v| *v > 0.0),
+        );
+        let velocities = range(train.iter().flat_map(|r| r.velocity.iter().copied()));
+        let normal_forces = range(train.iter().flat_map(|r| r.normal_force.iter().copied()));
+        // V_0 only shifts mu_0; a power of ten inside the data's speeds keeps mu_0 readable.
+        let reference_velocity = stickslip::elementary::powf(
+            10f64,
+            (0.5 * stickslip::elementary::log10(speeds[0] * speeds[1])).round(),
+        );
+        let level = {
+            let (mut sum, mut n) = (0.0, 0.0);
+            for r in train {
+                for k in 0..r.len() {
+                    if r.velocity[k] != 0.0 {
+                        sum += r.force[k] * r.velocity[k].signum() / r.normal_force[k];
+                        n += 1.0;
+                    }
+                }
+            }
+            sum / n
+        };
+        DataSummary {
+            velocities,
+            normal_forces,
+            reference_velocity,
+            level,
+        }
+    }
+}
+
+fn lbfgs_options(iterations: usize) -> LbfgsOptions {
+    LbfgsOptions {
+        max_iterations: iterations,
+        ..LbfgsOptions::default()
+    }
+}
+
+/// The structured part (no correction) fitted from each D_c of [`DC_GRID`]; the best
+/// start's loss and law.
+fn fit_structured_on_grid(
+    train: &[&ForceSeries],
+    config: &StateTrainConfig,
+    evolution: StateEvolution,
+    summary: &DataSummary,
+) -> Result<(f64, LearnedStateLaw), TrainError> {
+    let mut best: Option<(f64, LearnedStateLaw)> = None;
+    for d_c in DC_GRID {
+        let mut law = LearnedStateLaw {
+            parameters: StateLawParameters {
+                reference_coefficient: summary.level,
+                reference_velocity: summary.reference_velocity,
+                direct_effect: 0.01,
+                evolution_effect: 0.01,
+                characteristic_slip: d_c,
+                state_evolution: evolution,
+            },
+            correction: None,
+        };
+        let (mut x, law_len) = with_starts(&law, train, config.train_initial_state);
+        let mut fit_law = law.clone();
+        let result = minimize(
+            |x, g| loss_and_gradient(&mut fit_law, train, 0.0, law_len, x, g),
+            &mut x,
+            &lbfgs_options(config.grid_iterations),
+            |_, _| {},
+        );
+        let Ok(result) = result else { continue };
+        law.set_trainable(&x[..law_len]);
+        if best.as_ref().is_none_or(|(loss, _)| result.value < *loss) {
+            best = Some((result.value, law));
+        }
+    }
+    best.ok_or_else(|| {
+        TrainError::Training("the loss is not finite from any start of the D_c grid".into())
+    })
+}
+
+/// The correction network to start the full fit from: inputs scaled to the ranges of
+/// the state (simulated by `law` over the records) and of the normal force;
+/// Glorot-uniform hidden weights; output weights 0, so training starts from the
+/// structured fit exactly.
+fn initial_correction(
+    law: &LearnedStateLaw,
+    train: &[&ForceSeries],
+    config: &StateTrainConfig,
+    normal_forces: [f64; 2],
+) -> Correction {
+    let mut states = Vec::new();
+    let starts = steady_starts(law, train);
+    for (r, start) in train.iter().zip(starts) {
+        states.extend(simulate_from(law, r, start).1);
+    }
+    let mut rng = seeded_rng(config.seed, INIT_STREAM);
+    let limit = (6.0f64 / 3.0).sqrt();
+    Correction {
+        inputs: [
+            scale("state", "1", range(states.into_iter())),
+            scale("normal_force", "N", normal_forces),
+        ],
+        hidden_weights: (0..config.hidden)
+            .map(|_| [rng.gen_range(-limit..limit), rng.gen_range(-limit..limit)])
+            .collect(),
+        hidden_biases: vec![0.0; config.hidden],
+        output_weights: vec![0.0; config.hidden],
+    }
+}
+
+/// The final fit of everything trainable (the law, with `train_initial_state` each
+/// record's start too) from `law`, which it leaves holding the result; the flat
+/// parameters, the law's count among them, and what L-BFGS reported.
+fn fit_everything(
+    law: &mut LearnedStateLaw,
+    train: &[&ForceSeries],
+    config: &StateTrainConfig,
+    on_iteration: &mut impl FnMut(usize, f64),
+) -> Result<(Vec<f64>, usize, LbfgsResult), TrainError> {
+    let (mut x, law_len) = with_starts(law, train, config.train_initial_state);
+    let mut fit_law = law.clone();
+    let result = minimize(
+        |x, g| loss_and_gradient(&mut fit_law, train, config.lambda, law_len, x, g),
+        &mut x,
+        &lbfgs_options(config.max_iterations),
+        |info, _| on_iteration(info.iteration, info.value),
+    )?;
+    law.set_trainable(&x[..law_len]);
+    Ok((x, law_len, result))
+}
+
+/// How the file's law was trained.
+fn training_info(
+    train: &[&ForceSeries],
+    test: &[&ForceSeries],
+    config: &StateTrainConfig,
+    data: &str,
+    noise_std: f64,
+    result: LbfgsResult,
+) -> StateTrainingInfo {
+    StateTrainingInfo {
         data: data.to_string(),
         train_series: train.len(),
         test_series: test.len(),
@@ -293,24 +400,7 @@ pub(super) fn fit_state_law(
         iterations: result.iterations,
         evaluations: result.evaluations,
         stop_reason: result.stop,
-    };
-    let ranges = TrainingRanges {
-        sliding_velocity: velocities,
-        normal_force: normal_forces,
-    };
-    let file = StateLawFile::new(&law, ranges, training, metrics);
-    file.validate("(trained)")?;
-    let _ = iteration_count;
-    Ok((
-        file,
-        StateTrainReport {
-            grid_best,
-            final_loss: result.value,
-            iterations: result.iterations,
-            evaluations: result.evaluations,
-            candidates: vec![(evolution, metrics)],
-        },
-    ))
+    }
 }
 
 /// The flat parameters to start from: the law's, then (`trained`) each record's start,

@@ -178,82 +178,22 @@ impl StateLawFile {
 
     /// Every number finite, every parameter in its domain, the correction's shapes.
     pub fn validate(&self, source_name: &str) -> Result<(), NeuralError> {
-        let shape = |message: String| NeuralError::Shape {
-            source_name: source_name.to_string(),
-            message,
-        };
-        let finite = |field: String, v: f64| finite(source_name, field, v);
-        let p = &self.law;
-        for (name, v, positive) in [
-            ("reference_coefficient", p.reference_coefficient, false),
-            ("reference_velocity", p.reference_velocity, true),
-            ("direct_effect", p.direct_effect, true),
-            ("evolution_effect", p.evolution_effect, false),
-            ("characteristic_slip", p.characteristic_slip, true),
-        ] {
-            finite(format!("law.{name}"), v)?;
-            if positive && v <= 0.0 {
-                return Err(shape(format!("law.{name} must be positive, got {v}")));
-            }
-        }
-        // The analytical law's range (at psi = 0, without the correction's share of
-        // Omega): a law steeper at rest would be capped (`regularised`), its force no
-        // longer the law's.
-        if let Some(problem) = crate::friction::rate_and_state::regularisation_problem(
-            p.direct_effect,
-            p.reference_coefficient,
-            p.reference_velocity,
-            ["law.direct_effect", "law.reference_velocity"],
-        ) {
-            return Err(shape(problem.to_string()));
-        }
+        check_law(&self.law, source_name)?;
         for (name, [lo, hi]) in [
             ("sliding_velocity", self.ranges.sliding_velocity),
             ("normal_force", self.ranges.normal_force),
         ] {
-            finite(format!("ranges.{name}[0]"), lo)?;
-            finite(format!("ranges.{name}[1]"), hi)?;
+            finite(source_name, format!("ranges.{name}[0]"), lo)?;
+            finite(source_name, format!("ranges.{name}[1]"), hi)?;
             if lo > hi {
-                return Err(shape(format!("ranges.{name}: min {lo} > max {hi}")));
+                return Err(shape_error(
+                    source_name,
+                    format!("ranges.{name}: min {lo} > max {hi}"),
+                ));
             }
         }
         if let Some(net) = &self.correction {
-            let h = net.output_weights.len();
-            if net.hidden_weights.len() != h || net.hidden_biases.len() != h {
-                return Err(shape(format!(
-                    "correction: {} hidden weight rows, {} hidden biases and {h} output weights, expected equal counts",
-                    net.hidden_weights.len(),
-                    net.hidden_biases.len()
-                )));
-            }
-            for (k, row) in net.hidden_weights.iter().enumerate() {
-                finite(format!("correction.hidden_weights[{k}][0]"), row[0])?;
-                finite(format!("correction.hidden_weights[{k}][1]"), row[1])?;
-                finite(
-                    format!("correction.hidden_biases[{k}]"),
-                    net.hidden_biases[k],
-                )?;
-                finite(
-                    format!("correction.output_weights[{k}]"),
-                    net.output_weights[k],
-                )?;
-            }
-            for (i, input) in net.inputs.iter().enumerate() {
-                for (what, v) in [
-                    ("mean", input.mean),
-                    ("std", input.std),
-                    ("min", input.min),
-                    ("max", input.max),
-                ] {
-                    finite(format!("correction.inputs[{i}].{what}"), v)?;
-                }
-                if input.std <= 0.0 || input.min > input.max {
-                    return Err(shape(format!(
-                        "correction.inputs[{i}] ('{}'): std must be positive and min <= max",
-                        input.name
-                    )));
-                }
-            }
+            check_correction(net, source_name)?;
         }
         for (name, v) in [
             ("training.noise_std", self.training.noise_std),
@@ -261,8 +201,96 @@ impl StateLawFile {
             ("metrics.rms_error_train", self.metrics.rms_error_train),
             ("metrics.rms_error_test", self.metrics.rms_error_test),
         ] {
-            finite(name.to_string(), v)?;
+            finite(source_name, name.to_string(), v)?;
         }
         Ok(())
     }
+}
+
+fn shape_error(source_name: &str, message: String) -> NeuralError {
+    NeuralError::Shape {
+        source_name: source_name.to_string(),
+        message,
+    }
+}
+
+/// The structured law's parameters: finite, V_0, a and D_c positive, and inside the
+/// analytical law's range.
+fn check_law(p: &StateLawParameters, source_name: &str) -> Result<(), NeuralError> {
+    for (name, v, positive) in [
+        ("reference_coefficient", p.reference_coefficient, false),
+        ("reference_velocity", p.reference_velocity, true),
+        ("direct_effect", p.direct_effect, true),
+        ("evolution_effect", p.evolution_effect, false),
+        ("characteristic_slip", p.characteristic_slip, true),
+    ] {
+        finite(source_name, format!("law.{name}"), v)?;
+        if positive && v <= 0.0 {
+            return Err(shape_error(
+                source_name,
+                format!("law.{name} must be positive, got {v}"),
+            ));
+        }
+    }
+    // The analytical law's range (at psi = 0, without the correction's share of
+    // Omega): a law steeper at rest would be capped (`regularised`), its force no
+    // longer the law's.
+    if let Some(problem) = crate::friction::rate_and_state::regularisation_problem(
+        p.direct_effect,
+        p.reference_coefficient,
+        p.reference_velocity,
+        ["law.direct_effect", "law.reference_velocity"],
+    ) {
+        return Err(shape_error(source_name, problem.to_string()));
+    }
+    Ok(())
+}
+
+/// The correction network: one hidden weight row, bias and output weight per unit,
+/// every number finite, each input's scale with std > 0 and min <= max.
+fn check_correction(net: &Correction, source_name: &str) -> Result<(), NeuralError> {
+    let finite = |field: String, v: f64| finite(source_name, field, v);
+    let h = net.output_weights.len();
+    if net.hidden_weights.len() != h || net.hidden_biases.len() != h {
+        return Err(shape_error(
+            source_name,
+            format!(
+                "correction: {} hidden weight rows, {} hidden biases and {h} output weights, expected equal counts",
+                net.hidden_weights.len(),
+                net.hidden_biases.len()
+            ),
+        ));
+    }
+    for (k, row) in net.hidden_weights.iter().enumerate() {
+        finite(format!("correction.hidden_weights[{k}][0]"), row[0])?;
+        finite(format!("correction.hidden_weights[{k}][1]"), row[1])?;
+        finite(
+            format!("correction.hidden_biases[{k}]"),
+            net.hidden_biases[k],
+        )?;
+        finite(
+            format!("correction.output_weights[{k}]"),
+            net.output_weights[k],
+        )?;
+    }
+    for (i, input) in net.inputs.iter().enumerate() {
+        for (what, v) in [
+            ("mean", input.mean),
+            ("std", input.std),
+            ("min", input.min),
+            ("max", input.max),
+        ] {
+            finite(format!("correction.inputs[{i}].{what}"), v)?;
+        }
+        if input.std <= 0.0 || input.min > input.max {
+            return Err(shape_error(
+                source_name,
+                format!(
+                    "correction.inputs[{i}] ('{}'): std must be positive and min <= max",
+                    input.name
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
