@@ -178,7 +178,7 @@ def test_refused_value_is_an_error_row_and_the_instance_recovers(built):
         (["--grid", "friction.law=1:3:3"], "is Choice"),
         (["--grid", "fidelity.modes=4:5:5"], "repeats values"),
         (["--set", "belt_speed=fast"], "bad value 'fast' for belt_speed"),
-        (["--set", "friction.law=stribeck"], "not one of exponential, coulomb"),
+        (["--set", "friction.law=dahl"], "not one of exponential, coulomb"),
         (["--grid", "belt_speed=0.1,0.2", "--set", "belt_speed=1"], "both swept"),
         (["--set", "fidelity.level=beam"], "--fidelity"),
         (["--t-end", "1.0005", "--step", "0.001"], "multiple"),
