@@ -48,6 +48,7 @@ pub mod metrics;
 pub mod modal;
 pub mod modal_slip;
 pub mod neural;
+pub mod plane_mesh;
 pub mod run;
 pub mod scene;
 pub mod scene_preset;

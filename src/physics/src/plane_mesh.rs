@@ -1,0 +1,245 @@
+//! A general plane mesh of eight-node quadrilaterals (a Gmsh `.msh`, issue 35) assembled
+//! in plane stress with the built-in model's own element, `element::q8_plane_stress`:
+//! K = int B^T D B t dA and M = int rho t N^T N dA, 3 x 3 Gauss points, per element, summed
+//! into M and K over the nodes the elements share. The result is the
+//! [`StructureMatrices`] the file readers give (the upper triangle, each entry once), so
+//! that `linear_structure::LinearStructure` checks, clamps and orders it as any other.
+//!
+//! - Rows: the nodes of the 2D elements in increasing Gmsh tag, each with directions 1
+//!   (u_x) and 2 (u_y), labelled (tag, direction). Lines and points in the file name
+//!   physical groups; they carry no stiffness or mass.
+//! - Units are the file's coordinates (m) and the material's (Pa, kg/m3, m).
+//! - The elements must be 8-node quadrangles (Gmsh type 16) in the plane z = 0, each with
+//!   a Jacobian determinant of one sign at its nine Gauss points: positive when its
+//!   corners run counter-clockwise, as Gmsh writes a surface whose normal is +z; an
+//!   element whose corners run clockwise (a surface with normal -z) is renumbered
+//!   counter-clockwise, which is the same element. A determinant that changes sign or
+//!   vanishes is a degenerate or folded element and is refused.
+//! - The summation follows the element order and, within an element, the built-in's
+//!   (a, then b <= a), so that a mesh with the built-in's nodes and element order
+//!   gives the built-in's matrices to the rounding of its coordinates.
+
+use crate::element::{q8_plane_stress, q8_shape, GAUSS3};
+use crate::files::{InputFileError, STRUCTURE_FILE};
+use crate::user_structure::{GroupClamp, PlaneStressMaterial, StructureSection};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::path::Path;
+use stickslip_formats::gmsh::{self, GroupError, Mesh};
+use stickslip_formats::structure_file::{
+    DofLabel, FileText, ReadError, Stored, StructureMatrices, Triplet, Triplets,
+};
+
+/// Gmsh's number of the 8-node quadrangle.
+const QUAD8: u32 = 16;
+
+/// Why a Gmsh mesh gave no structure: the file, its contents, or what the physics needs
+/// of it.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PlaneMeshError {
+    #[error("{0}")]
+    File(#[from] InputFileError),
+    #[error("{0}")]
+    Contents(#[from] ReadError),
+    #[error("{file}: no 2D elements: the mesh has nothing to assemble (is the surface in a physical group? Gmsh saves only the elements of physical groups once any is defined)")]
+    NoSurface { file: String },
+    #[error("{file}, line {line}: element {tag} is a {name} (Gmsh type {number}): only 8-node quadrangles (type 16, the built-in plane stress's Q8) are assembled; mesh with Recombine, Mesh.ElementOrder = 2 and Mesh.SecondOrderIncomplete = 1")]
+    UnsupportedElement {
+        file: String,
+        line: usize,
+        tag: u64,
+        name: &'static str,
+        number: u32,
+    },
+    #[error(
+        "{file}, line {line}: node {tag} has z = {z}: a plane-stress mesh lies in the plane z = 0"
+    )]
+    NotPlanar {
+        file: String,
+        line: usize,
+        tag: u64,
+        z: f64,
+    },
+    #[error("{file}, line {line}: element {tag} is degenerate or folded: its Jacobian determinant at the Gauss points runs from {min:e} to {max:e} m2, where one sign throughout is needed (are its nodes in Gmsh's order, corners then mid-sides?)")]
+    Distorted {
+        file: String,
+        line: usize,
+        tag: u64,
+        min: f64,
+        max: f64,
+    },
+    #[error("structure.material is needed with structure.format = gmsh: a mesh file carries no material")]
+    NoMaterial,
+    #[error("{file}: structure.clamped_groups: {source}")]
+    Group { file: String, source: GroupError },
+}
+
+/// A `format = "gmsh"` section's mesh assembled with its material, and the DOFs its
+/// `clamped_groups` fix (the section's fields checked by `StructureSection::check_fields`:
+/// the mesh and the material are given).
+pub fn read_section(
+    section: &StructureSection,
+) -> Result<(StructureMatrices, Vec<DofLabel>), PlaneMeshError> {
+    let path = section.mesh.clone().unwrap_or_default();
+    let material = section.material.ok_or(PlaneMeshError::NoMaterial)?;
+    let mesh = read_gmsh(&path)?;
+    let file = path.display().to_string();
+    Ok((
+        assemble(&mesh, &file, &material)?,
+        group_dofs(&mesh, &file, &section.clamped_groups)?,
+    ))
+}
+
+/// The mesh in the file at `path`: opened by `files` (missing, special, oversized files
+/// refused there), a binary file refused with the option that writes ASCII, then parsed.
+pub fn read_gmsh(path: &Path) -> Result<Mesh, PlaneMeshError> {
+    let name = path.display().to_string();
+    let bytes = STRUCTURE_FILE.read(path)?;
+    // Before the UTF-8 check: a binary mesh is not text, and the hint is the format's.
+    gmsh::refuse_binary(&name, &bytes)?;
+    let text = STRUCTURE_FILE.text(path, bytes)?;
+    Ok(gmsh::read_mesh(FileText {
+        name: &name,
+        text: &text,
+    })?)
+}
+
+/// The DOF labels the groups fix: each node of each group in each of its directions,
+/// once, in increasing order.
+pub fn group_dofs(
+    mesh: &Mesh,
+    file: &str,
+    clamps: &[GroupClamp],
+) -> Result<Vec<DofLabel>, PlaneMeshError> {
+    let mut dofs = BTreeSet::new();
+    for clamp in clamps {
+        let nodes = mesh
+            .group_nodes(&clamp.group)
+            .map_err(|source| PlaneMeshError::Group {
+                file: file.to_string(),
+                source,
+            })?;
+        for node in nodes {
+            for &direction in &clamp.directions {
+                dofs.insert(DofLabel { node, direction });
+            }
+        }
+    }
+    Ok(dofs.into_iter().collect())
+}
+
+/// The plane-stress M and K of the mesh's 2D elements (`file` names the mesh in errors).
+pub fn assemble(
+    mesh: &Mesh,
+    file: &str,
+    material: &PlaneStressMaterial,
+) -> Result<StructureMatrices, PlaneMeshError> {
+    let surface: Vec<&gmsh::Element> = mesh.elements.iter().filter(|e| e.kind.dim == 2).collect();
+    if surface.is_empty() {
+        return Err(PlaneMeshError::NoSurface {
+            file: file.to_string(),
+        });
+    }
+    if let Some(e) = surface.iter().find(|e| e.kind.number != QUAD8) {
+        return Err(PlaneMeshError::UnsupportedElement {
+            file: file.to_string(),
+            line: e.line,
+            tag: e.tag,
+            name: e.kind.name,
+            number: e.kind.number,
+        });
+    }
+    let by_tag: HashMap<u64, &gmsh::Node> = mesh.nodes.iter().map(|n| (n.tag, n)).collect();
+    let used: BTreeSet<u64> = surface
+        .iter()
+        .flat_map(|e| e.nodes.iter().copied())
+        .collect();
+    let row_of: HashMap<u64, usize> = used.iter().enumerate().map(|(k, &t)| (t, k)).collect();
+    for tag in &used {
+        let node = by_tag[tag];
+        if node.xyz[2] != 0.0 {
+            return Err(PlaneMeshError::NotPlanar {
+                file: file.to_string(),
+                line: node.line,
+                tag: *tag,
+                z: node.xyz[2],
+            });
+        }
+    }
+    let mut k: BTreeMap<(usize, usize), f64> = BTreeMap::new();
+    let mut m: BTreeMap<(usize, usize), f64> = BTreeMap::new();
+    for e in &surface {
+        let mut conn: [u64; 8] = std::array::from_fn(|a| e.nodes[a]);
+        let mut xy = conn.map(|t| (by_tag[&t].xyz[0], by_tag[&t].xyz[1]));
+        let (min, max) = jacobian_range(&xy);
+        if max < 0.0 {
+            // Clockwise corners: the same element counter-clockwise (corners 0 3 2 1,
+            // mid-sides of 0-3, 3-2, 2-1, 1-0).
+            const REVERSED: [usize; 8] = [0, 3, 2, 1, 7, 6, 5, 4];
+            conn = REVERSED.map(|a| conn[a]);
+            xy = REVERSED.map(|a| xy[a]);
+        } else if !(min > 0.0) {
+            return Err(PlaneMeshError::Distorted {
+                file: file.to_string(),
+                line: e.line,
+                tag: e.tag,
+                min,
+                max,
+            });
+        }
+        let (ke, me) = q8_plane_stress(
+            &xy,
+            material.thickness,
+            material.youngs_modulus,
+            material.poisson_ratio,
+            material.density,
+        );
+        let row = |a: usize| 2 * row_of[&conn[a / 2]] + a % 2;
+        for a in 0..16 {
+            for b in 0..=a {
+                let (i, j) = (row(a), row(b));
+                let at = (i.min(j), i.max(j));
+                *k.entry(at).or_insert(0.0) += ke[a][b];
+                *m.entry(at).or_insert(0.0) += me[a][b];
+            }
+        }
+    }
+    let size = 2 * used.len();
+    let triplets = |map: BTreeMap<(usize, usize), f64>| Triplets {
+        size,
+        stored: Stored::Upper,
+        entries: map
+            .into_iter()
+            .map(|((row, col), value)| Triplet { row, col, value })
+            .collect(),
+    };
+    Ok(StructureMatrices {
+        stiffness: triplets(k),
+        mass: triplets(m),
+        damping: None,
+        dofs: used
+            .iter()
+            .flat_map(|&node| (1..=2).map(move |direction| DofLabel { node, direction }))
+            .collect(),
+    })
+}
+
+/// The smallest and largest Jacobian determinant det(dx/dxi) of a Q8 at its 3 x 3 Gauss
+/// points (m2; the element's area is their weighted sum).
+fn jacobian_range(xy: &[(f64, f64); 8]) -> (f64, f64) {
+    let mut range = (f64::INFINITY, f64::NEG_INFINITY);
+    for &(xi, _) in &GAUSS3 {
+        for &(eta, _) in &GAUSS3 {
+            let (_, dxi, deta) = q8_shape(xi, eta);
+            let (mut j11, mut j12, mut j21, mut j22) = (0.0, 0.0, 0.0, 0.0);
+            for a in 0..8 {
+                j11 += dxi[a] * xy[a].0;
+                j12 += dxi[a] * xy[a].1;
+                j21 += deta[a] * xy[a].0;
+                j22 += deta[a] * xy[a].1;
+            }
+            let det = j11 * j22 - j12 * j21;
+            range = (range.0.min(det), range.1.max(det));
+        }
+    }
+    range
+}
