@@ -690,3 +690,257 @@ fn read_elements(lines: &mut Lines) -> Result<Vec<Element>, ReadError> {
     lines.end(SECTION)?;
     Ok(elements)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two 8-node quadrangles side by side (2 x 1 m each), the face x = 0 as group
+    /// "clamp", the corner (4, 1) as group "tip".
+    const GOOD: &str = "$MeshFormat
+4.1 0 8
+$EndMeshFormat
+$PhysicalNames
+2
+0 2 \"tip\"
+1 1 \"clamp\"
+$EndPhysicalNames
+$Entities
+1 1 1 0
+3 4 1 0 1 2
+4 0 0 0 0 1 0 1 1 0
+1 0 0 0 4 1 0 0 0
+$EndEntities
+$Nodes
+1 13 1 13
+2 1 0 13
+1
+2
+3
+4
+5
+6
+7
+8
+9
+10
+11
+12
+13
+0 0 0
+2 0 0
+4 0 0
+4 1 0
+2 1 0
+0 1 0
+1 0 0
+3 0 0
+4 0.5 0
+3 1 0
+1 1 0
+0 0.5 0
+2 0.5 0
+$EndNodes
+$Elements
+3 4 1 4
+0 3 15 1
+1 4
+1 4 8 1
+2 6 1 12
+2 1 16 2
+3 1 2 5 6 7 13 11 12
+4 2 3 4 5 8 9 10 13
+$EndElements
+";
+
+    fn read(text: &str) -> Result<Mesh, ReadError> {
+        read_mesh(FileText {
+            name: "b.msh",
+            text,
+        })
+    }
+
+    #[test]
+    fn reads_nodes_elements_and_groups() {
+        let mesh = read(GOOD).unwrap();
+        assert_eq!(mesh.nodes.len(), 13);
+        assert_eq!(mesh.nodes[8].tag, 9);
+        assert_eq!(mesh.nodes[8].xyz, [4.0, 0.5, 0.0]);
+        assert_eq!(mesh.elements.len(), 4);
+        let quad = &mesh.elements[3];
+        assert_eq!((quad.tag, quad.kind.number, quad.entity), (4, 16, (2, 1)));
+        assert_eq!(quad.nodes, vec![2, 3, 4, 5, 8, 9, 10, 13]);
+        // A curve's group holds its end points, which its $Nodes block does not.
+        assert_eq!(mesh.group_nodes("clamp").unwrap(), vec![1, 6, 12]);
+        assert_eq!(mesh.group_nodes("tip").unwrap(), vec![4]);
+        assert_eq!(
+            mesh.group_nodes("beam").unwrap_err().to_string(),
+            "no physical group is named 'beam' (the mesh names 'tip', 'clamp')"
+        );
+        // Unknown sections are skipped, blank lines too.
+        let extra = GOOD.replace(
+            "$Nodes\n",
+            "$Comments\nanything $Nodes\n$EndComments\n\n$Nodes\n",
+        );
+        let again = read(&extra).unwrap();
+        assert_eq!(again.groups, mesh.groups);
+        let tags = |m: &Mesh| {
+            m.elements
+                .iter()
+                .map(|e| e.nodes.clone())
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(tags(&again), tags(&mesh));
+        assert_eq!(again.nodes[12].xyz, mesh.nodes[12].xyz);
+        assert_eq!(again.nodes[12].line, mesh.nodes[12].line + 4);
+    }
+
+    /// Each malformed file and the message a user sees (docs/structures.md's table).
+    #[test]
+    fn bad_files_name_the_file_the_line_and_the_fault() {
+        let fails = |text: String| read(&text).unwrap_err().to_string();
+        let edit = |from: &str, to: &str| {
+            assert!(GOOD.contains(from), "{from}");
+            fails(GOOD.replacen(from, to, 1))
+        };
+        let cases: Vec<(String, &str)> = vec![
+            (fails(String::new()), "b.msh: is empty: no $MeshFormat"),
+            (
+                fails("solid beam\n".into()),
+                "b.msh, line 1: 'solid beam' is not a Gmsh MSH header: a mesh file starts with $MeshFormat",
+            ),
+            (
+                edit("4.1 0 8", "2.2 0 8"),
+                "b.msh, line 2: MSH version 2.2 is not read (only 4.1): write it as ASCII MSH 4.1: gmsh -2 x.geo -format msh41 (and Mesh.Binary = 0, the default)",
+            ),
+            (
+                edit("4.1 0 8", "4.1 1 8"),
+                "b.msh, line 2: a binary MSH file (file type 1) is not read: write it as ASCII MSH 4.1: gmsh -2 x.geo -format msh41 (and Mesh.Binary = 0, the default)",
+            ),
+            (
+                edit("1 1 \"clamp\"", "1 1 clamp"),
+                "b.msh, line 7: 'clamp' is not a quoted name (\"name\")",
+            ),
+            (
+                edit("1 13 1 13", "1 14 1 14"),
+                "b.msh, line 16: the header declares 14 nodes but the blocks hold 13",
+            ),
+            (
+                edit("2 1 0 13\n1\n2\n", "2 1 0 13\n1\n1\n"),
+                "b.msh, line 19: node 1 appears a second time (first on line 18)",
+            ),
+            (
+                edit("4 0.5 0", "4 0,5 0"),
+                "b.msh, line 39: '0,5' is not a real number",
+            ),
+            (edit("4 0.5 0", "4 nan 0"), "b.msh, line 39: the value nan is not finite"),
+            (
+                edit("4 0.5 0", "4 0.5"),
+                "b.msh, line 39: 2 fields where 3 are expected (node coordinates x y z (then u v if parametric))",
+            ),
+            (
+                edit("2 1 16 2", "2 1 5 2"),
+                "b.msh, line 51: element type 5 (8-node hexahedron) is not read: a plane mesh has points (15), lines (1, 8), triangles (2, 9) and quadrangles (3, 16, 10)",
+            ),
+            (
+                edit("2 1 16 2", "2 1 99 2"),
+                "b.msh, line 51: element type 99 (a type not read here) is not read: a plane mesh has points (15), lines (1, 8), triangles (2, 9) and quadrangles (3, 16, 10)",
+            ),
+            (
+                edit("2 1 16 2", "1 1 16 2"),
+                "b.msh, line 51: a block of 8-node quadrangles (type 16, dimension 2) on an entity of dimension 1",
+            ),
+            (
+                edit("3 1 2 5 6 7 13 11 12", "3 1 2 5 6 7 13 11"),
+                "b.msh, line 52: 8 fields where 9 are expected (element tag, then its nodes)",
+            ),
+            (
+                edit("3 1 2 5 6 7 13 11 12", "3 1 2 5 6 7 13 11 99"),
+                "b.msh, line 52: element 3 names node 99, which $Nodes does not define",
+            ),
+            (
+                edit("4 2 3 4 5", "3 2 3 4 5"),
+                "b.msh, line 53: element 3 appears a second time (first on line 52)",
+            ),
+            (
+                edit("3 4 1 4", "3 5 1 5"),
+                "b.msh, line 46: the header declares 5 elements but the blocks hold 4",
+            ),
+            (
+                edit("3 4 1 4\n0 3 15 1\n1 4\n", "3 4 1 4\n0 3 15 2\n1 4\n"),
+                "b.msh, line 49: 4 fields where 2 are expected (element tag, then its nodes)",
+            ),
+            (
+                fails(GOOD.replace("$EndElements\n", "")),
+                "b.msh: the file ends inside $Elements (no $EndElements)",
+            ),
+            (
+                edit("$EndNodes", "1 2 3"),
+                "b.msh, line 44: '1 2 3' where $Nodes should end ($EndNodes): the section holds more lines than its counts declare",
+            ),
+            (
+                fails(GOOD[..GOOD.find("$Nodes").unwrap()].to_string()),
+                "b.msh: is empty: no $Nodes section",
+            ),
+            (
+                edit("$EndPhysicalNames\n", "$EndPhysicalNames\nstray\n"),
+                "b.msh, line 9: 'stray' outside a section: a section starts with $Name",
+            ),
+        ];
+        for (got, want) in &cases {
+            assert_eq!(got, want);
+        }
+    }
+
+    #[test]
+    fn a_binary_file_is_refused_before_its_bytes_are_decoded() {
+        let mut bytes = b"$MeshFormat\n4.1 1 8\n".to_vec();
+        bytes.extend_from_slice(&[1, 0, 0, 0, 0xff, 0xfe]);
+        assert_eq!(
+            refuse_binary("b.msh", &bytes).unwrap_err().to_string(),
+            "b.msh, line 2: a binary MSH file (file type 1) is not read: write it as ASCII MSH 4.1: gmsh -2 x.geo -format msh41 (and Mesh.Binary = 0, the default)"
+        );
+        assert!(refuse_binary("b.msh", GOOD.as_bytes()).is_ok());
+    }
+
+    /// 20,000 corruptions of the good file (bytes replaced, deleted or repeated at
+    /// deterministic places): none panics, every error's line is a line of the input.
+    #[test]
+    fn corrupted_meshes_are_refused_without_panicking() {
+        let alphabet = b"0123456789.-+e $\n\"End";
+        let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = |bound: usize| {
+            // xorshift64 (Marsaglia 2003).
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % bound as u64) as usize
+        };
+        for _ in 0..20_000 {
+            let mut bytes = GOOD.as_bytes().to_vec();
+            for _ in 0..1 + next(3) {
+                let at = next(bytes.len());
+                match next(3) {
+                    0 => bytes[at] = alphabet[next(alphabet.len())],
+                    1 => {
+                        bytes.remove(at);
+                    }
+                    _ => {
+                        let end = (at + next(12)).min(bytes.len());
+                        let copy = bytes[at..end].to_vec();
+                        bytes.splice(at..at, copy);
+                    }
+                }
+            }
+            let text = String::from_utf8(bytes).expect("the alphabet is ASCII");
+            let lines = text.lines().count();
+            if let Err(e) = read(&text) {
+                assert_eq!(e.file, "b.msh");
+                assert!(
+                    e.line.is_none_or(|l| (1..=lines).contains(&l)),
+                    "{e}\n{text}"
+                );
+            }
+        }
+    }
+}
