@@ -386,3 +386,69 @@ fn the_built_in_mesh_through_plane_mesh_gives_the_built_in_model() {
         TOLERANCE,
     );
 }
+
+/// The example scene with `edit` applied to its text, loaded next to the committed mesh
+/// and built: the message a user sees.
+fn refusal(name: &str, edit: impl Fn(&str) -> String) -> String {
+    let text = std::fs::read_to_string(example().join("scene.toml")).unwrap();
+    let dir = std::env::temp_dir().join(format!("gmsh-scene-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(example().join("beam.msh"), dir.join("beam.msh")).unwrap();
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, edit(&text)).unwrap();
+    let error = match Scene::load(&path) {
+        Err(e) => e.to_string(),
+        Ok(scene) => StructuralModel::build(&scene).err().unwrap().to_string(),
+    };
+    std::fs::remove_dir_all(&dir).unwrap();
+    println!("{name}: {error}");
+    error.replace(&dir.display().to_string(), "DIR")
+}
+
+/// A gmsh `[structure]`'s refusals (docs/structures.md's table).
+#[test]
+fn a_gmsh_section_out_of_its_rules_is_refused_naming_the_field() {
+    let material = "material = { thickness = 1.0, youngs_modulus = 200e9, poisson_ratio = 0.3, density = 1000.0 }";
+    let clamp = "clamped_groups = [{ group = \"clamp\", directions = [1, 2] }]";
+    let cases: Vec<(String, &str)> = vec![
+        (
+            refusal("no-material", |t| t.replace(material, "")),
+            "invalid scene: structure.material = (absent); it must be given with structure.format = gmsh",
+        ),
+        (
+            refusal("job", |t| t.replace("mesh = \"beam.msh\"", "mesh = \"beam.msh\"\njob = \"beam\"")),
+            "invalid scene: structure.job = (given); it must be absent with structure.format = gmsh: it belongs to the other format",
+        ),
+        (
+            refusal("nu", |t| t.replace("poisson_ratio = 0.3", "poisson_ratio = 0.5")),
+            "invalid scene: structure.material.poisson_ratio = 0.5; it must be in (-1, 0.5), where an isotropic solid is stable",
+        ),
+        (
+            refusal("thickness", |t| t.replace("thickness = 1.0", "thickness = 0.0")),
+            "invalid scene: structure.material.thickness = 0; it must be finite and > 0 (m)",
+        ),
+        (
+            refusal("direction", |t| t.replace("directions = [1, 2]", "directions = [3]")),
+            "invalid scene: structure.clamped_groups = group 'clamp' directions [3]; it must be one or both of the plane's directions 1 (x) and 2 (y)",
+        ),
+        (
+            refusal("group", |t| t.replace("group = \"clamp\"", "group = \"fixed\"")),
+            "[structure]: DIR/beam.msh: structure.clamped_groups: no physical group is named 'fixed' (the mesh names 'tip', 'clamp', 'beam')",
+        ),
+        (
+            refusal("contact-clamped", |t| t.replace("node = 3,", "node = 4,")),
+            "[structure]: structure.contact = node 4 direction 2 is not a free DOF of the structure (1000 free DOFs",
+        ),
+        (
+            refusal("unclamped", |t| t.replace(clamp, "")),
+            "[structure]: the stiffness matrix is not positive definite on the free DOFs",
+        ),
+        (
+            refusal("missing", |t| t.replace("beam.msh", "nothere.msh")),
+            "[structure]: structure file DIR/nothere.msh: no such file",
+        ),
+    ];
+    for (got, want) in &cases {
+        assert!(got.starts_with(want), "{got}\n{want}");
+    }
+}

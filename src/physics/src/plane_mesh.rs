@@ -177,7 +177,7 @@ pub fn assemble(
             const REVERSED: [usize; 8] = [0, 3, 2, 1, 7, 6, 5, 4];
             conn = REVERSED.map(|a| conn[a]);
             xy = REVERSED.map(|a| xy[a]);
-        } else if !(min > 0.0) {
+        } else if min.is_nan() || min <= 0.0 {
             return Err(PlaneMeshError::Distorted {
                 file: file.to_string(),
                 line: e.line,
@@ -242,4 +242,178 @@ fn jacobian_range(xy: &[(f64, f64); 8]) -> (f64, f64) {
         }
     }
     range
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One 8-node quadrangle, 2 m x 1 m, its face x = 0 as group "clamp".
+    fn one_quad(nodes: &str, element: &str) -> String {
+        format!(
+            "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n1 1 \"clamp\"\n$EndPhysicalNames\n\
+             $Entities\n0 1 1 0\n4 0 0 0 0 1 0 1 1 0\n1 0 0 0 2 1 0 0 0\n$EndEntities\n\
+             $Nodes\n1 8 1 8\n2 1 0 8\n1\n2\n3\n4\n5\n6\n7\n8\n{nodes}$EndNodes\n\
+             $Elements\n2 2 1 2\n1 4 8 1\n1 4 1 8\n2 1 {element}\n$EndElements\n"
+        )
+    }
+    const NODES: &str = "0 0 0\n2 0 0\n2 1 0\n0 1 0\n1 0 0\n2 0.5 0\n1 1 0\n0 0.5 0\n";
+    const QUAD8: &str = "16 1\n2 1 2 3 4 5 6 7 8\n";
+    const STEEL: PlaneStressMaterial = PlaneStressMaterial {
+        thickness: 0.1,
+        youngs_modulus: 200e9,
+        poisson_ratio: 0.3,
+        density: 7800.0,
+    };
+
+    fn mesh(text: &str) -> Mesh {
+        gmsh::read_mesh(FileText {
+            name: "q.msh",
+            text,
+        })
+        .unwrap()
+    }
+
+    fn assembled(text: &str) -> Result<StructureMatrices, String> {
+        assemble(&mesh(text), "q.msh", &STEEL).map_err(|e| e.to_string())
+    }
+
+    fn dense(t: &Triplets) -> Vec<Vec<f64>> {
+        let mut a = vec![vec![0.0; t.size]; t.size];
+        for e in &t.entries {
+            a[e.row][e.col] = e.value;
+            a[e.col][e.row] = e.value;
+        }
+        a
+    }
+
+    #[test]
+    fn one_element_is_the_q8_with_rows_by_tag() {
+        let m = assembled(&one_quad(NODES, QUAD8)).unwrap();
+        assert_eq!(m.dofs.len(), 16);
+        assert_eq!(
+            m.dofs[3],
+            DofLabel {
+                node: 2,
+                direction: 2
+            }
+        );
+        let xy = [
+            (0.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (0.0, 1.0),
+            (1.0, 0.0),
+            (2.0, 0.5),
+            (1.0, 1.0),
+            (0.0, 0.5),
+        ];
+        let (ke, me) = q8_plane_stress(&xy, 0.1, 200e9, 0.3, 7800.0);
+        let (k, mm) = (dense(&m.stiffness), dense(&m.mass));
+        for a in 0..16 {
+            for b in 0..=a {
+                assert_eq!(k[a][b], ke[a][b]);
+                assert_eq!(mm[a][b], me[a][b]);
+            }
+        }
+        // Mass in x: rho t A = 7800 x 0.1 x 2 kg.
+        let total: f64 = (0..16)
+            .step_by(2)
+            .flat_map(|a| (0..16).step_by(2).map(move |b| (a, b)))
+            .map(|(a, b)| mm[a][b])
+            .sum();
+        assert!((total - 1560.0).abs() < 1e-9, "{total}");
+        assert_eq!(
+            group_dofs(
+                &mesh(&one_quad(NODES, QUAD8)),
+                "q.msh",
+                &[GroupClamp {
+                    group: "clamp".into(),
+                    directions: vec![1]
+                }]
+            )
+            .unwrap(),
+            [1, 4, 8]
+                .map(|node| DofLabel { node, direction: 1 })
+                .to_vec()
+        );
+    }
+
+    /// Corners listed clockwise (a surface whose normal is -z) are the same element.
+    #[test]
+    fn a_clockwise_element_is_renumbered() {
+        let ccw = assembled(&one_quad(NODES, QUAD8)).unwrap();
+        let cw = assembled(&one_quad(NODES, "16 1\n2 1 4 3 2 8 7 6 5\n")).unwrap();
+        assert_eq!(cw.dofs, ccw.dofs);
+        let (a, b) = (dense(&ccw.stiffness), dense(&cw.stiffness));
+        let scale = a.iter().flatten().fold(0.0_f64, |s, v| s.max(v.abs()));
+        for (ra, rb) in a.iter().zip(&b) {
+            for (x, y) in ra.iter().zip(rb) {
+                assert!((x - y).abs() <= 1e-14 * scale, "{x} vs {y}");
+            }
+        }
+    }
+
+    /// What the physics refuses of a readable mesh (docs/structures.md's table).
+    #[test]
+    fn meshes_the_plane_stress_cannot_assemble_are_refused() {
+        let cases = [
+            (
+                assembled(&one_quad(NODES, "3 1\n2 1 2 3 4\n")).unwrap_err(),
+                "q.msh, line 38: element 2 is a 4-node quadrangle (Gmsh type 3): only 8-node quadrangles (type 16, the built-in plane stress's Q8) are assembled; mesh with Recombine, Mesh.ElementOrder = 2 and Mesh.SecondOrderIncomplete = 1",
+            ),
+            (
+                assembled(&one_quad(&NODES.replace("2 1 0\n", "2 1 0.5\n"), QUAD8)).unwrap_err(),
+                "q.msh, line 26: node 3 has z = 0.5: a plane-stress mesh lies in the plane z = 0",
+            ),
+            (
+                assembled(&one_quad(NODES, "16 1\n2 1 3 2 4 5 6 7 8\n")).unwrap_err(),
+                "q.msh, line 38: element 2 is degenerate or folded: its Jacobian determinant at the Gauss points runs from",
+            ),
+            (
+                assembled(&one_quad(NODES, QUAD8).replace("2 2 1 2", "1 1 1 1").replace("2 1 16 1\n2 1 2 3 4 5 6 7 8\n", "")).unwrap_err(),
+                "q.msh: no 2D elements: the mesh has nothing to assemble",
+            ),
+        ];
+        for (got, want) in &cases {
+            assert!(got.starts_with(want), "{got}\n{want}");
+        }
+        let unknown = group_dofs(
+            &mesh(&one_quad(NODES, QUAD8)),
+            "q.msh",
+            &[GroupClamp {
+                group: "fixed".into(),
+                directions: vec![1],
+            }],
+        )
+        .unwrap_err();
+        assert_eq!(
+            unknown.to_string(),
+            "q.msh: structure.clamped_groups: no physical group is named 'fixed' (the mesh names 'clamp')"
+        );
+    }
+
+    #[test]
+    fn a_binary_or_missing_mesh_file_is_refused_naming_it() {
+        let dir = std::env::temp_dir().join(format!("plane-mesh-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("b.msh");
+        let mut bytes = b"$MeshFormat\n4.1 1 8\n".to_vec();
+        bytes.extend_from_slice(&[1, 0, 0, 0, 0xff, 0xfe, b'\n']);
+        std::fs::write(&path, bytes).unwrap();
+        let binary = read_gmsh(&path).unwrap_err().to_string();
+        let missing = read_gmsh(&dir.join("none.msh")).unwrap_err().to_string();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(
+            binary,
+            format!("{}, line 2: a binary MSH file (file type 1) is not read: write it as ASCII MSH 4.1: gmsh -2 x.geo -format msh41 (and Mesh.Binary = 0, the default)", path.display())
+        );
+        assert_eq!(
+            missing,
+            format!(
+                "structure file {}: no such file",
+                dir.join("none.msh").display()
+            )
+        );
+    }
 }
