@@ -1,5 +1,6 @@
 //! Gmsh's mesh format, MSH 4.1 ASCII (what `gmsh -2 x.geo -format msh41` and gmsh 4.x
-//! write by default): nodes, elements and physical groups, read into a [`Mesh`].
+//! write by default), and the older MSH 2.2 ASCII (`-format msh22`, which many tools
+//! still write): nodes, elements and physical groups, read into a [`Mesh`].
 //!
 //! The sections read (Gmsh reference manual, "MSH file format", version 4.1):
 //! - `$MeshFormat`: `4.1 0 8` (version, file type 0 = ASCII, size of a double);
@@ -13,6 +14,10 @@
 //!   `parametric` = 1);
 //! - `$Elements`: `numBlocks numElements minTag maxTag`, then per block `entityDim
 //!   entityTag elementType numElementsInBlock` and one line `tag node...` per element.
+//!
+//! MSH 2.2 has no `$Entities`: `$Nodes` is a count and `tag x y z` lines, `$Elements` a
+//! count and `tag type ntags tag... node...` lines whose first two tags are the physical
+//! group and the elementary entity; the groups are built from those.
 //!
 //! Other sections (`$NodeData`, `$Periodic`, ...) are skipped to their `$End` line.
 //! A physical group's nodes are those of its elements (a curve's line elements hold its
@@ -340,15 +345,16 @@ pub fn read_mesh(source: FileText) -> Result<Mesh, ReadError> {
             format!("a binary MSH file (file type 1) is not read: {WRITE_ASCII_41}"),
         ));
     }
-    if format[0] != "4.1" {
-        return Err(lines.fail(
-            Some(n),
-            format!(
-                "MSH version {} is not read (only 4.1): {WRITE_ASCII_41}",
-                format[0]
-            ),
-        ));
-    }
+    let legacy = match format[0] {
+        "4.1" => false,
+        "2.2" => true,
+        other => {
+            return Err(lines.fail(
+                Some(n),
+                format!("MSH version {other} is not read (only 4.1 and 2.2): {WRITE_ASCII_41}"),
+            ))
+        }
+    };
     if format[1] != "0" {
         return Err(lines.fail(
             Some(n),
@@ -378,13 +384,23 @@ pub fn read_mesh(source: FileText) -> Result<Mesh, ReadError> {
                 if nodes.is_some() {
                     return Err(lines.fail(Some(n), "a second $Nodes section".into()));
                 }
-                nodes = Some(read_nodes(&mut lines)?);
+                nodes = Some(if legacy {
+                    read_nodes_22(&mut lines)?
+                } else {
+                    read_nodes(&mut lines)?
+                });
             }
             "Elements" => {
                 if elements.is_some() {
                     return Err(lines.fail(Some(n), "a second $Elements section".into()));
                 }
-                elements = Some(read_elements(&mut lines)?);
+                elements = Some(if legacy {
+                    let (read, groups) = read_elements_22(&mut lines)?;
+                    entity_groups.extend(groups);
+                    read
+                } else {
+                    read_elements(&mut lines)?
+                });
             }
             other => {
                 // A section this reader does not need: skipped to its end.
@@ -414,7 +430,11 @@ pub fn read_mesh(source: FileText) -> Result<Mesh, ReadError> {
     for (d, entity, physicals) in entity_groups {
         for tag in physicals {
             match groups.iter_mut().find(|g| g.dim == d && g.tag == tag) {
-                Some(g) => g.entities.push(entity),
+                Some(g) => {
+                    if !g.entities.contains(&entity) {
+                        g.entities.push(entity)
+                    }
+                }
                 None => groups.push(PhysicalGroup {
                     dim: d,
                     tag,
@@ -632,12 +652,7 @@ fn read_elements(lines: &mut Lines) -> Result<Vec<Element>, ReadError> {
         let entity_dim = dim(block[0]).map_err(at(n))?;
         let entity: i32 = integer(block[1], "entity tag (an integer)").map_err(at(n))?;
         let number: u32 = integer(block[2], "element type (a positive integer)").map_err(at(n))?;
-        let Some(&kind) = ELEMENT_TYPES.iter().find(|t| t.number == number) else {
-            return Err(at(n)(Problem::Header(format!(
-                "element type {number} ({}) is not read: a plane mesh has points (15), lines (1, 8), triangles (2, 9) and quadrangles (3, 16, 10)",
-                unsupported_name(number)
-            ))));
-        };
+        let kind = element_type(number).map_err(at(n))?;
         if kind.dim != entity_dim {
             return Err(at(n)(Problem::Header(format!(
                 "a block of {}s (type {number}, dimension {}) on an entity of dimension {entity_dim}",
@@ -689,6 +704,116 @@ fn read_elements(lines: &mut Lines) -> Result<Vec<Element>, ReadError> {
     }
     lines.end(SECTION)?;
     Ok(elements)
+}
+
+/// The element type numbered `number`, or why it is not read.
+fn element_type(number: u32) -> Result<ElementType, Problem> {
+    ELEMENT_TYPES.iter().find(|t| t.number == number).copied().ok_or_else(|| {
+        Problem::Header(format!(
+            "element type {number} ({}) is not read: a plane mesh has points (15), lines (1, 8), triangles (2, 9) and quadrangles (3, 16, 10)",
+            unsupported_name(number)
+        ))
+    })
+}
+
+/// MSH 2.2's `$Nodes`: a count, then `tag x y z` per node.
+fn read_nodes_22(lines: &mut Lines) -> Result<Vec<Node>, ReadError> {
+    const SECTION: &str = "Nodes";
+    let source = lines.source;
+    let at = |n: usize| move |p: Problem| source.error(Some(n), p);
+    let (n, head) = lines.fields_in(SECTION, 1, false, "number of nodes")?;
+    let declared: usize = integer(head[0], "count (a non-negative integer)").map_err(at(n))?;
+    let mut nodes = Vec::new();
+    let mut seen: HashMap<u64, usize> = HashMap::new();
+    for _ in 0..declared {
+        let (n, f) = lines.fields_in(SECTION, 4, false, "node tag x y z")?;
+        let tag = positive_tag(f[0], "node tag (a positive integer)").map_err(at(n))?;
+        if let Some(first) = seen.insert(tag, n) {
+            return Err(at(n)(Problem::Header(format!(
+                "node {tag} appears a second time (first on line {first})"
+            ))));
+        }
+        let mut xyz = [0.0; 3];
+        for (k, text) in f[1..].iter().enumerate() {
+            xyz[k] = value(text).map_err(at(n))?;
+        }
+        nodes.push(Node { tag, xyz, line: n });
+    }
+    lines.end(SECTION)?;
+    Ok(nodes)
+}
+
+/// MSH 2.2's `$Elements`: a count, then `tag type ntags tag... node...` per element,
+/// whose first two tags are the physical group and the elementary entity (Gmsh's
+/// convention); the elements, and (dim, entity, [physical]) for the groups.
+#[allow(clippy::type_complexity)]
+fn read_elements_22(
+    lines: &mut Lines,
+) -> Result<(Vec<Element>, Vec<(u8, i32, Vec<i32>)>), ReadError> {
+    const SECTION: &str = "Elements";
+    let source = lines.source;
+    let at = |n: usize| move |p: Problem| source.error(Some(n), p);
+    let (n, head) = lines.fields_in(SECTION, 1, false, "number of elements")?;
+    let declared: usize = integer(head[0], "count (a non-negative integer)").map_err(at(n))?;
+    let mut elements = Vec::new();
+    let mut groups = Vec::new();
+    let mut seen: HashMap<u64, usize> = HashMap::new();
+    for _ in 0..declared {
+        let (n, f) =
+            lines.fields_in(SECTION, 3, true, "element: tag type ntags tags... nodes...")?;
+        let parsed = (|| {
+            let tag = positive_tag(f[0], "element tag (a positive integer)")?;
+            let kind = element_type(integer(f[1], "element type (a positive integer)")?)?;
+            let ntags: usize = integer(f[2], "count (a non-negative integer)")?;
+            let expected = 3 + ntags + kind.nodes;
+            if f.len() != expected {
+                return Err(Problem::FieldCount {
+                    found: f.len(),
+                    expected,
+                    form: "element: tag type ntags, its tags, then its nodes",
+                });
+            }
+            let tags: Vec<i32> = f[3..3 + ntags]
+                .iter()
+                .map(|t| integer(t, "element tag (an integer)"))
+                .collect::<Result<_, _>>()?;
+            let nodes: Vec<u64> = f[3 + ntags..]
+                .iter()
+                .map(|t| positive_tag(t, "node tag (a positive integer)"))
+                .collect::<Result<_, _>>()?;
+            Ok((tag, kind, tags, nodes))
+        })();
+        let (tag, kind, tags, nodes) = parsed.map_err(at(n))?;
+        if let Some(first) = seen.insert(tag, n) {
+            return Err(at(n)(Problem::Header(format!(
+                "element {tag} appears a second time (first on line {first})"
+            ))));
+        }
+        let physical = tags.first().copied().filter(|&p| p != 0);
+        let entity = tags.get(1).copied().unwrap_or(0);
+        if let Some(p) = physical {
+            groups.push((kind.dim, entity, vec![p]));
+        }
+        elements.push(Element {
+            tag,
+            kind,
+            nodes,
+            entity: (kind.dim, entity),
+            line: n,
+        });
+    }
+    lines.end(SECTION)?;
+    Ok((elements, groups))
+}
+
+fn positive_tag(text: &str, what: &'static str) -> Result<u64, Problem> {
+    match text.parse::<u64>() {
+        Ok(t) if t >= 1 => Ok(t),
+        _ => Err(Problem::NotANumber {
+            text: text.to_string(),
+            what,
+        }),
+    }
 }
 
 #[cfg(test)]
@@ -795,6 +920,74 @@ $EndElements
         assert_eq!(again.nodes[12].line, mesh.nodes[12].line + 4);
     }
 
+    /// The same mesh in MSH 2.2.
+    const GOOD_22: &str = "$MeshFormat
+2.2 0 8
+$EndMeshFormat
+$PhysicalNames
+2
+0 2 \"tip\"
+1 1 \"clamp\"
+$EndPhysicalNames
+$Nodes
+13
+1 0 0 0
+2 2 0 0
+3 4 0 0
+4 4 1 0
+5 2 1 0
+6 0 1 0
+7 1 0 0
+8 3 0 0
+9 4 0.5 0
+10 3 1 0
+11 1 1 0
+12 0 0.5 0
+13 2 0.5 0
+$EndNodes
+$Elements
+4
+1 15 2 2 3 4
+2 8 2 1 4 6 1 12
+3 16 2 0 1 1 2 5 6 7 13 11 12
+4 16 2 0 1 2 3 4 5 8 9 10 13
+$EndElements
+";
+
+    #[test]
+    fn msh_22_reads_to_the_same_mesh() {
+        let (old, new) = (read(GOOD_22).unwrap(), read(GOOD).unwrap());
+        let xyz = |m: &Mesh| m.nodes.iter().map(|n| (n.tag, n.xyz)).collect::<Vec<_>>();
+        assert_eq!(xyz(&old), xyz(&new));
+        let conn = |m: &Mesh| {
+            m.elements
+                .iter()
+                .map(|e| (e.tag, e.kind, e.nodes.clone(), e.entity))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(conn(&old), conn(&new));
+        for group in ["clamp", "tip"] {
+            assert_eq!(old.group_nodes(group), new.group_nodes(group));
+        }
+        let fails = |from: &str, to: &str| {
+            read(&GOOD_22.replacen(from, to, 1))
+                .unwrap_err()
+                .to_string()
+        };
+        assert_eq!(
+            fails("2 8 2 1 4 6 1 12", "2 8 2 1 4 6 1"),
+            "b.msh, line 28: 7 fields where 8 are expected (element: tag type ntags, its tags, then its nodes)"
+        );
+        assert_eq!(
+            fails("13 2 0.5 0", "13 2 0.5"),
+            "b.msh, line 23: 3 fields where 4 are expected (node tag x y z)"
+        );
+        assert_eq!(
+            fails("4 16 2 0 1", "4 5 2 0 1"),
+            "b.msh, line 30: element type 5 (8-node hexahedron) is not read: a plane mesh has points (15), lines (1, 8), triangles (2, 9) and quadrangles (3, 16, 10)"
+        );
+    }
+
     /// Each malformed file and the message a user sees (docs/structures.md's table).
     #[test]
     fn bad_files_name_the_file_the_line_and_the_fault() {
@@ -810,8 +1003,8 @@ $EndElements
                 "b.msh, line 1: 'solid beam' is not a Gmsh MSH header: a mesh file starts with $MeshFormat",
             ),
             (
-                edit("4.1 0 8", "2.2 0 8"),
-                "b.msh, line 2: MSH version 2.2 is not read (only 4.1): write it as ASCII MSH 4.1: gmsh -2 x.geo -format msh41 (and Mesh.Binary = 0, the default)",
+                edit("4.1 0 8", "4.0 0 8"),
+                "b.msh, line 2: MSH version 4.0 is not read (only 4.1 and 2.2): write it as ASCII MSH 4.1: gmsh -2 x.geo -format msh41 (and Mesh.Binary = 0, the default)",
             ),
             (
                 edit("4.1 0 8", "4.1 1 8"),
@@ -903,7 +1096,7 @@ $EndElements
         assert!(refuse_binary("b.msh", GOOD.as_bytes()).is_ok());
     }
 
-    /// 20,000 corruptions of the good file (bytes replaced, deleted or repeated at
+    /// 20,000 corruptions of the good files, 4.1 and 2.2 (bytes replaced, deleted or repeated at
     /// deterministic places): none panics, every error's line is a line of the input.
     #[test]
     fn corrupted_meshes_are_refused_without_panicking() {
@@ -916,8 +1109,9 @@ $EndElements
             state ^= state << 17;
             (state % bound as u64) as usize
         };
-        for _ in 0..20_000 {
-            let mut bytes = GOOD.as_bytes().to_vec();
+        for round in 0..20_000 {
+            let original = if round % 2 == 0 { GOOD } else { GOOD_22 };
+            let mut bytes = original.as_bytes().to_vec();
             for _ in 0..1 + next(3) {
                 let at = next(bytes.len());
                 match next(3) {
