@@ -480,10 +480,11 @@ mod tests {
             })
             .collect();
         for p in 0..n {
-            for r in p + 1..n {
-                let f = a[r][p] / a[p][p];
-                for c in p..=n {
-                    a[r][c] -= f * a[p][c];
+            let pivot = a[p].clone();
+            for row in a.iter_mut().skip(p + 1) {
+                let f = row[p] / pivot[p];
+                for (x, y) in row.iter_mut().zip(&pivot).skip(p) {
+                    *x -= f * y;
                 }
             }
         }
