@@ -21,6 +21,7 @@
 
 use crate::element::{q8_plane_stress, q8_shape, GAUSS3};
 use crate::files::{InputFileError, STRUCTURE_FILE};
+use crate::short::Short;
 use crate::user_structure::{GroupClamp, PlaneStressMaterial, StructureSection};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::Path;
@@ -59,7 +60,7 @@ pub enum PlaneMeshError {
         tag: u64,
         z: f64,
     },
-    #[error("{file}, line {line}: element {tag} is degenerate or folded: its Jacobian determinant at the Gauss points runs from {min:e} to {max:e} m2, where one sign throughout is needed (are its nodes in Gmsh's order, corners then mid-sides?)")]
+    #[error("{file}, line {line}: element {tag} is degenerate or folded: its Jacobian determinant at the Gauss points runs from {} to {} m2, where one sign throughout is needed (are its nodes in Gmsh's order, corners then mid-sides?)", Short(*min), Short(*max))]
     Distorted {
         file: String,
         line: usize,
