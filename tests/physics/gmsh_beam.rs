@@ -19,11 +19,12 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use stickslip::law_source::LawSource;
+use stickslip::linear_structure::scene_model::load;
 use stickslip::linear_structure::LinearStructure;
 use stickslip::mesh::StripMesh;
 use stickslip::metrics::Summary;
 use stickslip::modal::lanczos_modes;
-use stickslip::plane_mesh::{read_gmsh, read_section};
+use stickslip::plane_mesh::read_gmsh;
 use stickslip::run::run_scene;
 use stickslip::scene::{CheckedScene, Clamp, Scene};
 use stickslip::simulation::Simulator;
@@ -109,10 +110,7 @@ fn section(mesh: &Mesh, clamp: Clamp) -> StructureSection {
 fn gmsh_model(clamp: Clamp) -> StructuralModel {
     let mesh = read_gmsh(&example().join("beam.msh")).unwrap();
     let section = section(&mesh, clamp);
-    let (matrices, by_group) = read_section(&section).unwrap();
-    let mut clamped: Vec<DofLabel> = section.clamped.iter().map(|d| d.label()).collect();
-    clamped.extend(by_group);
-    let structure = LinearStructure::new(&matrices, &clamped).unwrap();
+    let structure = load(&section).unwrap();
     let mut model = StructuralModel::from_section(&section).unwrap();
     assert_eq!(model.dofs(), structure.dofs());
     model.tip = [(0.0, 1.0 / 6.0), (0.005, 4.0 / 6.0), (0.01, 1.0 / 6.0)]
