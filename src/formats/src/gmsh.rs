@@ -525,14 +525,13 @@ fn read_entities(lines: &mut Lines) -> Result<Vec<(u8, i32, Vec<i32>)>, ReadErro
                     value(f)?;
                 }
                 let n_phys: usize = integer(fields[first], "count (a non-negative integer)")?;
-                let phys =
-                    fields
-                        .get(first + 1..first + 1 + n_phys)
-                        .ok_or(Problem::FieldCount {
-                            found: fields.len(),
-                            expected: first + 1 + n_phys,
-                            form: "entity: its physical tags as many as it declares",
-                        })?;
+                // Saturating: a count near usize::MAX is refused by the field count.
+                let end = (first + 1).saturating_add(n_phys);
+                let phys = fields.get(first + 1..end).ok_or(Problem::FieldCount {
+                    found: fields.len(),
+                    expected: end,
+                    form: "entity: its physical tags as many as it declares",
+                })?;
                 let phys: Vec<i32> = phys
                     .iter()
                     .map(|p| integer(p, "physical tag (an integer)"))
@@ -765,7 +764,8 @@ fn read_elements_22(
             let tag = positive_tag(f[0], "element tag (a positive integer)")?;
             let kind = element_type(integer(f[1], "element type (a positive integer)")?)?;
             let ntags: usize = integer(f[2], "count (a non-negative integer)")?;
-            let expected = 3 + ntags + kind.nodes;
+            // Saturating: a tag count near usize::MAX is refused by the field count.
+            let expected = (3 + kind.nodes).saturating_add(ntags);
             if f.len() != expected {
                 return Err(Problem::FieldCount {
                     found: f.len(),
@@ -979,6 +979,10 @@ $EndElements
             "b.msh, line 28: 7 fields where 8 are expected (element: tag type ntags, its tags, then its nodes)"
         );
         assert_eq!(
+            fails("2 8 2 1 4", "2 8 18446744073709551615 1 4"),
+            "b.msh, line 28: 8 fields where 18446744073709551615 are expected (element: tag type ntags, its tags, then its nodes)"
+        );
+        assert_eq!(
             fails("13 2 0.5 0", "13 2 0.5"),
             "b.msh, line 23: 3 fields where 4 are expected (node tag x y z)"
         );
@@ -1013,6 +1017,10 @@ $EndElements
             (
                 edit("1 1 \"clamp\"", "1 1 clamp"),
                 "b.msh, line 7: 'clamp' is not a quoted name (\"name\")",
+            ),
+            (
+                edit("3 4 1 0 1 2", "3 4 1 0 18446744073709551615 2"),
+                "b.msh, line 11: 6 fields where 18446744073709551615 are expected (entity: its physical tags as many as it declares)",
             ),
             (
                 edit("1 13 1 13", "1 14 1 14"),
