@@ -14,6 +14,7 @@ mod coupling;
 mod dynamics;
 mod errors;
 mod extremes;
+mod gmsh_beam;
 mod layering;
 mod mesh_modes;
 mod modal_slip;

@@ -13,7 +13,8 @@
 //! - `sniff`: which kind of network file a user handed in, told from its name or its
 //!   first bytes ([`sniff::WeightsFileKind`]).
 //!
-//! A Gmsh reader (issue 35) belongs here too, as `gmsh`.
+//! - `gmsh`: a Gmsh MSH 4.1 ASCII mesh (nodes, elements, physical groups) into
+//!   [`gmsh::Mesh`], which `stickslip::plane_mesh` assembles in plane stress (issue 35).
 //!
 //! # Direction
 //! This crate knows nothing of the physics: it does not depend on `stickslip`, and its
@@ -24,6 +25,7 @@
 //! here panics on bad input: every refusal is an error naming what is wrong.
 
 pub mod calculix;
+pub mod gmsh;
 pub mod matrix_market;
 pub mod onnx;
 pub mod sniff;

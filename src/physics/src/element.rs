@@ -7,7 +7,7 @@
 //! Finite Element Method, Vol. 1, Sec. 6.5).
 
 /// Gauss-Legendre points and weights, 3 x 3 rule (exact for degree 5 per direction).
-const GAUSS3: [(f64, f64); 3] = [
+pub(crate) const GAUSS3: [(f64, f64); 3] = [
     (-0.774_596_669_241_483_4, 5.0 / 9.0),
     (0.0, 8.0 / 9.0),
     (0.774_596_669_241_483_4, 5.0 / 9.0),
@@ -27,7 +27,7 @@ pub const Q8_NODES: [(f64, f64); 8] = [
 ];
 
 /// Q8 shape functions N_a and their derivatives dN_a/dxi, dN_a/deta at (xi, eta).
-fn q8_shape(xi: f64, eta: f64) -> ([f64; 8], [f64; 8], [f64; 8]) {
+pub(crate) fn q8_shape(xi: f64, eta: f64) -> ([f64; 8], [f64; 8], [f64; 8]) {
     let mut n = [0.0; 8];
     let mut dxi = [0.0; 8];
     let mut deta = [0.0; 8];

@@ -12,7 +12,8 @@
 //! accuracy, `transfer` carries a front point's mode count to another scene, and `auto`
 //! picks the cheapest fidelity that meets a tolerance. `linear_structure` is a user's
 //! structure from another FE code (matrices read by `stickslip_formats::calculix` or
-//! `matrix_market`), checked and solved for statics and modes. Beside the
+//! `matrix_market`, or a Gmsh mesh that `plane_mesh` assembles in plane stress with the
+//! built-in Q8), checked and solved for statics and modes. Beside the
 //! dynamics: `statics`, the paper's static tip-load case and its mesh convergence
 //! (Sec. 2.1); `stability`, closed-form cantilever frequencies, Rayleigh damping at two
 //! modes and the belt speed above which steady sliding is stable. `choice` is the
@@ -48,6 +49,7 @@ pub mod metrics;
 pub mod modal;
 pub mod modal_slip;
 pub mod neural;
+pub mod plane_mesh;
 pub mod run;
 pub mod scene;
 pub mod scene_preset;

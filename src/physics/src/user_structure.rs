@@ -12,6 +12,17 @@
 //! clamped = [{ node = 7, direction = 3 }]      # DOFs the files did not remove (optional)
 //! ```
 //!
+//! or a 2D Gmsh mesh assembled in plane stress by our own Q8 element (`crate::plane_mesh`):
+//!
+//! ```toml
+//! [structure]
+//! format = "gmsh"
+//! mesh = "beam.msh"            # MSH 4.1 ASCII, 8-node quadrangles in the plane z = 0
+//! material = { thickness = 1.0, youngs_modulus = 200e9, poisson_ratio = 0.3, density = 1000.0 }
+//! clamped_groups = [{ group = "clamp", directions = [1, 2] }]   # physical groups fixed
+//! contact = { node = 3, direction = 2 }        # Gmsh node tag; direction 1 = x, 2 = y
+//! ```
+//!
 //! Paths are relative to the scene file ([`crate::scene::Scene::load`] makes them
 //! absolute) or absolute; a scene given as text takes them relative to the working
 //! directory. The section is checked twice: its fields by [`StructureSection::check_fields`]
@@ -36,6 +47,8 @@ pub enum StructureFormat {
     Calculix,
     /// Matrix Market `.mtx` files for K and M with a DOF map file.
     MatrixMarket,
+    /// A Gmsh `.msh` mesh of 8-node quadrangles, assembled in plane stress.
+    Gmsh,
 }
 
 impl StructureFormat {
@@ -43,6 +56,7 @@ impl StructureFormat {
         match self {
             StructureFormat::Calculix => "calculix",
             StructureFormat::MatrixMarket => "matrix-market",
+            StructureFormat::Gmsh => "gmsh",
         }
     }
 }
@@ -91,6 +105,37 @@ pub struct StructureSection {
     /// DOFs to fix that the files did not remove.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub clamped: Vec<SceneDof>,
+    /// gmsh: the mesh file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<PathBuf>,
+    /// gmsh: the plane-stress constants of the mesh (a mesh file carries none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<PlaneStressMaterial>,
+    /// gmsh: physical groups whose nodes are fixed in the given directions.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub clamped_groups: Vec<GroupClamp>,
+}
+
+/// The plane-stress constants of a Gmsh mesh: the out-of-plane thickness t (m), Young's
+/// modulus E (Pa), Poisson's ratio nu (1) and the density rho (kg/m3). They belong to the
+/// `[structure]` section, not to the scene's `[geometry]`/`[material]` (which describe
+/// the built-in beam and are unused with any `[structure]`), so that the section is the
+/// whole structure, as a CalculiX deck carries its material.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneStressMaterial {
+    pub thickness: f64,
+    pub youngs_modulus: f64,
+    pub poisson_ratio: f64,
+    pub density: f64,
+}
+
+/// A Gmsh physical group (by name) whose nodes are fixed in `directions` (1 = x, 2 = y).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroupClamp {
+    pub group: String,
+    pub directions: Vec<u8>,
 }
 
 /// A path field's dotted name and whether the scene gives it.
@@ -144,6 +189,9 @@ impl StructureSection {
                     ("structure.stiffness", self.stiffness.is_some()),
                     ("structure.mass", self.mass.is_some()),
                     ("structure.dofs", self.dofs.is_some()),
+                    ("structure.mesh", self.mesh.is_some()),
+                    ("structure.material", self.material.is_some()),
+                    ("structure.clamped_groups", !self.clamped_groups.is_empty()),
                 ],
             ),
             StructureFormat::MatrixMarket => (
@@ -152,7 +200,24 @@ impl StructureSection {
                     ("structure.mass", self.mass.is_some()),
                     ("structure.dofs", self.dofs.is_some()),
                 ],
-                &[("structure.job", self.job.is_some())],
+                &[
+                    ("structure.job", self.job.is_some()),
+                    ("structure.mesh", self.mesh.is_some()),
+                    ("structure.material", self.material.is_some()),
+                    ("structure.clamped_groups", !self.clamped_groups.is_empty()),
+                ],
+            ),
+            StructureFormat::Gmsh => (
+                &[
+                    ("structure.mesh", self.mesh.is_some()),
+                    ("structure.material", self.material.is_some()),
+                ],
+                &[
+                    ("structure.job", self.job.is_some()),
+                    ("structure.stiffness", self.stiffness.is_some()),
+                    ("structure.mass", self.mass.is_some()),
+                    ("structure.dofs", self.dofs.is_some()),
+                ],
             ),
         };
         if let Some((field, _)) = needed.iter().find(|(_, given)| !given) {
@@ -180,6 +245,19 @@ impl StructureSection {
         for &dof in &self.clamped {
             check_dof("structure.clamped", dof)?;
         }
+        if let Some(material) = &self.material {
+            material.check()?;
+        }
+        for clamp in &self.clamped_groups {
+            if clamp.directions.is_empty() || clamp.directions.iter().any(|d| !(1..=2).contains(d))
+            {
+                return Err(refused(
+                    "structure.clamped_groups",
+                    format!("group '{}' directions {:?}", clamp.group, clamp.directions),
+                    "one or both of the plane's directions 1 (x) and 2 (y)",
+                ));
+            }
+        }
         if self.clamped.contains(&self.contact) {
             return Err(refused(
                 "structure.contact",
@@ -198,6 +276,7 @@ impl StructureSection {
             &mut self.mass,
             &mut self.damping,
             &mut self.dofs,
+            &mut self.mesh,
         ]
         .into_iter()
         .flatten()
@@ -219,6 +298,36 @@ impl StructureSection {
         match self.format {
             StructureFormat::Calculix => format!("calculix {}", stem(&self.job)),
             StructureFormat::MatrixMarket => format!("matrix-market {}", stem(&self.stiffness)),
+            StructureFormat::Gmsh => format!("gmsh {}", stem(&self.mesh)),
         }
+    }
+}
+
+impl PlaneStressMaterial {
+    /// Finite and positive constants, nu in (-1, 1/2) (where the plane-stress D is
+    /// positive definite and a solid is stable).
+    fn check(&self) -> Result<(), FieldProblem> {
+        for (field, value, unit) in [
+            ("structure.material.thickness", self.thickness, "m"),
+            (
+                "structure.material.youngs_modulus",
+                self.youngs_modulus,
+                "Pa",
+            ),
+            ("structure.material.density", self.density, "kg/m3"),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(refused(field, value, format!("finite and > 0 ({unit})")));
+            }
+        }
+        let nu = self.poisson_ratio;
+        if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
+            return Err(refused(
+                "structure.material.poisson_ratio",
+                nu,
+                "in (-1, 0.5), where an isotropic solid is stable",
+            ));
+        }
+        Ok(())
     }
 }

@@ -21,6 +21,16 @@ pub fn load(section: &StructureSection) -> Result<LinearStructure, ModelError> {
             None,
             &given(&section.dofs),
         ),
+        StructureFormat::Gmsh => {
+            // The mesh assembled in plane stress; its clamped groups join structure.clamped.
+            let (matrices, by_group) = crate::plane_mesh::read_section(section)
+                .map_err(|e| ModelError::UserStructure(e.to_string()))?;
+            let mut clamped: Vec<DofLabel> = section.clamped.iter().map(|d| d.label()).collect();
+            clamped.retain(|d| !by_group.contains(d));
+            clamped.extend(by_group);
+            return LinearStructure::new(&matrices, &clamped)
+                .map_err(|e| ModelError::UserStructure(e.to_string()));
+        }
     }
     .map_err(|e| ModelError::UserStructure(e.to_string()))?;
     let clamped: Vec<DofLabel> = section.clamped.iter().map(|d| d.label()).collect();
