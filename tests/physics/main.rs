@@ -24,5 +24,6 @@ mod slip_solve;
 mod state_laws;
 mod statics;
 mod stribeck;
+mod structure_modal;
 mod structure_run;
 mod switch_stop;

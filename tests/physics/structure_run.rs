@@ -199,16 +199,12 @@ fn fields_that_do_not_fit_the_format_or_the_scene_are_refused() {
         |t| t.replace("direction = 2", "direction = 7"),
         &["structure.contact", "direction in 1..=6"],
     );
-    for level in [
-        FidelityLevel::Modal,
-        FidelityLevel::Beam,
-        FidelityLevel::Auto,
-    ] {
+    for level in [FidelityLevel::Beam, FidelityLevel::Auto] {
         let word = stickslip::choice::Choice::name(level);
         refused(
             word,
             |t| format!("[fidelity]\nlevel = \"{word}\"\ntolerance = 1e-4\n{t}"),
-            &["fidelity.level", "plane-stress with a [structure]"],
+            &["fidelity.level", "with a [structure]: beam is the built-in"],
         );
     }
     refused(
