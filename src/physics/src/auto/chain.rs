@@ -90,6 +90,10 @@ pub fn choose_over(
     progress: &mut dyn FnMut(&str),
 ) -> Result<Selection, AutoError> {
     check_request(tolerance, horizon)?;
+    if scene.structure.is_some() {
+        // A user's structure: the paper beam's front does not apply (`structure`).
+        return super::structure::choose(scene, law, tolerance, horizon, progress);
+    }
     check_front(front)?;
     let started = Instant::now();
     // The front as this scene takes it: mode counts by its spectrum (`transfer`), only
@@ -315,7 +319,7 @@ fn refine(
 /// with [`Reach::Window`] and a drift rate, the window plus the time the drift takes
 /// to use up `room` (m, the tolerance left above the estimate) on the deepest
 /// partner's tip (infinite without drift); else the horizon.
-fn holds_until(
+pub(super) fn holds_until(
     horizon: Horizon,
     reach: Reach,
     window: f64,
