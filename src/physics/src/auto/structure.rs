@@ -36,9 +36,11 @@ use super::drift::drift_rate;
 use super::horizon::{calibration_run, horizon_counted};
 use super::{AutoError, Candidate, Selection, PARTNER_ACCURACY_RATIO, SAFETY_FACTOR, WINDOW_LIMIT};
 use crate::law_source::LawSource;
+use crate::run::RunError;
 use crate::scene::{FidelityLevel, Scene};
+use crate::simulation::SimulationError;
 use crate::structure::StructuralModel;
-use crate::study::{Configuration, Measured, Resolution};
+use crate::study::{Configuration, Failed, MeasureError, Measured, Resolution};
 use std::time::Instant;
 
 /// The mode counts tried (those below the structure's DOFs): 2 resolves the first
@@ -152,54 +154,37 @@ pub fn choose(
     let started = Instant::now();
     let mut full_scene = scene.clone();
     full_scene.fidelity.level = FidelityLevel::PlaneStress;
+    // Its size and band price the candidates; a structure that does not build is
+    // reported as the reference's first run would report it.
     let full = StructuralModel::build(&full_scene.check()?).map_err(|e| {
-        AutoError::Scene(crate::scene::SceneError::Invalid {
-            field: "structure",
-            value: "(the files)".into(),
-            requirement: format!("a model that builds: {e}"),
+        AutoError::Calibration(Failed {
+            configuration: Box::new(full_at(scene, REFERENCE_START)),
+            reason: MeasureError::Run(RunError::Simulation(SimulationError::Model(e))),
         })
     })?;
     let (dofs, band) = (full.dofs(), full.stiffness.half_bandwidth());
     let modes: Vec<usize> = MODE_LADDER.into_iter().filter(|&k| k < dofs).collect();
-    let cheapest = Configuration {
-        resolution: Resolution::StructureModal {
-            modes: modes.first().copied().unwrap_or(1),
-        },
-        dt: STEPS[0],
-        scheme: scene.integrator.scheme,
-        inference: None,
-    };
     let mut count = 0;
     let window = match horizon {
         Horizon::Until(end) if end <= DIRECT_LIMIT => end,
-        Horizon::Until(end) => {
-            let mut pilot = scene.clone();
-            pilot.time.end = end.min(WINDOW_LIMIT);
-            horizon_counted(
-                &pilot,
-                law,
-                cheapest,
-                pilot.time.end,
-                started,
-                &mut count,
-                progress,
-            )?
-        }
-        Horizon::Open => {
-            let mut pilot = scene.clone();
-            pilot.time.end = WINDOW_LIMIT;
-            horizon_counted(
-                &pilot,
-                law,
-                cheapest,
-                WINDOW_LIMIT,
-                started,
-                &mut count,
-                progress,
-            )?
+        asked => {
+            // The pilot: the cheapest candidate at the coarsest step.
+            let pilot = Configuration {
+                resolution: match modes.first() {
+                    Some(&modes) => Resolution::StructureModal { modes },
+                    None => Resolution::Structure,
+                },
+                ..full_at(scene, STEPS[0])
+            };
+            let cap = match asked {
+                Horizon::Until(end) => end.min(WINDOW_LIMIT),
+                Horizon::Open => WINDOW_LIMIT,
+            };
+            let mut capped = scene.clone();
+            capped.time.end = cap;
+            horizon_counted(&capped, law, pilot, cap, started, &mut count, progress)?
         }
     };
-    let reach = Reach::of(horizon, window);
     let mut calibrated = scene.clone();
     calibrated.time.end = window;
     let mut runs = Runs {
@@ -210,18 +195,64 @@ pub fn choose(
         count,
         progress,
     };
+    let (reference, e_ref) = converged_reference(&mut runs, tolerance)?;
+    let mut candidates = ladder(scene, &modes, reference.dt);
+    let price = |c: &Configuration| cost(c.resolution, c.dt, window, dofs, band);
+    candidates.sort_by(|a, b| price(a).total_cmp(&price(b)));
+    let reach = Reach::of(horizon, window);
+    let (tried, chosen) = pick(&mut runs, candidates, reference, e_ref, tolerance)?;
+    let Some(index) = chosen else {
+        let best = tried
+            .iter()
+            .map(|c| c.estimated_error)
+            .fold(f64::INFINITY, f64::min);
+        return Err(AutoError::Unmet {
+            tolerance,
+            best,
+            over: super::resolve::span(reach, window),
+        });
+    };
+    let choice = tried.last().expect("the choice was tried").clone();
+    let room = tolerance - choice.estimated_error;
+    let reference_run = runs.run(reference)?;
+    Ok(Selection {
+        index,
+        configuration: choice.configuration,
+        estimated_error: choice.estimated_error,
+        asked: horizon,
+        reach,
+        drift_rate: choice.drift_rate,
+        holds_until: holds_until(
+            horizon,
+            reach,
+            window,
+            choice.drift_rate,
+            room,
+            &reference_run,
+        ),
+        tried,
+        calibration_seconds: started.elapsed().as_secs_f64(),
+        runs: runs.count,
+        window,
+    })
+}
 
-    // 1. The reference: the full model, its step halved until it converges.
+/// The reference (module doc, step 1): the full model from [`REFERENCE_START`], its step
+/// halved until the bound on its own error ([`reference_bound`]) is at most the
+/// tolerance over [`PARTNER_ACCURACY_RATIO`], or the ladder ends; and that bound (m).
+fn converged_reference(runs: &mut Runs, tolerance: f64) -> Result<(Configuration, f64), AutoError> {
+    // The calibration scene: the user's, cut to the window (its integrator is theirs).
+    let scheme_of = runs.scene.clone();
     let first = STEPS
         .iter()
         .position(|&dt| dt == REFERENCE_START)
         .expect("the ladder holds the reference's first step");
-    let mut reference = full_at(scene, STEPS[first]);
+    let mut reference = full_at(&scheme_of, STEPS[first]);
     let mut reference_run = runs.run(reference)?;
     let mut previous: Option<f64> = None;
     let mut e_ref = f64::INFINITY;
     for &dt in &STEPS[first + 1..] {
-        let finer = full_at(scene, dt);
+        let finer = full_at(&scheme_of, dt);
         let finer_run = runs.run(finer)?;
         let d = window_deviation(&reference_run.tip, &finer_run.tip);
         (runs.progress)(&format!(
@@ -235,12 +266,15 @@ pub fn choose(
             break;
         }
     }
-    let reference_dt = reference.dt;
+    Ok((reference, e_ref))
+}
 
-    // 2. The candidates, cheapest first, down to the reference's step.
-    let mut candidates: Vec<Configuration> = Vec::new();
-    for &dt in STEPS.iter().filter(|&&dt| dt >= reference_dt) {
-        for &k in &modes {
+/// The candidates (module doc, step 2): each mode count of `modes` and the full model at
+/// every step of [`STEPS`] down to `finest`.
+fn ladder(scene: &Scene, modes: &[usize], finest: f64) -> Vec<Configuration> {
+    let mut candidates = Vec::new();
+    for &dt in STEPS.iter().filter(|&&dt| dt >= finest) {
+        for &k in modes {
             candidates.push(Configuration {
                 resolution: Resolution::StructureModal { modes: k },
                 ..full_at(scene, dt)
@@ -248,50 +282,38 @@ pub fn choose(
         }
         candidates.push(full_at(scene, dt));
     }
-    let end = window;
-    let price = |c: &Configuration| cost(c.resolution, c.dt, end, dofs, band);
-    candidates.sort_by(|a, b| price(a).total_cmp(&price(b)));
+    candidates
+}
 
-    // 3. The first whose bound meets the tolerance.
+/// The choice (module doc, step 3): `candidates` run in order, each bounded by its
+/// deviation from the `reference` run plus the reference's bound `e_ref` (m), until one is
+/// within `tolerance`. Every candidate tried, and the index of the one chosen (the last
+/// tried) if any.
+fn pick(
+    runs: &mut Runs,
+    candidates: Vec<Configuration>,
+    reference: Configuration,
+    e_ref: f64,
+    tolerance: f64,
+) -> Result<(Vec<Candidate>, Option<usize>), AutoError> {
+    let reference_run = runs.run(reference)?;
     let mut tried = Vec::new();
     for (index, configuration) in candidates.into_iter().enumerate() {
         let run = runs.run(configuration)?;
         let d = window_deviation(&run.tip, &reference_run.tip);
         let estimated_error = SAFETY_FACTOR * (d + e_ref);
-        let rate = drift_rate(&run, &reference_run);
         tried.push(Candidate {
             configuration,
             estimated_error,
-            drift_rate: rate,
+            drift_rate: drift_rate(&run, &reference_run),
             partner: reference,
             chain: vec![(reference, d)],
         });
         if estimated_error <= tolerance {
-            let room = tolerance - estimated_error;
-            return Ok(Selection {
-                index,
-                configuration,
-                estimated_error,
-                asked: horizon,
-                reach,
-                drift_rate: rate,
-                holds_until: holds_until(horizon, reach, window, rate, room, &reference_run),
-                tried,
-                calibration_seconds: started.elapsed().as_secs_f64(),
-                runs: runs.count,
-                window,
-            });
+            return Ok((tried, Some(index)));
         }
     }
-    let best = tried
-        .iter()
-        .map(|c| c.estimated_error)
-        .fold(f64::INFINITY, f64::min);
-    Err(AutoError::Unmet {
-        tolerance,
-        best,
-        over: super::resolve::span(reach, window),
-    })
+    Ok((tried, None))
 }
 
 #[cfg(test)]
