@@ -165,26 +165,7 @@ pub fn choose(
     let (dofs, band) = (full.dofs(), full.stiffness.half_bandwidth());
     let modes: Vec<usize> = MODE_LADDER.into_iter().filter(|&k| k < dofs).collect();
     let mut count = 0;
-    let window = match horizon {
-        Horizon::Until(end) if end <= DIRECT_LIMIT => end,
-        asked => {
-            // The pilot: the cheapest candidate at the coarsest step.
-            let pilot = Configuration {
-                resolution: match modes.first() {
-                    Some(&modes) => Resolution::StructureModal { modes },
-                    None => Resolution::Structure,
-                },
-                ..full_at(scene, STEPS[0])
-            };
-            let cap = match asked {
-                Horizon::Until(end) => end.min(WINDOW_LIMIT),
-                Horizon::Open => WINDOW_LIMIT,
-            };
-            let mut capped = scene.clone();
-            capped.time.end = cap;
-            horizon_counted(&capped, law, pilot, cap, started, &mut count, progress)?
-        }
-    };
+    let window = calibration_window(scene, law, horizon, &modes, started, &mut count, progress)?;
     let mut calibrated = scene.clone();
     calibrated.time.end = window;
     let mut runs = Runs {
@@ -235,6 +216,36 @@ pub fn choose(
         runs: runs.count,
         window,
     })
+}
+
+/// The calibration window (s), as the beam's `auto` takes it: a run up to
+/// [`DIRECT_LIMIT`] whole; a longer or open one up to 1.5 times the third major-slip
+/// onset of a pilot run, the cheapest candidate at the coarsest step (its runs counted
+/// into `count`).
+fn calibration_window(
+    scene: &Scene,
+    law: &LawSource,
+    horizon: Horizon,
+    modes: &[usize],
+    started: Instant,
+    count: &mut usize,
+    progress: &mut dyn FnMut(&str),
+) -> Result<f64, AutoError> {
+    let cap = match horizon {
+        Horizon::Until(end) if end <= DIRECT_LIMIT => return Ok(end),
+        Horizon::Until(end) => end.min(WINDOW_LIMIT),
+        Horizon::Open => WINDOW_LIMIT,
+    };
+    let pilot = Configuration {
+        resolution: match modes.first() {
+            Some(&modes) => Resolution::StructureModal { modes },
+            None => Resolution::Structure,
+        },
+        ..full_at(scene, STEPS[0])
+    };
+    let mut capped = scene.clone();
+    capped.time.end = cap;
+    horizon_counted(&capped, law, pilot, cap, started, count, progress)
 }
 
 /// The reference (module doc, step 1): the full model from [`REFERENCE_START`], its step
