@@ -30,8 +30,7 @@
 //! slips (a pilot run of the cheapest candidate finds it), with the drift rate of the
 //! choice against the reference reported beside, as a projection, not a bound.
 
-use super::bound::{window_deviation, Horizon, Reach, DIRECT_LIMIT};
-use super::chain::holds_until;
+use super::bound::{holds_until, window_deviation, Horizon, Reach, DIRECT_LIMIT};
 use super::drift::drift_rate;
 use super::horizon::{calibration_run, horizon_counted};
 use super::{AutoError, Candidate, Selection, PARTNER_ACCURACY_RATIO, SAFETY_FACTOR, WINDOW_LIMIT};
