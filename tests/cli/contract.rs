@@ -554,7 +554,7 @@ fn a_scene_with_a_structure_runs_on_it() {
     assert!(!ok);
     assert!(
         stderr.contains(
-            "fidelity.level = beam; it must be plane-stress (the structure's full model) or modal"
+            "fidelity.level = beam; it must be plane-stress (the structure's full model), modal (its reduction) or auto"
         ),
         "{stderr}"
     );

@@ -685,7 +685,7 @@ fn check_structure(
         return Err(SceneError::Invalid {
             field: "fidelity.level",
             value: crate::choice::Choice::name(level).into(),
-            requirement: "plane-stress (the structure's full model) modal (its reduction) or auto with a [structure]: beam is the built-in Euler-Bernoulli beam, which a user's structure is not".into(),
+            requirement: "plane-stress (the structure's full model), modal (its reduction) or auto with a [structure]: beam is the built-in Euler-Bernoulli beam, which a user's structure is not".into(),
         });
     }
     if holding != HoldingForce::Reaction {
