@@ -43,3 +43,20 @@ def test_the_rust_tests_scipy_frequencies_are_scipys():
     constants = [float(x) for x in held.group(1).split(",")]
     print("scipy eigsh f1..f3 (Hz):", [f"{f:.10e}" for f in frequencies])
     np.testing.assert_allclose(frequencies, constants, rtol=1e-8)
+
+
+def test_the_reduced_structures_scipy_frequencies_are_scipys():
+    """tests/physics/structure_modal.rs holds scipy's 20 lowest frequencies of the same
+    files and checks the modal fidelity's reduced model against them (1e-6); they must
+    stay scipy's, to 1e-8 (the spread of ARPACK's random start over three runs: 4e-10)."""
+    rows = len((EXAMPLE / "beam.dof").read_text().split())
+    k = calculix_matrix(EXAMPLE / "beam.sti", rows)
+    m = calculix_matrix(EXAMPLE / "beam.mas", rows)
+    omega2 = np.sort(sla.eigsh(k, 20, m, sigma=0, which="LM", return_eigenvectors=False))
+    frequencies = np.sqrt(omega2) / (2 * np.pi)
+    rust = (ROOT / "tests" / "physics" / "structure_modal.rs").read_text()
+    held = re.search(r"let eigsh_20 = \[([^\]]*)\]", rust)
+    assert held, "tests/physics/structure_modal.rs no longer holds `let eigsh_20 = [...]`"
+    constants = [float(x) for x in held.group(1).split(",") if x.strip()]
+    assert len(constants) == 20
+    np.testing.assert_allclose(frequencies, constants, rtol=1e-8)

@@ -553,7 +553,9 @@ fn a_scene_with_a_structure_runs_on_it() {
     let (ok, _, stderr) = stickslip(&["simulate", "--scene", scene, "--fidelity", "beam"]);
     assert!(!ok);
     assert!(
-        stderr.contains("fidelity.level = beam; it must be plane-stress with a [structure]"),
+        stderr.contains(
+            "fidelity.level = beam; it must be plane-stress (the structure's full model), modal (its reduction) or auto"
+        ),
         "{stderr}"
     );
 }

@@ -25,5 +25,7 @@ mod slip_solve;
 mod state_laws;
 mod statics;
 mod stribeck;
+mod structure_auto;
+mod structure_modal;
 mod structure_run;
 mod switch_stop;

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use stickslip::law_source::LawSource;
 use stickslip::metrics::Summary;
 use stickslip::run::run_scene;
-use stickslip::scene::{CheckedScene, FidelityLevel, Scene};
+use stickslip::scene::{CheckedScene, Scene};
 use stickslip::simulation::Simulator;
 use stickslip::structure::StructuralModel;
 
@@ -199,18 +199,15 @@ fn fields_that_do_not_fit_the_format_or_the_scene_are_refused() {
         |t| t.replace("direction = 2", "direction = 7"),
         &["structure.contact", "direction in 1..=6"],
     );
-    for level in [
-        FidelityLevel::Modal,
-        FidelityLevel::Beam,
-        FidelityLevel::Auto,
-    ] {
-        let word = stickslip::choice::Choice::name(level);
-        refused(
-            word,
-            |t| format!("[fidelity]\nlevel = \"{word}\"\ntolerance = 1e-4\n{t}"),
-            &["fidelity.level", "plane-stress with a [structure]"],
-        );
-    }
+    // modal and auto are the structure's (structure_modal.rs, structure_auto.rs).
+    refused(
+        "beam",
+        |t| format!("[fidelity]\nlevel = \"beam\"\n{t}"),
+        &[
+            "fidelity.level = beam",
+            "with a [structure]: beam is the built-in",
+        ],
+    );
     refused(
         "holding",
         |t| format!("[contact]\nholding_force = \"euler-bernoulli\"\n{t}"),

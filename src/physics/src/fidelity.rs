@@ -7,13 +7,23 @@ use crate::structure::{ModelError, StructuralModel};
 
 impl StructuralModel {
     /// The model the scene's fidelity asks for; an unresolved `auto` level is refused.
-    /// A scene with a `[structure]` gets that structure's full model (its check allows
-    /// only `fidelity.level = plane-stress` with it).
+    ///
+    /// A scene with a `[structure]` gets that structure's full model at
+    /// `fidelity.level = plane-stress`, and its reduction at `modal`: the lowest
+    /// `fidelity.modes` modes of the full model plus, with `fidelity.static_correction`,
+    /// the static shape under a unit force at the contact DOF (the tip), as the beam's
+    /// modal level. `fidelity.modal_basis` is ignored there: the structure is the basis.
+    /// (Its check refuses `beam`.)
     pub fn build(scene: &CheckedScene) -> Result<Self, ModelError> {
-        if let Some(section) = &scene.structure {
-            return Self::from_section(section);
-        }
         let fidelity = &scene.fidelity;
+        if let Some(section) = &scene.structure {
+            let full = Self::from_section(section)?;
+            return match fidelity.level {
+                FidelityLevel::Modal => reduce(&full, fidelity.modes, fidelity.static_correction),
+                FidelityLevel::Auto => Err(ModelError::UnresolvedAuto),
+                FidelityLevel::Beam | FidelityLevel::PlaneStress => Ok(full),
+            };
+        }
         match fidelity.level {
             FidelityLevel::Beam => Ok(Self::beam(scene, fidelity.beam_elements)),
             FidelityLevel::PlaneStress => Ok(Self::plane_stress(scene, fidelity.element_size)),

@@ -664,10 +664,10 @@ impl Loading {
 }
 
 /// The `[structure]` section's fields (`user_structure`), then what the rest of the
-/// scene must be with a user's structure: `fidelity.level = plane-stress` (meaning the
-/// full model: the modal reduction of a user's structure and `auto` are not here yet,
-/// and `beam` names the built-in beam) and `contact.holding_force = reaction` (the
-/// paper's rule uses the beam's EI).
+/// scene must be with a user's structure: `fidelity.level` not `beam` (which names the
+/// built-in beam; `plane-stress` means the structure's full model, `modal` its reduction,
+/// `auto` the choice between them, `auto::structure`)
+/// and `contact.holding_force = reaction` (the paper's rule uses the beam's EI).
 fn check_structure(
     section: &StructureSection,
     level: FidelityLevel,
@@ -678,11 +678,14 @@ fn check_structure(
         value: p.value,
         requirement: p.requirement,
     })?;
-    if level != FidelityLevel::PlaneStress {
+    // plane-stress reads as the structure's full model, modal as its reduction and auto
+    // as the choice between them (docs/structures.md, "Fidelity"); beam theory needs the
+    // built-in beam's geometry, which a user's structure does not have.
+    if level == FidelityLevel::Beam {
         return Err(SceneError::Invalid {
             field: "fidelity.level",
             value: crate::choice::Choice::name(level).into(),
-            requirement: "plane-stress with a [structure]: it means the structure's full model (modal reduction of a user's structure and auto are not here yet)".into(),
+            requirement: "plane-stress (the structure's full model), modal (its reduction) or auto with a [structure]: beam is the built-in Euler-Bernoulli beam, which a user's structure is not".into(),
         });
     }
     if holding != HoldingForce::Reaction {

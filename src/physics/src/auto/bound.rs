@@ -1,6 +1,8 @@
 //! What the tolerance is held over: the horizon the user asked for, and how the
 //! deviation between two calibration runs is carried from the calibration window to it.
 
+use super::drift::shift_within;
+use crate::study::Measured;
 use serde::Serialize;
 
 /// A run up to this long (s of simulated time) is calibrated over its whole length, so
@@ -52,4 +54,34 @@ pub fn window_deviation(a: &[f64], b: &[f64]) -> f64 {
         .zip(b)
         .map(|(x, y)| (x - y).abs())
         .fold(f64::NAN, |m, d| if m.is_nan() { d } else { m.max(d) })
+}
+
+/// Until when (s) a choice within the tolerance holds ([`super::Selection::holds_until`]):
+/// with [`Reach::Window`] and a drift rate, the window plus the time the drift takes
+/// to use up `room` (m, the tolerance left above the estimate) on the deepest
+/// partner's tip (infinite without drift); else the horizon.
+pub(super) fn holds_until(
+    horizon: Horizon,
+    reach: Reach,
+    window: f64,
+    drift_rate: Option<f64>,
+    room: f64,
+    deepest: &Measured,
+) -> f64 {
+    match (reach, drift_rate) {
+        (Reach::Window { .. }, Some(rate)) => {
+            let limit = 1e3 * window;
+            let shift = shift_within(&deepest.tip, room, limit);
+            if rate > 0.0 && shift < limit {
+                window + shift / rate
+            } else {
+                f64::INFINITY
+            }
+        }
+        (Reach::Window { .. }, None) => window,
+        (_, _) => match horizon {
+            Horizon::Until(end) => end,
+            Horizon::Open => window,
+        },
+    }
 }

@@ -1,7 +1,7 @@
 //! The choice: front points tried cheapest first, each bounded by its chain of partners.
 
-use super::bound::{window_deviation, Horizon, Reach, DIRECT_LIMIT};
-use super::drift::{drift_rate, shift_within};
+use super::bound::{holds_until, window_deviation, Horizon, Reach, DIRECT_LIMIT};
+use super::drift::drift_rate;
 use super::front::affordable;
 use super::horizon::{calibration_run, horizon_counted};
 use super::{
@@ -90,6 +90,10 @@ pub fn choose_over(
     progress: &mut dyn FnMut(&str),
 ) -> Result<Selection, AutoError> {
     check_request(tolerance, horizon)?;
+    if scene.structure.is_some() {
+        // A user's structure: the paper beam's front does not apply (`structure`).
+        return super::structure::choose(scene, law, tolerance, horizon, progress);
+    }
     check_front(front)?;
     let started = Instant::now();
     // The front as this scene takes it: mode counts by its spectrum (`transfer`), only
@@ -309,34 +313,4 @@ fn refine(
     chain.push((front[m].configuration, d));
     let rho = front[k].rms_error / front[m].rms_error;
     Ok(Some(d * rho / (rho - 1.0)))
-}
-
-/// Until when (s) a choice within the tolerance holds ([`Selection::holds_until`]):
-/// with [`Reach::Window`] and a drift rate, the window plus the time the drift takes
-/// to use up `room` (m, the tolerance left above the estimate) on the deepest
-/// partner's tip (infinite without drift); else the horizon.
-fn holds_until(
-    horizon: Horizon,
-    reach: Reach,
-    window: f64,
-    drift_rate: Option<f64>,
-    room: f64,
-    deepest: &Measured,
-) -> f64 {
-    match (reach, drift_rate) {
-        (Reach::Window { .. }, Some(rate)) => {
-            let limit = 1e3 * window;
-            let shift = shift_within(&deepest.tip, room, limit);
-            if rate > 0.0 && shift < limit {
-                window + shift / rate
-            } else {
-                f64::INFINITY
-            }
-        }
-        (Reach::Window { .. }, None) => window,
-        (_, _) => match horizon {
-            Horizon::Until(end) => end,
-            Horizon::Open => window,
-        },
-    }
 }

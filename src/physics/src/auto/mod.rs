@@ -118,6 +118,7 @@ pub mod drift;
 mod front;
 mod horizon;
 mod resolve;
+pub mod structure;
 #[cfg(test)]
 mod tests;
 mod verification;

@@ -125,6 +125,7 @@ pub fn finer(reference: Configuration) -> Configuration {
             modes: 2 * modes,
         },
         Resolution::Modal { modes } => Resolution::Modal { modes: 2 * modes },
+        Resolution::StructureModal { modes } => Resolution::StructureModal { modes: 2 * modes },
         other => other,
     };
     Configuration {

@@ -25,6 +25,12 @@ pub enum Resolution {
     /// `fidelity.modal_basis = plane-stress`. Its modes come from shift-invert Lanczos
     /// (`modal::lanczos_modes`).
     PlaneStressModal { element_size: f64, modes: usize },
+    /// A user's structure (the scene's `[structure]`) as its files give it, the full
+    /// model: the scene's `fidelity.level = plane-stress` with the section.
+    Structure,
+    /// A user's structure reduced to this many modes (plus the static correction): the
+    /// scene's `fidelity.level = modal` with the section (`auto::structure`).
+    StructureModal { modes: usize },
 }
 
 impl Resolution {
@@ -34,16 +40,22 @@ impl Resolution {
             Resolution::Beam { .. } => FidelityLevel::Beam,
             Resolution::PlaneStress { .. } => FidelityLevel::PlaneStress,
             Resolution::PlaneStressModal { .. } => FidelityLevel::Modal,
+            Resolution::Structure => FidelityLevel::PlaneStress,
+            Resolution::StructureModal { .. } => FidelityLevel::Modal,
         }
     }
 
     /// Whether the model is the plane-stress continuum (the full mesh or a modal basis
     /// of it) rather than Euler-Bernoulli beam theory: only the continuum has shear and
-    /// the clamp's elasticity, the model error that beam-theory points share.
+    /// the clamp's elasticity, the model error that beam-theory points share. A user's
+    /// structure is its own continuum: no beam theory to refine.
     pub fn is_continuum(&self) -> bool {
         matches!(
             self,
-            Resolution::PlaneStress { .. } | Resolution::PlaneStressModal { .. }
+            Resolution::PlaneStress { .. }
+                | Resolution::PlaneStressModal { .. }
+                | Resolution::Structure
+                | Resolution::StructureModal { .. }
         )
     }
 
@@ -52,6 +64,8 @@ impl Resolution {
     pub fn kind(&self) -> &'static str {
         match self {
             Resolution::PlaneStressModal { .. } => "plane-stress-modal",
+            Resolution::Structure => "structure",
+            Resolution::StructureModal { .. } => "structure-modal",
             other => other.level().name(),
         }
     }
@@ -69,6 +83,10 @@ impl fmt::Display for Resolution {
                 element_size,
                 modes,
             } => write!(f, "modal {modes} modes of plane stress {element_size} m"),
+            Resolution::Structure => write!(f, "the structure's full model"),
+            Resolution::StructureModal { modes } => {
+                write!(f, "modal {modes} modes of the structure")
+            }
         }
     }
 }
@@ -109,6 +127,9 @@ impl Configuration {
                 scene.fidelity.element_size = element_size;
                 scene.fidelity.modal_basis = ModalBasis::PlaneStress;
             }
+            // The level alone: the structure is the scene's [structure].
+            Resolution::Structure => {}
+            Resolution::StructureModal { modes } => scene.fidelity.modes = modes,
         }
         scene.time.step = self.dt;
         scene.integrator.scheme = self.scheme;

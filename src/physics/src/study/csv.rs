@@ -24,6 +24,8 @@ pub fn csv_line(row: &Row, end_time: f64) -> String {
             element_size,
             modes,
         } => (modes.to_string(), String::new(), element_size.to_string()),
+        Resolution::Structure => (String::new(), String::new(), String::new()),
+        Resolution::StructureModal { modes } => (modes.to_string(), String::new(), String::new()),
     };
     let opt = |v: Option<f64>| v.map(|v| format!("{v:.6e}")).unwrap_or_default();
     let e = &row.errors;

@@ -1,0 +1,76 @@
+//! `fidelity.level = auto` on a user's structure (issue 35 item 2; `auto::structure`):
+//! on the CalculiX paper beam scene the choice's true largest tip deviation from the full
+//! model, measured against a full run finer than the calibration's reference, is within
+//! the tolerance, for tolerances that pick different points.
+
+use std::path::{Path, PathBuf};
+use stickslip::auto::{choose, describe, paper_front, window_deviation, AutoError};
+use stickslip::law_source::LawSource;
+use stickslip::scene::{FidelityLevel, Scene};
+use stickslip::study::{measure, Configuration, Resolution};
+
+fn example() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/calculix-beam")
+}
+
+fn auto_scene() -> Scene {
+    let mut scene = Scene::load(&example().join("scene.toml"))
+        .unwrap()
+        .scene()
+        .clone();
+    scene.fidelity.level = FidelityLevel::Auto;
+    scene
+}
+
+#[test]
+fn the_choice_on_the_calculix_beam_meets_the_tolerance_against_a_finer_full_run() {
+    let scene = auto_scene();
+    let law = LawSource::resolve(&scene.clone().check().unwrap()).unwrap();
+    let front = paper_front().unwrap();
+    let mut chosen = Vec::new();
+    for tolerance in [1e-4, 1e-5, 1e-6] {
+        let choice = choose(&scene, &law, tolerance, &front, &mut |_| {}).unwrap();
+        println!("{}", describe(&choice, tolerance));
+        let reference = choice.tried.last().unwrap().partner;
+        // The truth: the full model at half the reference's step, a run the calibration
+        // did not make.
+        let finer = Configuration {
+            resolution: Resolution::Structure,
+            dt: reference.dt / 2.0,
+            ..reference
+        };
+        let truth = measure(&scene, &law, finer).unwrap();
+        let run = measure(&scene, &law, choice.configuration).unwrap();
+        let true_error = window_deviation(&run.tip, &truth.tip);
+        println!(
+            "tolerance {tolerance:e} m: chose {} (estimate {:.3e} m), true {true_error:.3e} m against {finer}; calibration {} runs, {:.2} s",
+            choice.configuration, choice.estimated_error, choice.runs, choice.calibration_seconds
+        );
+        assert!(choice.estimated_error <= tolerance);
+        assert!(
+            true_error <= tolerance,
+            "tolerance {tolerance:e}: {} deviates {true_error:e} m",
+            choice.configuration
+        );
+        chosen.push(choice.configuration);
+    }
+    // The tolerances ask for different accuracies, so they do not all get one point.
+    assert!(chosen.windows(2).any(|p| p[0] != p[1]), "{chosen:?}");
+}
+
+/// A tolerance no candidate meets is refused with the best bound, not answered. Over
+/// the first 0.5 s (breakaway at 0.4 s and the first slip), so that the refinement to the
+/// ladder's finest step stays affordable.
+#[test]
+fn an_unreachable_tolerance_is_refused_with_the_best_achievable() {
+    let mut scene = auto_scene();
+    scene.time.end = 0.5;
+    let law = LawSource::resolve(&scene.clone().check().unwrap()).unwrap();
+    let front = paper_front().unwrap();
+    let error = choose(&scene, &law, 1e-12, &front, &mut |_| {}).unwrap_err();
+    println!("{error}");
+    let AutoError::Unmet { best, .. } = error else {
+        panic!("{error:?}");
+    };
+    assert!(best > 1e-12 && best.is_finite(), "{best}");
+}
