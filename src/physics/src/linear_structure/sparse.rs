@@ -477,9 +477,9 @@ mod tests {
         let x: Vec<f64> = (0..n).map(|i| i as f64 - 7.5).collect();
         let mut y = vec![0.0; n];
         sparse.stiffness().mul_vec(&x, &mut y);
-        for i in 0..n {
+        for (i, yi) in y.iter().enumerate() {
             let row: f64 = (0..n).map(|j| sparse.stiffness().get(i, j) * x[j]).sum();
-            assert_eq!(y[i], row, "row {i}");
+            assert_eq!(*yi, row, "row {i}");
         }
     }
 
