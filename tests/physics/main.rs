@@ -8,6 +8,7 @@ mod authors_scene;
 mod auto;
 mod auto_horizon;
 mod calculix_beam;
+mod calculix_block;
 mod choices;
 mod contact;
 mod coupling;

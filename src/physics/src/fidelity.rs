@@ -1,6 +1,7 @@
 //! The structural model a scene's fidelity level asks for: a beam or plane-stress model
 //! (`structure`), or a `modal` reduction of one of them.
 
+use crate::linear_structure::sparse_modal::reduce_section;
 use crate::modal::reduce;
 use crate::scene::{CheckedScene, FidelityLevel, ModalBasis};
 use crate::structure::{ModelError, StructuralModel};
@@ -13,15 +14,18 @@ impl StructuralModel {
     /// `fidelity.modes` modes of the full model plus, with `fidelity.static_correction`,
     /// the static shape under a unit force at the contact DOF (the tip), as the beam's
     /// modal level. `fidelity.modal_basis` is ignored there: the structure is the basis.
-    /// (Its check refuses `beam`.)
+    /// A structure too wide for the band (a 3D solid) is reduced from its sparse
+    /// matrices (`sparse_modal::reduce_section`); its full model is refused. (The check
+    /// refuses `beam`.)
     pub fn build(scene: &CheckedScene) -> Result<Self, ModelError> {
         let fidelity = &scene.fidelity;
         if let Some(section) = &scene.structure {
-            let full = Self::from_section(section)?;
             return match fidelity.level {
-                FidelityLevel::Modal => reduce(&full, fidelity.modes, fidelity.static_correction),
+                FidelityLevel::Modal => {
+                    reduce_section(section, fidelity.modes, fidelity.static_correction)
+                }
                 FidelityLevel::Auto => Err(ModelError::UnresolvedAuto),
-                FidelityLevel::Beam | FidelityLevel::PlaneStress => Ok(full),
+                FidelityLevel::Beam | FidelityLevel::PlaneStress => Self::from_section(section),
             };
         }
         match fidelity.level {

@@ -223,12 +223,48 @@ pub fn lanczos_modes(model: &StructuralModel, count: usize) -> Result<Modes, Mod
     lanczos(&model.mass, &factor, count)
 }
 
+/// A symmetric matrix as the eigen solvers use it: its size and its product with a vector.
+/// The band matrix and `linear_structure::sparse`'s matrix both are one.
+pub(crate) trait SymmetricOperator {
+    fn size(&self) -> usize;
+    /// y = A x.
+    fn mul_vec(&self, x: &[f64], y: &mut [f64]);
+    /// x^T A y, with `scratch` (the size) for A y.
+    fn bilinear(&self, x: &[f64], y: &[f64], scratch: &mut [f64]) -> f64 {
+        self.mul_vec(y, scratch);
+        dot(x, scratch)
+    }
+}
+
+/// The factor of K as shift-invert uses it: x <- K^-1 x.
+pub(crate) trait StiffnessSolve {
+    fn solve_in_place(&self, x: &mut [f64]);
+}
+
+impl SymmetricOperator for SymBandMatrix {
+    fn size(&self) -> usize {
+        SymBandMatrix::size(self)
+    }
+    fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
+        SymBandMatrix::mul_vec(self, x, y);
+    }
+    fn bilinear(&self, x: &[f64], y: &[f64], scratch: &mut [f64]) -> f64 {
+        SymBandMatrix::bilinear(self, x, y, scratch)
+    }
+}
+
+impl StiffnessSolve for BandCholesky {
+    fn solve_in_place(&self, x: &mut [f64]) {
+        BandCholesky::solve_in_place(self, x);
+    }
+}
+
 /// [`lanczos_modes`] on a mass matrix and the factor of a stiffness matrix of the same
-/// size, for any structure with banded matrices (`linear_structure` too); `count` is
+/// size, for any structure (`linear_structure`'s band and sparse ones too); `count` is
 /// between 1 and the size.
-pub(crate) fn lanczos(
-    mass: &SymBandMatrix,
-    factor: &BandCholesky,
+pub(crate) fn lanczos<M: SymmetricOperator, F: StiffnessSolve>(
+    mass: &M,
+    factor: &F,
     count: usize,
 ) -> Result<Modes, ModelError> {
     let n = mass.size();
@@ -312,8 +348,8 @@ fn ritz_values(alpha: &[f64], beta: &[f64]) -> (SymmetricEigen<f64, Dyn>, Vec<us
 /// The modes of the converged Ritz pairs `wanted` (indices into `eig`): eigenvalue
 /// omega^2 = 1 / theta_i, vector Q_m s_i normalised in M. A theta that is not positive
 /// (no mode of a clamped structure) is no convergence.
-fn ritz_modes(
-    mass: &SymBandMatrix,
+fn ritz_modes<M: SymmetricOperator>(
+    mass: &M,
     basis: &[Vec<f64>],
     eig: &SymmetricEigen<f64, Dyn>,
     wanted: &[usize],
@@ -375,37 +411,58 @@ pub fn reduce(
     static_correction: bool,
 ) -> Result<StructuralModel, ModelError> {
     let eigen = modes_of(full, modes)?;
-    let n = full.dofs();
+    let static_shape = if static_correction {
+        Some(full.static_displacement(1.0)?)
+    } else {
+        None
+    };
+    reduced_model(eigen, static_shape, &full.mass, &full.tip, &full.label)
+}
+
+/// The modal model spanned by the M-normalised `eigen` modes of a structure with mass
+/// matrix `mass` and tip vector `tip` (the full model's, u_tip = sum w u_dof), plus the
+/// static tip-load shape psi = K^-1 c (`static_shape`) when given; `label` names the
+/// full model. Shared by [`reduce`] (a band model) and `linear_structure::sparse_modal`
+/// (a structure too wide for the band).
+pub(crate) fn reduced_model<M: SymmetricOperator>(
+    eigen: Modes,
+    static_shape: Option<Vec<f64>>,
+    mass: &M,
+    tip: &[(usize, f64)],
+    label: &str,
+) -> Result<StructuralModel, ModelError> {
+    let tip_value = |x: &[f64]| -> f64 { tip.iter().map(|&(i, w)| w * x[i]).sum() };
+    let n = mass.size();
     let q = eigen.vectors.len();
+    let modes = q;
     let mut basis = eigen.vectors;
     // Reduced stiffness from exact identities rather than T^T K T (which cancels, see
     // `lowest_modes`): phi_i^T K phi_j = omega_i^2 delta_ij, and K psi = c.
     let mut kr = DMatrix::from_diagonal(&nalgebra::DVector::from_vec(eigen.eigenvalues.clone()));
-    if static_correction {
+    if let Some(mut psi) = static_shape {
         // psi = K^-1 c, M-orthogonalised against the modes: psi' = psi - sum p_i phi_i
         // with p_i = phi_i^T M psi. Then phi_i^T K psi' = c . phi_i - p_i omega_i^2 and
         // psi'^T K psi' = c . psi'. Skipped when the modes already span psi.
-        let mut psi = full.static_displacement(1.0)?;
         let mut scratch = vec![0.0; n];
-        let psi_norm = full.mass.bilinear(&psi, &psi, &mut scratch).sqrt();
+        let psi_norm = mass.bilinear(&psi, &psi, &mut scratch).sqrt();
         let mut projections = Vec::with_capacity(q);
         for phi in &basis {
-            let proj = full.mass.bilinear(phi, &psi, &mut scratch);
+            let proj = mass.bilinear(phi, &psi, &mut scratch);
             psi.iter_mut().zip(phi).for_each(|(p, f)| *p -= proj * f);
             projections.push(proj);
         }
-        let rest = full.mass.bilinear(&psi, &psi, &mut scratch).sqrt();
+        let rest = mass.bilinear(&psi, &psi, &mut scratch).sqrt();
         if rest > 1e-8 * psi_norm {
             psi.iter_mut().for_each(|p| *p /= rest);
             let mut extended = DMatrix::zeros(q + 1, q + 1);
             extended.view_mut((0, 0), (q, q)).copy_from(&kr);
             for i in 0..q {
                 let coupling =
-                    full.tip_value(&basis[i]) / rest - projections[i] * eigen.eigenvalues[i] / rest;
+                    tip_value(&basis[i]) / rest - projections[i] * eigen.eigenvalues[i] / rest;
                 extended[(i, q)] = coupling;
                 extended[(q, i)] = coupling;
             }
-            extended[(q, q)] = full.tip_value(&psi) / rest;
+            extended[(q, q)] = tip_value(&psi) / rest;
             kr = extended;
             basis.push(psi);
         }
@@ -422,7 +479,7 @@ pub fn reduce(
     let tip = t
         .iter()
         .enumerate()
-        .map(|(j, tj)| (j, full.tip_value(tj)))
+        .map(|(j, tj)| (j, tip_value(tj)))
         .collect();
     Ok(StructuralModel {
         level: FidelityLevel::Modal,
@@ -433,7 +490,7 @@ pub fn reduce(
             } else {
                 ""
             },
-            full.label
+            label
         ),
         mass: SymBandMatrix::from_diagonal(&vec![1.0; t.len()]),
         stiffness: SymBandMatrix::from_diagonal(&values),

@@ -15,9 +15,9 @@
 //! mesh use: its pivots name the failing row, its operation order is fixed (the same
 //! bits on every CPU, which the project tests), and on the 2D meshes issue 35 starts
 //! with it is as fast as faer's sparse Cholesky or faster (docs/structures.md,
-//! "Factorisation", measured here). Its cost grows with the band, O(n b^2): a 3D solid
-//! of tens of thousands of DOFs would want a supernodal factorisation, which is the
-//! 3D example's decision (not made here).
+//! "Factorisation", measured here). Its cost grows with the band, O(n b^2): a structure
+//! whose band would pass the memory limit (a 3D solid) is refused here and reduced by
+//! `sparse_modal` from faer's sparse factorisation (`sparse`).
 //!
 //! The files are read by [`read_calculix`] and [`read_matrix_market`] (opened through
 //! `files`, parsed by `stickslip_formats`).
@@ -29,6 +29,8 @@
 mod ordering;
 mod read;
 pub mod scene_model;
+pub mod sparse;
+pub mod sparse_modal;
 
 pub use read::{read_calculix, read_matrix_market, StructureFileError};
 
@@ -101,6 +103,13 @@ pub enum StructureError {
         pivot: f64,
         reason: &'static str,
     },
+    #[error("the {matrix} matrix is not positive definite on the free DOFs: the sparse Cholesky's pivot at {label} (row {row} of the file) is not positive, {reason}")]
+    NotPositiveDefiniteSparse {
+        matrix: &'static str,
+        label: DofLabel,
+        row: usize,
+        reason: &'static str,
+    },
     #[error("the {matrix} matrix has an entry ({row}, {col}) outside its {size} rows")]
     EntryOutOfRange {
         matrix: &'static str,
@@ -108,7 +117,7 @@ pub enum StructureError {
         col: usize,
         size: usize,
     },
-    #[error("the structure's half-bandwidth after reverse Cuthill-McKee is {band} for {dofs} free DOFs: the band Cholesky would take about {gigabytes:.1} GB (limit {} GB); a structure this wide (a 3D solid) needs a sparse supernodal factorisation, which is not here yet (docs/structures.md, \"Factorisation\")", BAND_MEMORY_LIMIT / 1e9)]
+    #[error("the structure's half-bandwidth after reverse Cuthill-McKee is {band} for {dofs} free DOFs: the band Cholesky would take about {gigabytes:.1} GB (limit {} GB); its full model does not run in the time loop; fidelity.level = modal reduces it from its sparse matrices (docs/structures.md, \"A 3D solid\")", BAND_MEMORY_LIMIT / 1e9)]
     BandTooWide {
         dofs: usize,
         band: usize,
@@ -251,11 +260,7 @@ impl LinearStructure {
                 label,
                 row: row_of[&label] + 1,
                 pivot: e.pivot,
-                reason: if name == "stiffness" {
-                    "so the structure can move there without deforming (clamp a rigid-body motion or a mechanism at or near that DOF)"
-                } else {
-                    "so some motion there has no mass"
-                },
+                reason: not_definite_reason(name),
             }
         })
     }
@@ -346,6 +351,15 @@ impl LinearStructure {
             .iter()
             .map(|w2| w2.sqrt() / (2.0 * std::f64::consts::PI))
             .collect())
+    }
+}
+
+/// What a pivot that is not positive means in the matrix `name`.
+fn not_definite_reason(name: &str) -> &'static str {
+    if name == "stiffness" {
+        "so the structure can move there without deforming (clamp a rigid-body motion or a mechanism at or near that DOF)"
+    } else {
+        "so some motion there has no mass"
     }
 }
 
@@ -498,7 +512,7 @@ mod tests {
     /// A chain of `n` equal springs k and masses m along x, node 0 (the wall) to node n,
     /// with the rows in a scrambled file order (so that the band comes from the ordering,
     /// not the file). Node 0 is in the file and must be clamped.
-    fn chain(n: usize, k: f64, m: f64) -> StructureMatrices {
+    pub(super) fn chain(n: usize, k: f64, m: f64) -> StructureMatrices {
         let rows = n + 1;
         let file_row = |node: usize| (node * 7) % rows; // a permutation when 7 does not divide rows
         let mut dofs = vec![label(0, 1); rows];

@@ -8,11 +8,17 @@ use crate::scene::FidelityLevel;
 use crate::structure::{ModelError, StructuralModel};
 use crate::user_structure::{StructureFormat, StructureSection};
 use std::path::PathBuf;
-use stickslip_formats::structure_file::DofLabel;
+use stickslip_formats::structure_file::{DofLabel, StructureMatrices};
 
-/// The files of `section` read and checked into a [`LinearStructure`].
-pub fn load(section: &StructureSection) -> Result<LinearStructure, ModelError> {
+/// The matrices of `section` read from its files, and every DOF to clamp: the section's
+/// `clamped` labels and, for a Gmsh mesh, the nodes of its `clamped_groups` (the one
+/// place the two are joined). The reader behind [`load`] and
+/// `sparse_modal::reduce_section`.
+pub fn read_section(
+    section: &StructureSection,
+) -> Result<(StructureMatrices, Vec<DofLabel>), ModelError> {
     let given = |p: &Option<PathBuf>| p.clone().unwrap_or_default();
+    let mut clamped: Vec<DofLabel> = section.clamped.iter().map(|d| d.label()).collect();
     let matrices = match section.format {
         StructureFormat::Calculix => read_calculix(&given(&section.job)),
         StructureFormat::MatrixMarket => read_matrix_market(
@@ -25,15 +31,18 @@ pub fn load(section: &StructureSection) -> Result<LinearStructure, ModelError> {
             // The mesh assembled in plane stress; its clamped groups join structure.clamped.
             let (matrices, by_group) = crate::plane_mesh::read_section(section)
                 .map_err(|e| ModelError::UserStructure(e.to_string()))?;
-            let mut clamped: Vec<DofLabel> = section.clamped.iter().map(|d| d.label()).collect();
             clamped.retain(|d| !by_group.contains(d));
             clamped.extend(by_group);
-            return LinearStructure::new(&matrices, &clamped)
-                .map_err(|e| ModelError::UserStructure(e.to_string()));
+            Ok(matrices)
         }
     }
     .map_err(|e| ModelError::UserStructure(e.to_string()))?;
-    let clamped: Vec<DofLabel> = section.clamped.iter().map(|d| d.label()).collect();
+    Ok((matrices, clamped))
+}
+
+/// The files of `section` read and checked into a [`LinearStructure`].
+pub fn load(section: &StructureSection) -> Result<LinearStructure, ModelError> {
+    let (matrices, clamped) = read_section(section)?;
     LinearStructure::new(&matrices, &clamped).map_err(|e| ModelError::UserStructure(e.to_string()))
 }
 
@@ -41,7 +50,14 @@ impl StructuralModel {
     /// The full model of a `[structure]`: its M and K on the free DOFs, the tip the
     /// contact DOF with weight 1.
     pub fn from_section(section: &StructureSection) -> Result<Self, ModelError> {
-        let structure = load(section)?;
+        Self::from_structure(&load(section)?, section)
+    }
+
+    /// The full model of `structure`, read from `section`: the contact DOF the tip.
+    pub fn from_structure(
+        structure: &LinearStructure,
+        section: &StructureSection,
+    ) -> Result<Self, ModelError> {
         let contact = section.contact.label();
         let tip = structure.index_of(contact).map_err(|_| {
             ModelError::UserStructure(format!(
