@@ -6,7 +6,8 @@
 //! scheme, see `contact`), then the integrator's finish with that force.
 
 use crate::contact::{
-    Contact, ContactState, Kinetic, Previous, Resolution, SlipSolve, SlipSolver, Transition,
+    Contact, ContactState, Direction, Kinetic, Previous, Resolution, SlipSolve, SlipSolver,
+    Transition,
 };
 use crate::friction::state::{StateVariable, STATE_VARIABLES};
 use crate::friction::FrictionLaw;
@@ -116,6 +117,9 @@ crate::choice! {
         /// [`ExternalKinetic::Signed`] from `external.friction_force`,
         /// `external.friction_slope` and `external.sliding_velocity`.
         Signed = "signed": "the tangent external.friction_force + external.friction_slope (v - external.sliding_velocity): for smooth signed laws (the plain network)",
+        /// [`ExternalKinetic::Step`] from `external.step_force`,
+        /// `external.step_slope` and `external.sliding_velocity`.
+        Step = "step": "the step-consistent tangent external.step_force + external.step_slope (v - external.sliding_velocity): for laws with state (LuGre, rate-and-state, the learned law with memory)",
     }
 }
 
@@ -138,6 +142,38 @@ pub enum ExternalKinetic {
         slope: f64,
         velocity: f64,
     },
+    /// A law with state by two tangents at the sliding velocity `velocity` (m/s) the
+    /// model was evaluated at, from its state at the start of the communication step:
+    /// the instantaneous one (`force`, `slope`: N, N s/m) and the step-consistent one
+    /// (`step_force`, `step_slope`: the force after the whole communication step at
+    /// `velocity` held, the state advanced, and its derivative with respect to that
+    /// held velocity, the state's response included; NeuralFriction's
+    /// `step_friction_force` and `step_friction_slope`). An internal step ending at the
+    /// fraction theta of the communication step (the span of the `advance` call) takes
+    /// (1 - theta) of the first and theta of the second: the force of a state that moves
+    /// over the step, to first order in the step, and the step-consistent tangent
+    /// itself at its end. Solved as `Signed`, except that the force is turned along
+    /// v_rel only where v_rel has crossed 0 since `velocity` (a law with state may push
+    /// against v_rel: LuGre's bristles after a reversal; see `contact::tangent`). For a
+    /// memoryless law both tangents are the same.
+    Step {
+        force: f64,
+        slope: f64,
+        step_force: f64,
+        step_slope: f64,
+        velocity: f64,
+    },
+}
+
+/// Where `end` (s) lies in `window` (s), as a fraction clamped to [0, 1]; 1 for an
+/// empty window.
+fn window_fraction(window: (f64, f64), end: f64) -> f64 {
+    let (start, stop) = window;
+    if stop - start > 0.0 {
+        ((end - start) / (stop - start)).clamp(0.0, 1.0)
+    } else {
+        1.0
+    }
 }
 
 /// Why a saved state does not fit a simulator.
@@ -182,6 +218,9 @@ pub struct Simulator {
     belt_speed: f64,
     normal_force: f64,
     external: Option<ExternalFriction>,
+    /// The span (s) of the current `advance` call, the coupling's communication step:
+    /// where within it a step ends weights `ExternalKinetic::Step`'s two tangents.
+    window: (f64, f64),
     /// Integrator for the shorter last step that lands on a requested time; rebuilt
     /// only when that length (`landing_length`) or the phase's damping changes.
     landing: Option<Integrator>,
@@ -282,6 +321,7 @@ impl Simulator {
             contact,
             law,
             external: None,
+            window: (0.0, 0.0),
             landing: None,
             landing_length: 0.0,
             landing_modal: false,
@@ -442,6 +482,7 @@ impl Simulator {
     /// beyond the reserved capacity (which stops growing at 2 [`RECENT_TRANSITIONS`]
     /// unless all transitions are kept).
     pub fn step(&mut self) -> Result<(), SimulationError> {
+        self.window = (self.state.time, self.state.time + self.integrator.dt());
         self.take_step(false).map(|_| ())
     }
 
@@ -488,6 +529,7 @@ impl Simulator {
         if !target.is_finite() || target < self.state.time - tolerance {
             return Err(invalid);
         }
+        self.window = (self.state.time, target);
         let steps = ((target - self.state.time + tolerance) / dt).floor();
         if steps > crate::scene::MAX_STEPS {
             return Err(invalid);
@@ -698,7 +740,27 @@ impl Simulator {
                         force,
                         slope,
                         velocity,
+                        direction: Direction::AlongSlip,
                     },
+                    Some(ExternalFriction {
+                        kinetic:
+                            ExternalKinetic::Step {
+                                force,
+                                slope,
+                                step_force,
+                                step_slope,
+                                velocity,
+                            },
+                        ..
+                    }) => {
+                        let theta = window_fraction(self.window, state.time + trial.dt);
+                        Kinetic::ExternalSigned {
+                            force: (1.0 - theta) * force + theta * step_force,
+                            slope: (1.0 - theta) * slope + theta * step_slope,
+                            velocity,
+                            direction: Direction::AcrossZero,
+                        }
+                    }
                     None => Kinetic::Law {
                         law: self.law.as_mut(),
                         normal_force: self.normal_force,
