@@ -141,11 +141,12 @@ def test_the_system_files_are_valid_ssp(built):
         (c.startElement, c.startConnector, c.endElement, c.endConnector)
         for c in coupled.system.connections
     }
-    # The signed coupling's links: the ones our master runs the same system with.
+    # The step coupling's links (the signed coupling's and the step-consistent
+    # tangent), wired in every coupled system: the ones our master runs it with.
     element = {BEAM: "beam", FRICTION: "friction"}
     assert links == {
         (element[link.source], link.output, element[link.target], link.input)
-        for link in COUPLINGS["signed"]
+        for link in COUPLINGS["step"]
     }
     assert ("friction", "friction_force_slope", "beam", "external.friction_slope") in links
     monolithic = read_ssd(str(other_masters.ssp_path(MONOLITHIC)))

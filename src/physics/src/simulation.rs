@@ -149,7 +149,8 @@ pub enum ExternalKinetic {
     /// `velocity` held, the state advanced, and its derivative with respect to that
     /// held velocity, the state's response included; NeuralFriction's
     /// `step_friction_force` and `step_friction_slope`). An internal step ending at the
-    /// fraction theta of the communication step (the span of the `advance` call) takes
+    /// fraction theta of the communication step (the steps of the `advance` call, j / n
+    /// for the j-th of n) takes
     /// (1 - theta) of the first and theta of the second: the force of a state that moves
     /// over the step, to first order in the step, and the step-consistent tangent
     /// itself at its end. Solved as `Signed`, except that the force is turned along
@@ -165,12 +166,11 @@ pub enum ExternalKinetic {
     },
 }
 
-/// Where `end` (s) lies in `window` (s), as a fraction clamped to [0, 1]; 1 for an
-/// empty window.
-fn window_fraction(window: (f64, f64), end: f64) -> f64 {
-    let (start, stop) = window;
-    if stop - start > 0.0 {
-        ((end - start) / (stop - start)).clamp(0.0, 1.0)
+/// Where the step after `taken` of `planned` steps ends in its window, as a fraction
+/// clamped to [0, 1]; 1 for an empty window.
+fn window_fraction((taken, planned): (u64, u64)) -> f64 {
+    if planned > 0 {
+        ((taken + 1) as f64 / planned as f64).min(1.0)
     } else {
         1.0
     }
@@ -218,9 +218,12 @@ pub struct Simulator {
     belt_speed: f64,
     normal_force: f64,
     external: Option<ExternalFriction>,
-    /// The span (s) of the current `advance` call, the coupling's communication step:
-    /// where within it a step ends weights `ExternalKinetic::Step`'s two tangents.
-    window: (f64, f64),
+    /// The current `advance` call, the coupling's communication step, in internal
+    /// steps: (taken, planned). Where within it a step ends, (taken + 1) / planned,
+    /// weights `ExternalKinetic::Step`'s two tangents. Counted in steps, not read off
+    /// the clocks, so that masters whose communication points differ by rounding
+    /// (libcosim's nanoseconds, Ecos) give the same bits.
+    window: (u64, u64),
     /// Integrator for the shorter last step that lands on a requested time; rebuilt
     /// only when that length (`landing_length`) or the phase's damping changes.
     landing: Option<Integrator>,
@@ -321,7 +324,7 @@ impl Simulator {
             contact,
             law,
             external: None,
-            window: (0.0, 0.0),
+            window: (0, 1),
             landing: None,
             landing_length: 0.0,
             landing_modal: false,
@@ -482,7 +485,7 @@ impl Simulator {
     /// beyond the reserved capacity (which stops growing at 2 [`RECENT_TRANSITIONS`]
     /// unless all transitions are kept).
     pub fn step(&mut self) -> Result<(), SimulationError> {
-        self.window = (self.state.time, self.state.time + self.integrator.dt());
+        self.window = (0, 1);
         self.take_step(false).map(|_| ())
     }
 
@@ -529,7 +532,6 @@ impl Simulator {
         if !target.is_finite() || target < self.state.time - tolerance {
             return Err(invalid);
         }
-        self.window = (self.state.time, target);
         let steps = ((target - self.state.time + tolerance) / dt).floor();
         if steps > crate::scene::MAX_STEPS {
             return Err(invalid);
@@ -540,6 +542,9 @@ impl Simulator {
         if split {
             full_steps -= 1;
         }
+        let landing_steps = if split { 2 } else { 1 };
+        let landing = rest > tolerance || split;
+        self.window = (0, full_steps + if landing { landing_steps } else { 0 });
         for _ in 0..full_steps {
             if self.take_step(false)? && stop_at_switch {
                 if (target - self.state.time).abs() <= tolerance {
@@ -551,7 +556,6 @@ impl Simulator {
                 return Ok(Some(self.state.time));
             }
         }
-        let landing_steps = if split { 2 } else { 1 };
         let remaining = target - self.state.time;
         if remaining > tolerance {
             self.landing_length = remaining / landing_steps as f64;
@@ -593,6 +597,7 @@ impl Simulator {
         let dt = self.step_parts(landing).0.integrator.dt();
         let trial = self.trial(landing);
         let resolution = self.resolve(&trial, static_limit);
+        self.window.0 += 1;
         self.finish(landing, resolution.force);
         self.record(landing, dt, &trial, resolution)
     }
@@ -753,7 +758,7 @@ impl Simulator {
                             },
                         ..
                     }) => {
-                        let theta = window_fraction(self.window, state.time + trial.dt);
+                        let theta = window_fraction(self.window);
                         Kinetic::ExternalSigned {
                             force: (1.0 - theta) * force + theta * step_force,
                             slope: (1.0 - theta) * slope + theta * step_slope,
