@@ -119,7 +119,7 @@ crate::choice! {
         Signed = "signed": "the tangent external.friction_force + external.friction_slope (v - external.sliding_velocity): for smooth signed laws (the plain network)",
         /// [`ExternalKinetic::Step`] from `external.step_force`,
         /// `external.step_slope` and `external.sliding_velocity`.
-        Step = "step": "the step-consistent tangent external.step_force + external.step_slope (v - external.sliding_velocity): for laws with state (LuGre, rate-and-state, the learned law with memory)",
+        Step = "step": "the signed tangent blended over the communication step into the step-consistent one, external.step_force + external.step_slope (v - external.sliding_velocity): for laws with state (LuGre, rate-and-state, the learned law with memory)",
     }
 }
 
