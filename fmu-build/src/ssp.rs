@@ -284,6 +284,16 @@ pub fn coupled() -> System {
                 from: ("friction", "evaluated_velocity"),
                 to: ("beam", "external.sliding_velocity"),
             },
+            // The step-consistent tangent, which `external.coupling = step` reads (the
+            // systems with a law with state); `signed` leaves it unread.
+            Connection {
+                from: ("friction", "step_friction_force"),
+                to: ("beam", "external.step_force"),
+            },
+            Connection {
+                from: ("friction", "step_friction_slope"),
+                to: ("beam", "external.step_slope"),
+            },
         ],
     }
 }
@@ -295,7 +305,7 @@ pub fn coupled() -> System {
 pub fn coupled_with_memory() -> System {
     with_friction(
         "StickSlipCoupledMemory",
-        "StickSlipBeam (friction.law = external, external.coupling = signed) coupled to NeuralFriction running the shipped learned law with memory (rate-and-state-learned.json)",
+        "StickSlipBeam (friction.law = external, external.coupling = step) coupled to NeuralFriction running the shipped learned law with memory (rate-and-state-learned.json)",
         ("weights", Setting::String("rate-and-state-learned.json")),
     )
 }
@@ -307,7 +317,7 @@ pub fn coupled_with_memory() -> System {
 pub fn coupled_rate_and_state() -> System {
     with_law(
         "StickSlipCoupledRateState",
-        "StickSlipBeam (friction.law = external, external.coupling = signed) coupled to NeuralFriction running law = rate-and-state (default parameters)",
+        "StickSlipBeam (friction.law = external, external.coupling = step) coupled to NeuralFriction running law = rate-and-state (default parameters)",
         "rate-and-state",
     )
 }
@@ -317,7 +327,7 @@ pub fn coupled_rate_and_state() -> System {
 pub fn coupled_lugre() -> System {
     with_law(
         "StickSlipCoupledLuGre",
-        "StickSlipBeam (friction.law = external, external.coupling = signed) coupled to NeuralFriction running law = lugre (default parameters)",
+        "StickSlipBeam (friction.law = external, external.coupling = step) coupled to NeuralFriction running law = lugre (default parameters)",
         "lugre",
     )
 }
@@ -344,6 +354,17 @@ fn with_friction(
         .find(|c| c.fmu == FmuKind::NeuralFriction)
         .expect("the coupled system has a NeuralFriction");
     friction.set = vec![setting];
+    // A law with state: the beam reads the step-consistent tangent (issue 36).
+    let beam = system
+        .components
+        .iter_mut()
+        .find(|c| c.fmu == FmuKind::StickSlipBeam)
+        .expect("the coupled system has a StickSlipBeam");
+    for (name, value) in &mut beam.set {
+        if *name == "external.coupling" {
+            *value = Setting::Choice("step");
+        }
+    }
     system
 }
 

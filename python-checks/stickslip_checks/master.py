@@ -65,10 +65,22 @@ BEAM_FRICTION_SIGNED_LINKS = (
     Link(FRICTION, "friction_force_slope", BEAM, "external.friction_slope"),
     Link(FRICTION, "evaluated_velocity", BEAM, "external.sliding_velocity"),
 )
+# The same with the step-consistent tangent of a law with state besides (issue 36):
+# the force after one communication step at the velocity held and its slope.
+BEAM_FRICTION_STEP_LINKS = (
+    *BEAM_FRICTION_SIGNED_LINKS,
+    Link(FRICTION, "step_friction_force", BEAM, "external.step_force"),
+    Link(FRICTION, "step_friction_slope", BEAM, "external.step_slope"),
+)
 # StickSlipBeam's external.coupling -> the links it reads. `magnitude` suits laws
 # sign(v) g(|v|) (the exponential law, the signed network); `signed` smooth signed laws
-# (the paper's plain network).
-COUPLINGS = {"magnitude": BEAM_FRICTION_LINKS, "signed": BEAM_FRICTION_SIGNED_LINKS}
+# (the paper's plain network); `step` laws with state (LuGre, rate-and-state, the
+# learned law with memory).
+COUPLINGS = {
+    "magnitude": BEAM_FRICTION_LINKS,
+    "signed": BEAM_FRICTION_SIGNED_LINKS,
+    "step": BEAM_FRICTION_STEP_LINKS,
+}
 # Dependency order of the pair: the friction FMU's outputs follow the beam's.
 BEAM_FRICTION_ORDER = (BEAM, FRICTION)
 

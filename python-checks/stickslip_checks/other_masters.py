@@ -57,6 +57,9 @@ FRICTION_SETTINGS = {
     COUPLED_RATE_STATE: {"law": "rate-and-state"},
     COUPLED_LUGRE: {"law": "lugre"},
 }
+# StickSlipBeam's external.coupling in each coupled system (the SSD's): the step-
+# consistent tangent for a law with state.
+COUPLING_OF = {COUPLED: "signed", COUPLED_MEMORY: "step", COUPLED_RATE_STATE: "step", COUPLED_LUGRE: "step"}
 # The law's state output each coupled system is compared on besides the tip deflection
 # (NeuralFriction's STATE_VARIABLES outputs; the others keep them at 0).
 STATE_OF = {COUPLED_RATE_STATE: ("friction", "state_theta"), COUPLED_LUGRE: ("friction", "bristle_deflection")}
@@ -418,7 +421,7 @@ def reference_coupled(
     clock: str = "float",
 ) -> np.ndarray:
     """Our master (master.run_coupled) on the coupled system `system` as its SSP file
-    sets it up (signed coupling; NeuralFriction with the system's FRICTION_SETTINGS),
+    sets it up (its COUPLING_OF; NeuralFriction with the system's FRICTION_SETTINGS),
     counting time as `clock` says (master.CLOCKS): the beam's tip deflection at
     0, h, ..., t_end."""
     tip = ("beam", "tip_deflection")
@@ -448,7 +451,7 @@ def reference_outputs(
         friction=FRICTION_SETTINGS[system],
         record=record,
         scheme=scheme,
-        coupling="signed",
+        coupling=COUPLING_OF[system],
         clock=clock,
     )
     return {(instance, name): trace[fmu_of[instance], name] for instance, name in outputs}

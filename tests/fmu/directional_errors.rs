@@ -142,8 +142,8 @@ fn fmi3_buffer_lengths_elements_and_time_are_checked() {
     };
     assert_eq!(status, ERROR);
     assert!(fmu.logged("nSensitivity"));
-    // The six law outputs and the three state outputs.
-    assert_eq!(outputs().len(), 9);
+    // The six law outputs, the step-consistent pair and the three state outputs.
+    assert_eq!(outputs().len(), 11);
 }
 
 /// StickSlipBeam declares no directional derivatives: both versions answer Error and

@@ -4,6 +4,7 @@
 
 use crate::friction_laws::initialised;
 use stickslip::choice::Choice;
+use stickslip::friction::rate_and_state::StateEvolution;
 use stickslip::friction::FrictionLawKind;
 use stickslip::scene::FidelityLevel;
 use stickslip::simulation::ExternalCoupling;
@@ -15,24 +16,60 @@ use stickslip_tests::vr;
 
 const END: f64 = 1.2;
 
-fn beam(law: FrictionLawKind) -> Instance<StickSlipBeam> {
+/// How a beam (embedded or external law) and its friction model are set up.
+#[derive(Clone, Copy)]
+struct Setup {
+    law: FrictionLawKind,
+    /// None: the FMU's default fidelity (the SSP systems').
+    fidelity: Option<FidelityLevel>,
+    coupling: ExternalCoupling,
+    /// The rate-and-state evolution (both FMUs).
+    evolution: Option<StateEvolution>,
+    /// The learned law with memory (both FMUs' weights).
+    learned: bool,
+}
+
+impl Setup {
+    fn modal(law: FrictionLawKind, coupling: ExternalCoupling) -> Self {
+        Setup {
+            law,
+            fidelity: Some(FidelityLevel::Modal),
+            coupling,
+            evolution: None,
+            learned: false,
+        }
+    }
+}
+
+const LEARNED: &str = "rate-and-state-learned.json";
+
+fn beam_with(setup: &Setup) -> Instance<StickSlipBeam> {
     let logger = Box::new(|_, _: &str, _: &str| {});
     let dir = stickslip_tests::weights_dir();
     let mut b = Instance::<StickSlipBeam>::new("b", Some(&dir), false, logger).unwrap();
     b.setup_experiment(0.0, Some(END)).unwrap();
-    b.set_integer(
-        &[
-            vr::<StickSlipBeam>("fidelity.level"),
-            vr::<StickSlipBeam>("friction.law"),
+    let mut integers = vec![
+        (vr::<StickSlipBeam>("friction.law"), setup.law.code()),
+        (
             vr::<StickSlipBeam>("external.coupling"),
-        ],
-        &[
-            FidelityLevel::Modal.code(),
-            law.code(),
-            ExternalCoupling::Signed.code(),
-        ],
-    )
-    .unwrap();
+            setup.coupling.code(),
+        ),
+    ];
+    if let Some(level) = setup.fidelity {
+        integers.push((vr::<StickSlipBeam>("fidelity.level"), level.code()));
+    }
+    if let Some(evolution) = setup.evolution {
+        integers.push((
+            vr::<StickSlipBeam>("friction.rate_and_state.state_evolution"),
+            evolution.code(),
+        ));
+    }
+    let (vrs, values): (Vec<u32>, Vec<i32>) = integers.into_iter().unzip();
+    b.set_integer(&vrs, &values).unwrap();
+    if setup.learned && setup.law != FrictionLawKind::External {
+        b.set_string(&[vr::<StickSlipBeam>("friction.weights")], &[LEARNED])
+            .unwrap();
+    }
     b.enter_initialization_mode().unwrap();
     b.exit_initialization_mode().unwrap();
     b
@@ -46,7 +83,11 @@ fn beam_real(b: &mut Instance<StickSlipBeam>, name: &str) -> f64 {
 
 /// The embedded run's tip deflection at the communication points of `h`.
 fn alone(law: FrictionLawKind, h: f64) -> Vec<f64> {
-    let mut b = beam(law);
+    alone_with(&Setup::modal(law, ExternalCoupling::Signed), h)
+}
+
+fn alone_with(setup: &Setup, h: f64) -> Vec<f64> {
+    let mut b = beam_with(setup);
     let n = (END / h).round() as usize;
     (0..n)
         .map(|k| {
@@ -61,15 +102,59 @@ fn alone(law: FrictionLawKind, h: f64) -> Vec<f64> {
 /// beam, which steps; NeuralFriction then gets v_rel(t_k+1) and steps its state with it
 /// held, as the embedded law's implicit step holds the step's end velocity.
 fn coupled(law: NeuralFrictionLaw, h: f64) -> Vec<f64> {
-    let mut b = beam(FrictionLawKind::External);
-    let (f, _) = initialised(FmiVersion::V2, law, &[], &[]);
-    let mut f = f.unwrap();
+    let setup = Setup::modal(FrictionLawKind::External, ExternalCoupling::Signed);
+    coupled_with(law, &setup, h, Scheme::GaussSeidel)
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Scheme {
+    GaussSeidel,
+    Jacobi,
+}
+
+/// The coupled run of `law` in NeuralFriction with the beam of `setup` (its law
+/// `external`), by `scheme` as `stickslip_checks.master` runs it: Gauss-Seidel beam
+/// first (above); Jacobi reads every output at t_k (NeuralFriction's at the v_rel(t_k-1)
+/// it held), then sets the inputs and steps both.
+fn coupled_with(law: NeuralFrictionLaw, setup: &Setup, h: f64, scheme: Scheme) -> Vec<f64> {
+    let beam_setup = Setup {
+        law: FrictionLawKind::External,
+        ..*setup
+    };
+    let mut b = beam_with(&beam_setup);
+    let evolution: Vec<(&str, i32)> = setup
+        .evolution
+        .map(|e| ("friction.rate_and_state.state_evolution", e.code()))
+        .into_iter()
+        .collect();
+    let mut f = if setup.learned {
+        let logger = Box::new(|_, _: &str, _: &str| {});
+        let dir = stickslip_tests::weights_dir();
+        let mut f = Instance::<NeuralFriction>::instantiate(
+            stickslip_fmi::instance::FmiVersion::V2,
+            "f",
+            Some(&dir),
+            false,
+            logger,
+        )
+        .unwrap();
+        f.set_string(&[vr::<NeuralFriction>("weights")], &[LEARNED])
+            .unwrap();
+        f.setup_experiment(0.0, None).unwrap();
+        f.enter_initialization_mode().unwrap();
+        f.exit_initialization_mode().unwrap();
+        f
+    } else {
+        initialised(FmiVersion::V2, law, &evolution, &[]).0.unwrap()
+    };
     let links = [
         ("friction_force_magnitude", "external.kinetic_force"),
         ("static_limit", "external.static_limit"),
         ("friction_force", "external.friction_force"),
         ("friction_force_slope", "external.friction_slope"),
         ("evaluated_velocity", "external.sliding_velocity"),
+        ("step_friction_force", "external.step_force"),
+        ("step_friction_slope", "external.step_slope"),
     ];
     let outputs: Vec<u32> = links.iter().map(|(o, _)| vr::<NeuralFriction>(o)).collect();
     let inputs: Vec<u32> = links.iter().map(|(_, i)| vr::<StickSlipBeam>(i)).collect();
@@ -83,12 +168,66 @@ fn coupled(law: NeuralFrictionLaw, h: f64) -> Vec<f64> {
             let mut values = vec![0.0; links.len()];
             f.get_real(&outputs, &mut values).unwrap();
             b.set_real(&inputs, &values).unwrap();
+            if scheme == Scheme::Jacobi {
+                f.set_real(&sliding, &[v_rel(&mut b)]).unwrap();
+            }
             b.do_step(t, h).unwrap();
-            f.set_real(&sliding, &[v_rel(&mut b)]).unwrap();
+            if scheme == Scheme::GaussSeidel {
+                f.set_real(&sliding, &[v_rel(&mut b)]).unwrap();
+            }
             f.do_step(t, h).unwrap();
             beam_real(&mut b, "tip_deflection")
         })
         .collect()
+}
+
+/// The starts (s) of the major falls of `tip` (sampled every `h` from h on): the
+/// peaks from which the tip falls by more than `FALL` (0.5 mm, the issue's measure)
+/// before it rises again by as much, so that neither a re-stick's stall of a few um
+/// within a fall nor a wiggle at the top counts as a fall of its own.
+fn major_falls(tip: &[f64], h: f64) -> Vec<f64> {
+    const FALL: f64 = 5e-4;
+    let mut starts = Vec::new();
+    let (mut peak, mut peak_at) = (f64::MIN, 0);
+    let mut trough = f64::MAX;
+    let mut falling = false;
+    for (k, &x) in tip.iter().enumerate() {
+        if falling {
+            trough = trough.min(x);
+            if x > trough + FALL {
+                falling = false;
+                (peak, peak_at) = (x, k);
+            }
+        } else {
+            if x > peak {
+                (peak, peak_at) = (x, k);
+            }
+            if x < peak - FALL {
+                starts.push((peak_at + 1) as f64 * h);
+                falling = true;
+                trough = x;
+            }
+        }
+    }
+    starts
+}
+
+/// The mean period (s) between the major falls of `tip` up to `END`.
+fn fall_period(tip: &[f64], h: f64) -> f64 {
+    let d = major_falls(tip, h);
+    if d.len() < 2 {
+        return f64::NAN;
+    }
+    (d[d.len() - 1] - d[0]) / (d.len() - 1) as f64
+}
+
+/// The coupling error of `run` against `reference` (both every `h`): the largest tip
+/// difference (m) to 0.7 s and the relative period error by major falls to 1.2 s.
+fn coupling_error(reference: &[f64], run: &[f64], h: f64) -> (f64, f64) {
+    let m = (0.7 / h).round() as usize;
+    let deviation = largest_difference(&reference[..m], &run[..m]);
+    let period = fall_period(reference, h);
+    (deviation, fall_period(run, h) / period - 1.0)
 }
 
 /// The times (s) at which `tip` (sampled every `h` from h on) falls through `level`
@@ -214,5 +353,148 @@ fn measure_coupled_against_embedded() {
                 "{kind:?} h {h}: alone breakaway {tb:.5} period {period:.5} level {level:.5}; coupled {tb_c:.5} {period_c:.5}; max dev {max_dev:.2e}"
             );
         }
+    }
+}
+
+/// The laws with state of the SSP systems: (name, NeuralFriction's law, the embedded
+/// law, the rate-and-state evolution, the learned law's weights).
+fn state_law_setups(coupling: ExternalCoupling) -> Vec<(&'static str, NeuralFrictionLaw, Setup)> {
+    let base = |law| Setup {
+        law,
+        fidelity: None,
+        coupling,
+        evolution: None,
+        learned: false,
+    };
+    vec![
+        (
+            "lugre",
+            NeuralFrictionLaw::LUGRE,
+            base(FrictionLawKind::Lugre),
+        ),
+        (
+            "rate-and-state aging",
+            NeuralFrictionLaw::RATE_AND_STATE,
+            Setup {
+                evolution: Some(StateEvolution::Aging),
+                ..base(FrictionLawKind::RateAndState)
+            },
+        ),
+        (
+            "rate-and-state slip",
+            NeuralFrictionLaw::RATE_AND_STATE,
+            Setup {
+                evolution: Some(StateEvolution::Slip),
+                ..base(FrictionLawKind::RateAndState)
+            },
+        ),
+        (
+            "learned",
+            NeuralFrictionLaw::NEURAL,
+            Setup {
+                learned: true,
+                ..base(FrictionLawKind::Neural)
+            },
+        ),
+    ]
+}
+
+/// The coupling-error table of docs/cosimulation.md: every law with state of the SSP
+/// systems at the FMU's default fidelity, signed and step couplings, Gauss-Seidel and
+/// Jacobi, h from the environment's COUPLING_STEPS (default 1e-3): printed.
+#[test]
+#[ignore = "measurement"]
+fn measure_step_consistent_coupling() {
+    let steps: Vec<f64> = std::env::var("COUPLING_STEPS")
+        .unwrap_or_else(|_| "1e-3".into())
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let only = std::env::var("COUPLING_LAWS").unwrap_or_default();
+    for h in steps {
+        for (name, law, setup) in state_law_setups(ExternalCoupling::Step) {
+            if !only.is_empty() && !only.split(',').any(|o| o == name) {
+                continue;
+            }
+            let reference = alone_with(&setup, h);
+            for coupling in [ExternalCoupling::Signed, ExternalCoupling::Step] {
+                for scheme in [Scheme::GaussSeidel, Scheme::Jacobi] {
+                    let run = coupled_with(law, &Setup { coupling, ..setup }, h, scheme);
+                    let (deviation, period) = coupling_error(&reference, &run, h);
+                    println!(
+                        "h {h:e} {name:22} {:7} {scheme:?}: {:.4} mm, period {:+.2} %, falls {:.4?} (embedded {:.4?})",
+                        coupling.name(),
+                        deviation * 1e3,
+                        period * 100.0,
+                        major_falls(&run, h),
+                        major_falls(&reference, h),
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The step coupling (issue 36) at the SSP systems' step, h = 1e-3 s, Gauss-Seidel,
+/// default fidelity, against each law embedded: largest tip difference to 0.7 s and
+/// period error by major falls to 1.2 s. Measured (`measure_step_consistent_coupling`,
+/// docs/cosimulation.md), step coupling against the signed coupling of before:
+///
+/// | law | step | signed |
+/// | --- | --- | --- |
+/// | LuGre | 0.244 mm, +4.7 % | 3.21 mm, +6.7 % |
+/// | rate-and-state, aging | 0.138 mm, +3.4 % | 0.311 mm, +4.5 % |
+/// | rate-and-state, slip | 0.092 mm, -0.53 % | 0.055 mm, +0.18 % |
+/// | learned law with memory | 0.168 mm, +2.7 % | 0.286 mm, +4.7 % |
+///
+/// The issue's bounds (0.092 mm, 1 %) are not met at this h except by the slip law;
+/// asserted is what the coupling gives, with margins: the deviation within 1.25 times
+/// the measured (a change of the coupling that makes it worse fails) and the period
+/// error within the measured plus 1 percentage point (the falls are timed to a sample,
+/// 1 ms, of a ~0.2 s period, 0.5 %, at each end).
+#[test]
+fn the_step_coupling_at_the_systems_step() {
+    let h = 1e-3;
+    let measured = [
+        ("lugre", 0.244e-3, 0.047),
+        ("rate-and-state aging", 0.138e-3, 0.034),
+        ("rate-and-state slip", 0.092e-3, -0.0053),
+        ("learned", 0.168e-3, 0.027),
+    ];
+    for (name, law, setup) in state_law_setups(ExternalCoupling::Step) {
+        let (_, deviation, period) = measured.iter().find(|m| m.0 == name).unwrap();
+        let reference = alone_with(&setup, h);
+        let run = coupled_with(law, &setup, h, Scheme::GaussSeidel);
+        let (d, p) = coupling_error(&reference, &run, h);
+        assert!(
+            d < 1.25 * deviation,
+            "{name}: {d} m, measured {deviation} m"
+        );
+        assert!(
+            (p - period).abs() < 0.01,
+            "{name}: period error {p}, measured {period}"
+        );
+    }
+}
+
+/// The step coupling converges to the embedded law with h, Gauss-Seidel: at h = 2e-4 s
+/// LuGre, rate-and-state with the aging law and the learned law are within the issue's
+/// bounds (0.092 mm to 0.7 s, 1 % of period to 1.2 s). Measured at 2e-4 s: LuGre
+/// 0.0024 mm, 0.00 %; aging 0.0078 mm, +0.37 %; learned 0.0082 mm, +0.37 %. Not
+/// rate-and-state with the slip law, whose coupling error does not fall with h from
+/// 1e-3 s (0.092, then 0.145 mm at 2e-4 s, -1.3 %: docs/cosimulation.md), signed
+/// coupling alike (0.131 mm at 2e-4 s).
+#[test]
+fn the_step_coupling_meets_the_bounds_at_a_smaller_step() {
+    let h = 2e-4;
+    for (name, law, setup) in state_law_setups(ExternalCoupling::Step) {
+        if name == "rate-and-state slip" {
+            continue;
+        }
+        let reference = alone_with(&setup, h);
+        let run = coupled_with(law, &setup, h, Scheme::GaussSeidel);
+        let (d, p) = coupling_error(&reference, &run, h);
+        assert!(d < 0.092e-3, "{name}: {d} m");
+        assert!(p.abs() < 0.01, "{name}: period error {p}");
     }
 }

@@ -175,7 +175,8 @@ fn parameters_are_the_defaults_except_what_the_system_sets() {
     // plain network as the monolithic one embeds.
     assert!(friction_starts.contains(&("law".into(), NeuralFrictionLaw::NEURAL.code().to_string())));
     // The systems with a law with state differ from the coupled one in NeuralFriction's
-    // law only: same beam, same links, the law's code in the parameter set.
+    // law and the beam's coupling (step, issue 36): same links, the law's code in the
+    // parameter set.
     for (system, law) in [
         (
             ssp::coupled_rate_and_state(),
@@ -187,7 +188,11 @@ fn parameters_are_the_defaults_except_what_the_system_sets() {
         let ssd = system.ssd();
         assert_eq!(
             ssd_parameters(&ssd, "beam"),
-            ssd_parameters(&coupled, "beam")
+            with(
+                &ssd_parameters(&coupled, "beam"),
+                "external.coupling",
+                ExternalCoupling::Step.code()
+            )
         );
         assert_eq!(
             ssd_parameters(&ssd, "friction"),
@@ -244,6 +249,18 @@ fn the_coupled_system_is_wired_beam_to_friction_and_back() {
             "evaluated_velocity",
             "beam",
             "external.sliding_velocity",
+        ),
+        (
+            "friction",
+            "step_friction_force",
+            "beam",
+            "external.step_force",
+        ),
+        (
+            "friction",
+            "step_friction_slope",
+            "beam",
+            "external.step_slope",
         ),
     ];
     assert_eq!(ssd.matches("<ssd:Connection ").count(), links.len());

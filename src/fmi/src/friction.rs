@@ -16,7 +16,9 @@
 //! forward-mode differentiation of the network, or the exponential law's closed form)
 //! and the velocity it was evaluated at (`evaluated_velocity`) are outputs: together
 //! they are the law's tangent, which StickSlipBeam's `external.coupling = signed` solves
-//! within its internal steps (see `stickslip::contact`).
+//! within its internal steps (see `stickslip::contact`). For a law with state the
+//! step-consistent pair is output too (`step_friction_force`, `step_friction_slope`,
+//! see `state_laws`), which StickSlipBeam's `external.coupling = step` solves.
 
 use crate::model::PartialDerivatives;
 use crate::networks::{NetworkError, Networks, DEFAULT_WEIGHTS};
@@ -138,6 +140,12 @@ struct Outputs {
     static_limit: f64,
     /// The law's state, one entry per `STATE_VARIABLES` (0 for those it has not).
     state: [f64; STATE_VARIABLES.len()],
+    /// The step-consistent pair (N, N s/m) of a law with state: the force after one
+    /// step of the last communication step's size at `velocity` held, and its
+    /// derivative with respect to that velocity (`state_laws::step_pair`); `force`
+    /// and `slope` for a memoryless law and before the first step.
+    step_force: f64,
+    step_slope: f64,
 }
 
 /// Why the outputs could not be evaluated (the `Model` methods log the message).
@@ -188,6 +196,9 @@ pub struct NeuralFriction {
     law_state: Vec<f64>,
     /// Where the model is (s): the start time, then the end of the last step.
     time: f64,
+    /// The size (s) of the last communication step of nonzero size, the master's h:
+    /// the step the step-consistent pair looks ahead over; 0 before the first step.
+    step_size: f64,
 }
 
 /// Why initialisation refuses the parameters (fmi2ExitInitializationMode), and a saved
@@ -251,9 +262,12 @@ impl NeuralFriction {
                 source,
             })?
         };
+        let (step_force, step_slope) = self.step_pair()?.unwrap_or((force, slope));
         let outputs = Outputs {
             force,
             slope,
+            step_force,
+            step_slope,
             velocity: s.sliding_velocity,
             coefficient: if s.normal_force > 0.0 {
                 force.abs() / s.normal_force
@@ -266,6 +280,8 @@ impl NeuralFriction {
         if ![
             outputs.force,
             outputs.slope,
+            outputs.step_force,
+            outputs.step_slope,
             outputs.velocity,
             outputs.coefficient,
             outputs.static_limit,
@@ -302,6 +318,8 @@ const FRICTION_COEFFICIENT: u32 = 22;
 const STATIC_LIMIT_OUTPUT: u32 = 23;
 const FRICTION_FORCE_SLOPE: u32 = 24;
 const EVALUATED_VELOCITY_OUTPUT: u32 = 25;
+const STEP_FRICTION_FORCE: u32 = 26;
+const STEP_FRICTION_SLOPE: u32 = 27;
 /// The FMI 3.0 array `extra_feature` of those four: a value reference of its own (16,
 /// free in both descriptions), so that 12 means `extra_feature[1]` in FMI 2.0 and
 /// nothing in FMI 3.0, never the whole array.

@@ -6,7 +6,8 @@
 //! scheme, see `contact`), then the integrator's finish with that force.
 
 use crate::contact::{
-    Contact, ContactState, Kinetic, Previous, Resolution, SlipSolve, SlipSolver, Transition,
+    Contact, ContactState, Direction, Kinetic, Previous, Resolution, SlipSolve, SlipSolver,
+    Transition,
 };
 use crate::friction::state::{StateVariable, STATE_VARIABLES};
 use crate::friction::FrictionLaw;
@@ -116,6 +117,9 @@ crate::choice! {
         /// [`ExternalKinetic::Signed`] from `external.friction_force`,
         /// `external.friction_slope` and `external.sliding_velocity`.
         Signed = "signed": "the tangent external.friction_force + external.friction_slope (v - external.sliding_velocity): for smooth signed laws (the plain network)",
+        /// [`ExternalKinetic::Step`] from `external.step_force`,
+        /// `external.step_slope` and `external.sliding_velocity`.
+        Step = "step": "the signed tangent blended over the communication step into the step-consistent one, external.step_force + external.step_slope (v - external.sliding_velocity): for laws with state (LuGre, rate-and-state, the learned law with memory)",
     }
 }
 
@@ -138,6 +142,38 @@ pub enum ExternalKinetic {
         slope: f64,
         velocity: f64,
     },
+    /// A law with state by two tangents at the sliding velocity `velocity` (m/s) the
+    /// model was evaluated at, from its state at the start of the communication step:
+    /// the instantaneous one (`force`, `slope`: N, N s/m) and the step-consistent one
+    /// (`step_force`, `step_slope`: the force after the whole communication step at
+    /// `velocity` held, the state advanced, and its derivative with respect to that
+    /// held velocity, the state's response included; NeuralFriction's
+    /// `step_friction_force` and `step_friction_slope`). An internal step ending at the
+    /// fraction theta of the communication step (the steps of the `advance` call, j / n
+    /// for the j-th of n) takes
+    /// (1 - theta) of the first and theta of the second: the force of a state that moves
+    /// over the step, to first order in the step, and the step-consistent tangent
+    /// itself at its end. Solved as `Signed`, except that the force is turned along
+    /// v_rel only where v_rel has crossed 0 since `velocity` (a law with state may push
+    /// against v_rel: LuGre's bristles after a reversal; see `contact::tangent`). For a
+    /// memoryless law both tangents are the same.
+    Step {
+        force: f64,
+        slope: f64,
+        step_force: f64,
+        step_slope: f64,
+        velocity: f64,
+    },
+}
+
+/// Where the step after `taken` of `planned` steps ends in its window, as a fraction
+/// clamped to [0, 1]; 1 for an empty window.
+fn window_fraction((taken, planned): (u64, u64)) -> f64 {
+    if planned > 0 {
+        ((taken + 1) as f64 / planned as f64).min(1.0)
+    } else {
+        1.0
+    }
 }
 
 /// Why a saved state does not fit a simulator.
@@ -182,6 +218,12 @@ pub struct Simulator {
     belt_speed: f64,
     normal_force: f64,
     external: Option<ExternalFriction>,
+    /// The current `advance` call, the coupling's communication step, in internal
+    /// steps: (taken, planned). Where within it a step ends, (taken + 1) / planned,
+    /// weights `ExternalKinetic::Step`'s two tangents. Counted in steps, not read off
+    /// the clocks, so that masters whose communication points differ by rounding
+    /// (libcosim's nanoseconds, Ecos) give the same bits.
+    window: (u64, u64),
     /// Integrator for the shorter last step that lands on a requested time; rebuilt
     /// only when that length (`landing_length`) or the phase's damping changes.
     landing: Option<Integrator>,
@@ -282,6 +324,7 @@ impl Simulator {
             contact,
             law,
             external: None,
+            window: (0, 1),
             landing: None,
             landing_length: 0.0,
             landing_modal: false,
@@ -442,6 +485,7 @@ impl Simulator {
     /// beyond the reserved capacity (which stops growing at 2 [`RECENT_TRANSITIONS`]
     /// unless all transitions are kept).
     pub fn step(&mut self) -> Result<(), SimulationError> {
+        self.window = (0, 1);
         self.take_step(false).map(|_| ())
     }
 
@@ -498,6 +542,9 @@ impl Simulator {
         if split {
             full_steps -= 1;
         }
+        let landing_steps = if split { 2 } else { 1 };
+        let landing = rest > tolerance || split;
+        self.window = (0, full_steps + if landing { landing_steps } else { 0 });
         for _ in 0..full_steps {
             if self.take_step(false)? && stop_at_switch {
                 if (target - self.state.time).abs() <= tolerance {
@@ -509,7 +556,6 @@ impl Simulator {
                 return Ok(Some(self.state.time));
             }
         }
-        let landing_steps = if split { 2 } else { 1 };
         let remaining = target - self.state.time;
         if remaining > tolerance {
             self.landing_length = remaining / landing_steps as f64;
@@ -551,6 +597,7 @@ impl Simulator {
         let dt = self.step_parts(landing).0.integrator.dt();
         let trial = self.trial(landing);
         let resolution = self.resolve(&trial, static_limit);
+        self.window.0 += 1;
         self.finish(landing, resolution.force);
         self.record(landing, dt, &trial, resolution)
     }
@@ -698,7 +745,27 @@ impl Simulator {
                         force,
                         slope,
                         velocity,
+                        direction: Direction::AlongSlip,
                     },
+                    Some(ExternalFriction {
+                        kinetic:
+                            ExternalKinetic::Step {
+                                force,
+                                slope,
+                                step_force,
+                                step_slope,
+                                velocity,
+                            },
+                        ..
+                    }) => {
+                        let theta = window_fraction(self.window);
+                        Kinetic::ExternalSigned {
+                            force: (1.0 - theta) * force + theta * step_force,
+                            slope: (1.0 - theta) * slope + theta * step_slope,
+                            velocity,
+                            direction: Direction::AcrossZero,
+                        }
+                    }
                     None => Kinetic::Law {
                         law: self.law.as_mut(),
                         normal_force: self.normal_force,

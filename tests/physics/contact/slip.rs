@@ -2,7 +2,7 @@
 //! level, a steep law's root, a law with a jump, and a coupled model's tangent.
 
 use super::{alpha_f, contact, coulomb, level, previous, BELT, LIMIT, LOW_LIMIT, NEAR_ZERO, TRIAL};
-use stickslip::contact::{ContactState::*, Kinetic, SlipSolver};
+use stickslip::contact::{ContactState::*, Direction, Kinetic, SlipSolver};
 use stickslip::friction::{exponential::ExponentialLaw, FrictionLaw};
 use stickslip::scene::{HoldingForce, Scheme};
 
@@ -148,6 +148,7 @@ fn the_external_tangent_is_solved_implicitly_where_the_held_force_would_overshoo
             force: held,
             slope,
             velocity,
+            direction: Direction::AlongSlip,
         },
     );
     let v = level(&NEAR_ZERO, 0.0, r.force);
@@ -177,6 +178,7 @@ fn the_held_signed_force_acts_as_given_along_the_sliding_velocity_and_as_its_mag
         force,
         slope: 0.0,
         velocity: 0.3,
+        direction: Direction::AlongSlip,
     };
     let r = c.resolve(
         &TRIAL,

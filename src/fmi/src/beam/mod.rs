@@ -14,7 +14,13 @@
 //!   `external.friction_force` + `external.friction_slope` (v -
 //!   `external.sliding_velocity`), solved within each internal step, for smooth signed
 //!   laws such as the paper's plain network (see `stickslip::contact`, and docs/cosimulation.md
-//!   for the coupling errors).
+//!   for the coupling errors);
+//! - `step`: the step-consistent tangent of a law with state, `external.step_force` +
+//!   `external.step_slope` (v - `external.sliding_velocity`): the force after one
+//!   communication step at the velocity held and its derivative with respect to that
+//!   velocity, the state's response included (NeuralFriction's `step_friction_force`
+//!   and `step_friction_slope`), solved as `signed`, turned along v_rel only where v_rel
+//!   has crossed 0 since the evaluation.
 //!
 //! `fidelity.level = auto` is resolved by the `auto` module at
 //! fmi2ExitInitializationMode.
@@ -57,6 +63,12 @@ pub struct BeamInputs {
     pub friction_slope: f64,
     #[serde(default)]
     pub sliding_velocity: f64,
+    /// `external.step_force` (N) and `external.step_slope` (N s/m): the
+    /// step-consistent tangent of a law with state (`external.coupling = step`).
+    #[serde(default)]
+    pub step_force: f64,
+    #[serde(default)]
+    pub step_slope: f64,
 }
 
 /// Everything set from outside: parameters and inputs. The friction model and the
@@ -89,6 +101,8 @@ impl Default for Settings {
             friction_force: 0.0,
             friction_slope: 0.0,
             sliding_velocity: 0.0,
+            step_force: 0.0,
+            step_slope: 0.0,
         };
         Self {
             scene,
@@ -187,6 +201,13 @@ impl StickSlipBeam {
                 ExternalCoupling::Signed => ExternalKinetic::Signed {
                     force: inputs.friction_force,
                     slope: inputs.friction_slope,
+                    velocity: inputs.sliding_velocity,
+                },
+                ExternalCoupling::Step => ExternalKinetic::Step {
+                    force: inputs.friction_force,
+                    slope: inputs.friction_slope,
+                    step_force: inputs.step_force,
+                    step_slope: inputs.step_slope,
                     velocity: inputs.sliding_velocity,
                 },
             },

@@ -371,8 +371,24 @@ pub(super) static VARIABLES: LazyLock<Vec<Variable<StickSlipBeam>>> = LazyLock::
         106,
         "external.sliding_velocity",
         Some("m/s"),
-        "Sliding velocity the friction model was evaluated at (external.coupling = signed)",
+        "Sliding velocity the friction model was evaluated at (external.coupling = signed or step)",
         |m: StickSlipBeam| m.settings.inputs.sliding_velocity,
+        then = m.apply_inputs()
+    ),
+    real_input!(
+        107,
+        "external.step_force",
+        Some("N"),
+        "Force after one communication step at external.sliding_velocity held, the law's state advanced (external.coupling = step)",
+        |m: StickSlipBeam| m.settings.inputs.step_force,
+        then = m.apply_inputs()
+    ),
+    real_input!(
+        108,
+        "external.step_slope",
+        Some("N.s/m"),
+        "Derivative of external.step_force with respect to the held velocity, the state's response included (external.coupling = step)",
+        |m: StickSlipBeam| m.settings.inputs.step_slope,
         then = m.apply_inputs()
     ),
     real_output!(

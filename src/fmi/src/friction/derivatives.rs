@@ -7,7 +7,13 @@
 //! - friction_force_magnitude |F|: sign(F) dF (0 at F = 0, where |F| has its kink);
 //! - friction_coefficient c = |F| / F_n: sign(F) dF / F_n - |F| / F_n^2 dF_n (0 at
 //!   F_n = 0, where c is defined as 0);
-//! - static_limit mu_s F_n (0 for lugre): mu_s (0) along F_n; evaluated_velocity v: 1 along v.
+//! - static_limit mu_s F_n (0 for lugre): mu_s (0) along F_n; evaluated_velocity v: 1 along v;
+//! - step_friction_force F_h and step_friction_slope S_h: those of F and S where they
+//!   are F and S (a memoryless law, before the first step); for a law with state
+//!   dF_h/dv = S_h, and the three others (dF_h/dF_n, dS_h/dv, dS_h/dF_n) centred
+//!   differences of the law's own step, increments 1e-6 (|x| + scale) with the scale
+//!   1 mm/s for v and 1 N for F_n (the step's exact second derivatives are not coded;
+//!   no coupling uses them).
 
 use super::*;
 use stickslip::elementary::signum_or_zero;
@@ -64,6 +70,35 @@ impl NeuralFriction {
         Ok(partials)
     }
 
+    /// (dF_h/dv, dF_h/dF_n, dS_h/dv, dS_h/dF_n) of the step-consistent pair of a law
+    /// with state after its first step (module notes), or `None` where the pair is the
+    /// instantaneous one.
+    fn step_pair_gradients(&mut self) -> Result<Option<[f64; 4]>, EvaluateError> {
+        let Some((_, slope)) = self.step_pair()? else {
+            return Ok(None);
+        };
+        let (v, normal) = (self.settings.sliding_velocity, self.settings.normal_force);
+        let mut at = |v: f64, normal: f64| -> Result<(f64, f64), EvaluateError> {
+            self.settings.sliding_velocity = v;
+            self.settings.normal_force = normal;
+            self.step_pair().map(|p| p.unwrap_or((0.0, 0.0)))
+        };
+        let dv = 1e-6 * (v.abs() + 1e-3);
+        let dn = 1e-6 * (normal.abs() + 1.0);
+        let (_, slope_up) = at(v + dv, normal)?;
+        let (_, slope_down) = at(v - dv, normal)?;
+        let (force_up, slope_n_up) = at(v, normal + dn)?;
+        let (force_down, slope_n_down) = at(v, normal - dn)?;
+        self.settings.sliding_velocity = v;
+        self.settings.normal_force = normal;
+        Ok(Some([
+            slope,
+            (force_up - force_down) / (2.0 * dn),
+            (slope_up - slope_down) / (2.0 * dv),
+            (slope_n_up - slope_n_down) / (2.0 * dn),
+        ]))
+    }
+
     fn compute_derivatives(&mut self) -> Result<PartialDerivatives, EvaluateError> {
         let (jacobian, law_inputs) = self.law_jacobian()?;
         let s = &self.settings;
@@ -100,6 +135,20 @@ impl NeuralFriction {
             s.static_limit_coefficient(),
         );
         partials.set(EVALUATED_VELOCITY_OUTPUT, SLIDING_VELOCITY, 1.0);
+        match self.step_pair_gradients()? {
+            Some([force_v, force_n, slope_v, slope_n]) => {
+                partials.set(STEP_FRICTION_FORCE, SLIDING_VELOCITY, force_v);
+                partials.set(STEP_FRICTION_FORCE, NORMAL_FORCE, force_n);
+                partials.set(STEP_FRICTION_SLOPE, SLIDING_VELOCITY, slope_v);
+                partials.set(STEP_FRICTION_SLOPE, NORMAL_FORCE, slope_n);
+            }
+            None => {
+                for (j, &input) in INPUTS.iter().enumerate() {
+                    partials.set(STEP_FRICTION_FORCE, input, force[j]);
+                    partials.set(STEP_FRICTION_SLOPE, input, slope[j]);
+                }
+            }
+        }
         if let Some((output, input, value)) = partials.non_finite() {
             return Err(EvaluateError::NonFiniteDerivative {
                 output,

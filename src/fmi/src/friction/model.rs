@@ -38,6 +38,7 @@ impl Model for NeuralFriction {
             built: None,
             law_state: Vec::new(),
             time: 0.0,
+            step_size: 0.0,
         }
     }
 
@@ -52,6 +53,7 @@ impl Model for NeuralFriction {
         self.outputs = Outputs::default();
         self.law_state.clear();
         self.time = 0.0;
+        self.step_size = 0.0;
     }
 
     fn refresh_outputs(&mut self, _start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
@@ -62,6 +64,7 @@ impl Model for NeuralFriction {
     fn initialize(&mut self, start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
         // A law with state starts at its initial state.
         self.law_state.clear();
+        self.step_size = 0.0;
         self.initialise_outputs().map_err(|e| e.to_string())?;
         self.time = start_time;
         Ok(())
@@ -69,6 +72,10 @@ impl Model for NeuralFriction {
 
     fn do_step(&mut self, to: f64, size: f64, _events: &mut Vec<String>) -> Result<(), String> {
         self.advance_state(to, size).map_err(|e| e.to_string())?;
+        // An event iteration's step of size 0 keeps the master's h.
+        if size > 0.0 {
+            self.step_size = size;
+        }
         self.outputs = self.evaluate().map_err(|e| e.to_string())?;
         Ok(())
     }

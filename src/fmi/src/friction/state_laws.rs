@@ -15,6 +15,16 @@
 //!   at once by the direct effect, and the state follows over the next steps.
 //!   `friction_force_slope` is dF/dv at the committed state, and the directional
 //!   derivatives are those at fixed state.
+//! - The step-consistent pair (`step_friction_force`, `step_friction_slope`): the
+//!   force after one step of the master's h (the size of the last communication step)
+//!   from the committed state at the current inputs held, F_h(v) = F(s_h(v), v), and
+//!   dF_h/dv, the state's response included. It is the law's own trial step
+//!   (`StatefulLaw::step_force_and_slope`, the one the embedded contact solves with:
+//!   LuGre's and rate-and-state's exact step for v held and its exact derivative, so
+//!   no difference quotient), so the beam solving its tangent sees over the coming
+//!   step what the state will do: for LuGre near stick dF_h/dv ~ sigma_0 h, where the
+//!   instantaneous slope holds the bristles rigid. Before the first step h is not
+//!   known and the pair is the instantaneous one.
 //! - The state is part of the FMU state (state version 4: `{settings, law_state}`);
 //!   states of versions 1 to 3, which NeuralFriction wrote before it had laws with state,
 //!   are the plain settings and restore with the initial law state. Version-4 states
@@ -41,6 +51,10 @@ struct Saved {
     /// The committed law state (empty for a law without state, or before the first
     /// step: the initial state).
     law_state: Vec<f64>,
+    /// The last communication step's size (s), which the step-consistent pair looks
+    /// ahead over; absent (0) in states saved before it existed.
+    #[serde(default)]
+    step_size: f64,
 }
 
 /// Whether `a` and `b` choose the same law with the same parameters (the inputs may
@@ -79,6 +93,7 @@ impl Settings {
 struct Adopted {
     settings: Settings,
     law_state: Vec<f64>,
+    step_size: f64,
     outputs: Outputs,
 }
 
@@ -187,6 +202,23 @@ impl NeuralFriction {
         Ok(Some((jacobian, outputs)))
     }
 
+    /// The step-consistent pair (module notes) at the committed state and the current
+    /// inputs, or `None` for a memoryless law and before the first step (h = 0).
+    pub(super) fn step_pair(&mut self) -> Result<Option<(f64, f64)>, EvaluateError> {
+        let step = LawStep {
+            dt: self.step_size,
+            sliding_velocity: self.settings.sliding_velocity,
+            normal_force: self.settings.normal_force,
+        };
+        if step.dt <= 0.0 {
+            return Ok(None);
+        }
+        let Some(law) = self.memory_law()? else {
+            return Ok(None);
+        };
+        Ok(Some(law.step_force_and_slope(step)))
+    }
+
     /// Commits one law step over `size` (s) to `to` (s) with the inputs held. The step
     /// is `size`, the importer's communication step size, so that every master that
     /// gives the same sizes gets the same bits (`Model::do_step`).
@@ -227,6 +259,7 @@ impl NeuralFriction {
         serde_json::to_value(Saved {
             settings: self.settings.clone(),
             law_state: self.law_state.clone(),
+            step_size: self.step_size,
         })
         .unwrap_or(serde_json::Value::Null)
     }
@@ -237,11 +270,13 @@ impl NeuralFriction {
     fn adopt_saved(&mut self, saved: serde_json::Value, at: &Restoring) -> Result<Adopted, String> {
         const WHAT: &str = "NeuralFriction";
         let parsed = if at.version >= LAW_STATE_VERSION {
-            parse_saved::<Saved>(saved).map(|saved| (saved.settings, saved.law_state))
+            parse_saved::<Saved>(saved)
+                .map(|saved| (saved.settings, saved.law_state, saved.step_size))
         } else {
-            parse_saved::<Settings>(saved).map(|settings| (settings, Vec::new()))
+            parse_saved::<Settings>(saved).map(|settings| (settings, Vec::new(), 0.0))
         };
-        let (settings, law_state) = parsed.map_err(|e| format!("saved {WHAT} state: {e}"))?;
+        let (settings, law_state, step_size) =
+            parsed.map_err(|e| format!("saved {WHAT} state: {e}"))?;
         let mut candidate = NeuralFriction::with_defaults();
         candidate.settings = settings;
         check_as_set(&candidate, |m| &m.settings)
@@ -249,6 +284,7 @@ impl NeuralFriction {
         let previous = Adopted {
             settings: std::mem::replace(&mut self.settings, candidate.settings),
             law_state: std::mem::replace(&mut self.law_state, law_state),
+            step_size: std::mem::replace(&mut self.step_size, step_size),
             outputs: self.outputs,
         };
         let checked = if at.initialized {
@@ -316,6 +352,7 @@ impl NeuralFriction {
     fn put_back(&mut self, previous: Adopted) {
         self.settings = previous.settings;
         self.law_state = previous.law_state;
+        self.step_size = previous.step_size;
         self.outputs = previous.outputs;
     }
 

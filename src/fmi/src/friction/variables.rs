@@ -238,6 +238,22 @@ pub(super) static VARIABLES: LazyLock<Vec<Variable<NeuralFriction>>> = LazyLock:
         EVALUATED_VELOCITY,
         |m: NeuralFriction| m.outputs.velocity
     ),
+    real_output!(
+        STEP_FRICTION_FORCE,
+        "step_friction_force",
+        Some("N"),
+        "Force after one communication step (the last step's size) at sliding_velocity held, the law's state advanced; friction_force for a memoryless law and before the first step",
+        law_output(),
+        |m: NeuralFriction| m.outputs.step_force
+    ),
+    real_output!(
+        STEP_FRICTION_SLOPE,
+        "step_friction_slope",
+        Some("N.s/m"),
+        "Derivative of step_friction_force with respect to the held sliding_velocity, the state's response included; friction_force_slope for a memoryless law and before the first step",
+        law_output(),
+        |m: NeuralFriction| m.outputs.step_slope
+    ),
     ];
     let law_state = law_state_outputs(FIRST_STATE_OUTPUT, state_output, |m: &NeuralFriction, k| {
         m.outputs.state[k]

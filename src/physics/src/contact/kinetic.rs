@@ -19,13 +19,40 @@ pub enum Kinetic<'a> {
     /// evaluated at, all held over the step. The step's force is the law's tangent
     /// F(v) ~ force + slope (v - velocity) at the step's own sliding velocity, solved
     /// implicitly like the scene's law, and acting along v_rel where the tangent points
-    /// against it (see `tangent`). With slope 0 it is the held force, or
-    /// its magnitude along v_rel.
+    /// against it as `direction` says (see `tangent`). With slope 0 it is the held
+    /// force, or its magnitude along v_rel.
     ExternalSigned {
         force: f64,
         slope: f64,
         velocity: f64,
+        direction: Direction,
     },
+}
+
+/// Where a coupled tangent that points against the sliding velocity is turned along it
+/// (friction dissipates; see `tangent`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    /// Wherever it points against v_rel: for a memoryless law, whose force never
+    /// opposes v_rel except in the smoothing of its jump (the `signed` coupling).
+    AlongSlip,
+    /// Only where v_rel has also crossed 0 since the velocity the model was evaluated
+    /// at (sign(v_rel) = -sign(velocity)): a law with state may push against v_rel
+    /// (LuGre's bristles after a reversal, F = sigma0 z with z not yet turned), and
+    /// that force is the law's (the `step` coupling).
+    AcrossZero,
+}
+
+impl Direction {
+    /// Whether the tangent's `value` (N) at sliding velocity `x` (m/s), handed over at
+    /// the evaluated velocity `velocity` (m/s), acts along v_rel instead.
+    pub(super) fn flips(self, value: f64, x: f64, velocity: f64) -> bool {
+        value * x < 0.0
+            && match self {
+                Direction::AlongSlip => true,
+                Direction::AcrossZero => x * velocity < 0.0,
+            }
+    }
 }
 
 impl Kinetic<'_> {
@@ -38,6 +65,7 @@ impl Kinetic<'_> {
                 force,
                 slope,
                 velocity,
+                ..
             } => *force + *slope * (v - *velocity),
         }
     }
@@ -59,6 +87,7 @@ impl Kinetic<'_> {
                 force,
                 slope,
                 velocity,
+                ..
             } => (*force + *slope * (v - *velocity), *slope),
         }
     }

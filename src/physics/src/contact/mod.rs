@@ -96,7 +96,7 @@ mod stick;
 mod switch;
 mod tangent;
 
-pub use kinetic::Kinetic;
+pub use kinetic::{Direction, Kinetic};
 pub use limits::{SLIP_ITERATIONS, SLIP_TOLERANCE};
 pub use slip::{SlipSolve, SlipSolver};
 pub use state::{ContactState, Previous, Transition};

@@ -75,10 +75,17 @@ impl SlipOptions {
             // follows from it linearly.
             let x = argument.at_start();
             let mut force = law.force(x);
-            if matches!(law.kinetic, Kinetic::ExternalSigned { .. }) && force * x < 0.0 {
+            if let Kinetic::ExternalSigned {
+                velocity,
+                direction,
+                ..
+            } = *law.kinetic
+            {
                 // A coupled tangent pointing against the sliding velocity acts along
                 // it, as in the implicit solve (`tangent`).
-                force = -force;
+                if direction.flips(force, x, velocity) {
+                    force = -force;
+                }
             }
             return Slip {
                 force,
@@ -95,6 +102,7 @@ impl SlipOptions {
                     force,
                     slope,
                     velocity,
+                    direction,
                 },
                 _,
             ) => {
@@ -102,6 +110,7 @@ impl SlipOptions {
                     force: *force,
                     slope: *slope,
                     velocity: *velocity,
+                    direction: *direction,
                 };
                 tangent_newton(&argument, tangent, &mut law)
             }

@@ -1,7 +1,7 @@
 //! The slip force under a coupled model's tangent (`Kinetic::ExternalSigned`).
 
 use super::argument::SlipArgument;
-use super::kinetic::CountedLaw;
+use super::kinetic::{CountedLaw, Direction};
 use super::limits::SLIP_ITERATIONS;
 
 /// A coupled model's tangent: F(v) ~ force + slope (v - velocity) (N, N s/m, m/s).
@@ -10,6 +10,8 @@ pub(super) struct Tangent {
     pub(super) force: f64,
     pub(super) slope: f64,
     pub(super) velocity: f64,
+    /// Where a tangent against v_rel acts along it instead.
+    pub(super) direction: Direction,
 }
 
 /// The slip force (N) under a coupled model's tangent T(v) = F_k + S (v - v_k): the root
@@ -32,6 +34,10 @@ pub(super) struct Tangent {
 ///   magnitude acts along v_rel, as in the magnitude coupling. The one place where a law
 ///   itself pushes against v_rel, the plain network's -13 N on 0 < v < 0.1 mm/s, is an
 ///   artefact of smoothing the jump, and this rule departs from it there.
+///   A law with state pushes against v_rel legitimately (LuGre's bristles, deflected one
+///   way, hold the force while v_rel has already turned): its step-consistent tangent
+///   (`Direction::AcrossZero`) is turned only where v_rel has also crossed 0 since the
+///   model was evaluated, which is the case the rule is for.
 ///
 /// x(F) is affine in F for `sliding_velocity = "relative"` and piecewise affine for
 /// "tip", and so is the direction rule: Newton's method ends in one pass on a piece, a
@@ -46,6 +52,7 @@ pub(super) fn tangent_newton(
         force: held,
         slope,
         velocity,
+        direction,
     } = tangent;
     let mut force = held;
     for _ in 0..SLIP_ITERATIONS {
@@ -53,7 +60,7 @@ pub(super) fn tangent_newton(
         // One evaluation of the (affine) model per pass, counted like a law's.
         law.evaluations += 1;
         let value = held + slope * (point.x - velocity);
-        let (model, model_slope) = if value * point.x < 0.0 {
+        let (model, model_slope) = if direction.flips(value, point.x, velocity) {
             (-value, -slope)
         } else {
             (value, slope)
