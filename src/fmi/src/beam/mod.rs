@@ -28,6 +28,7 @@
 //! implementation that the FMI layer drives.
 
 mod build;
+mod exported;
 mod model;
 mod saved;
 mod variables;
@@ -109,6 +110,9 @@ struct Running {
 
 pub struct StickSlipBeam {
     settings: Settings,
+    /// The start values, which `reset` returns to: the defaults, or an exported scene's
+    /// (`exported`).
+    start: Settings,
     networks: Networks,
     /// `auto` choices not yet logged.
     auto_log: Vec<String>,
