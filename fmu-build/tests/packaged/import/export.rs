@@ -1,0 +1,166 @@
+//! Exported FMUs (`stickslip export-fmu`, `fmu_build::export`) imported with the `fmi`
+//! crate: the default paper scene and the CalculiX beam (examples/calculix-beam), run to
+//! 0.5 s, equal bit for bit to the library's run of the same scene file read as
+//! `stickslip simulate` reads it; a tampered resources/scene.toml refused at
+//! instantiation.
+//!
+//! The `--from` FMU is packaged here from the host build of this source tree's library
+//! (`fmu_build::build_library`, x86_64 Linux only), so that the binary is the code under
+//! test, not whatever `target/fmu/` holds.
+
+use super::*;
+use fmu_build::archive::{write_zip, Entry};
+use fmu_build::platform::Platform;
+use std::io::Read as _;
+use std::path::Path;
+use std::sync::OnceLock;
+use stickslip::scene::Scene;
+
+/// Communication steps to 0.5 s: past the paper's breakaway (0.4 s) into slip.
+const EXPORT_STEPS: usize = 500;
+
+/// A scratch folder of this test process.
+fn scratch() -> PathBuf {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let dir = std::env::temp_dir().join(format!("stickslip-export-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("scratch folder");
+        dir
+    })
+    .clone()
+}
+
+/// StickSlipBeam.fmu (FMI 2.0) around the host build of this tree's library.
+fn from_fmu() -> PathBuf {
+    static FMU: OnceLock<PathBuf> = OnceLock::new();
+    FMU.get_or_init(|| {
+        let library = fmu_build::build_library().expect("the host build of stickslip-fmi");
+        let dir = scratch().join("from");
+        fmu_build::package(
+            FmuKind::StickSlipBeam,
+            &[(Platform::X86_64Linux, library)],
+            &dir,
+        )
+        .expect("StickSlipBeam.fmu packaged from the host library")
+    })
+    .clone()
+}
+
+/// Exports `scene` as `<name>.fmu` in the scratch folder.
+fn export(scene: &Path, name: &str) -> PathBuf {
+    let out = scratch().join(format!("{name}.fmu"));
+    let exported = fmu_build::export::export_fmu(scene, &out, 2, &from_fmu())
+        .unwrap_or_else(|e| panic!("export of {}: {e}", scene.display()));
+    assert_eq!(exported.model_identifier, name);
+    assert_eq!(exported.platforms, [Platform::X86_64Linux]);
+    out
+}
+
+/// The library's run of the scene file, read as `stickslip simulate` reads it, with
+/// `advance_to` at the communication points 0, h, ... (the FMU's clock).
+fn library_run(scene: &Path, steps: usize) -> Vec<Outputs> {
+    let scene = Scene::load(scene).expect("the scene loads");
+    let law = stickslip::law_source::LawSource::resolve(&scene)
+        .and_then(|law| law.law())
+        .expect("an analytical law");
+    let mut sim = Simulator::new(scene, law).expect("the scene builds");
+    let mut out = vec![Outputs::of_simulator(&sim)];
+    for &t in &communication_points(steps)[1..] {
+        sim.advance_to(t).expect("advance_to");
+        out.push(Outputs::of_simulator(&sim));
+    }
+    out
+}
+
+/// The exported FMU's run from its start values (no parameter set).
+fn fmu_run(fmu: &Path, name: &str, steps: usize) -> Vec<Outputs> {
+    install_logger();
+    let import: Fmi2Import = fmi::import::from_path(fmu)
+        .unwrap_or_else(|e| panic!("cannot import {}: {e}", fmu.display()));
+    let cs = import.model_description().co_simulation.as_ref().cloned();
+    assert_eq!(
+        cs.expect("a <CoSimulation> element").model_identifier,
+        fmu.file_stem().unwrap().to_string_lossy()
+    );
+    let mut beam = Beam::start(&import, name, &[]);
+    beam.run_from_start(steps)
+}
+
+fn compare(scene: &Path, name: &str) -> Vec<Outputs> {
+    let fmu = export(scene, name);
+    let started = std::time::Instant::now();
+    let from_fmu = fmu_run(&fmu, &format!("{name}-run"), EXPORT_STEPS);
+    let fmu_time = started.elapsed();
+    let library = library_run(scene, EXPORT_STEPS);
+    assert_bitwise(
+        &format!("exported {name} against the library"),
+        &from_fmu,
+        &library,
+    );
+    println!(
+        "{name}: {} bytes, run of {EXPORT_STEPS} communication steps through the FMU {:.3} s",
+        std::fs::metadata(&fmu).map(|m| m.len()).unwrap_or(0),
+        fmu_time.as_secs_f64()
+    );
+    from_fmu
+}
+
+#[test]
+fn the_exported_paper_scene_runs_as_the_library() {
+    let scene = scratch().join("paper.toml");
+    std::fs::write(&scene, "# the paper scene: every section at its default\n").unwrap();
+    let out = compare(&scene, "PaperScene");
+    // Not a run that stays put: the tip broke away before 0.5 s.
+    assert!(out.iter().any(|o| !o.stick));
+}
+
+#[test]
+fn the_exported_calculix_beam_runs_as_the_library() {
+    let scene = fmu_build::workspace_root().join("examples/calculix-beam/scene.toml");
+    let out = compare(&scene, "CalculixBeam");
+    assert!(out.iter().any(|o| !o.stick));
+}
+
+#[test]
+fn a_tampered_scene_is_refused_at_instantiation() {
+    let scene = scratch().join("tamper.toml");
+    std::fs::write(&scene, "[loading]\nbelt_speed = 0.03\n").unwrap();
+    let fmu = export(&scene, "Tampered");
+    // The same archive with the belt speed in resources/scene.toml changed.
+    let file = std::fs::File::open(&fmu).unwrap();
+    let mut archive = zip::ZipArchive::new(file).unwrap();
+    let mut entries = Vec::new();
+    let mut changed = false;
+    for k in 0..archive.len() {
+        let mut entry = archive.by_index(k).unwrap();
+        let name = entry.name().unwrap().into_owned();
+        let mut bytes = Vec::new();
+        entry.read_to_end(&mut bytes).unwrap();
+        if name == "resources/scene.toml" {
+            let text = String::from_utf8(bytes).unwrap();
+            let edited = text.replace("belt_speed = 0.03", "belt_speed = 0.04");
+            changed = edited != text;
+            bytes = edited.into_bytes();
+        }
+        entries.push(Entry::deflated(name, bytes));
+    }
+    assert!(changed, "the exported scene names the belt speed");
+    let tampered = scratch().join("TamperedEdit.fmu");
+    write_zip(&tampered, entries).unwrap();
+
+    install_logger();
+    let import: Fmi2Import = fmi::import::from_path(&tampered).unwrap();
+    let name = "tampered-instance";
+    assert!(
+        import.instantiate_cs(name, false, false).is_err(),
+        "a tampered export must not instantiate"
+    );
+    let messages = messages_of(name);
+    assert!(
+        messages
+            .iter()
+            .any(|(level, text)| *level == log::Level::Error
+                && text.contains("does not match the exported FMU Tampered")),
+        "the refusal is logged with its reason: {messages:?}"
+    );
+}
