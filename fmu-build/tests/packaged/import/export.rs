@@ -75,14 +75,19 @@ fn library_run(scene: &Path, steps: usize) -> Vec<Outputs> {
 /// The exported FMU's run from its start values (no parameter set).
 fn fmu_run(fmu: &Path, name: &str, steps: usize) -> Vec<Outputs> {
     install_logger();
+    let started = std::time::Instant::now();
     let import: Fmi2Import = fmi::import::from_path(fmu)
         .unwrap_or_else(|e| panic!("cannot import {}: {e}", fmu.display()));
-    let cs = import.model_description().co_simulation.as_ref().cloned();
+    let cs = import.model_description().co_simulation.as_ref();
     assert_eq!(
         cs.expect("a <CoSimulation> element").model_identifier,
         fmu.file_stem().unwrap().to_string_lossy()
     );
     let mut beam = Beam::start(&import, name, &[]);
+    println!(
+        "{name}: unpack, load and instantiate {:.3} s",
+        started.elapsed().as_secs_f64()
+    );
     beam.run_from_start(steps)
 }
 
