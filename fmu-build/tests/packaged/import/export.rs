@@ -85,7 +85,7 @@ fn fmu_run(fmu: &Path, name: &str, steps: usize) -> Vec<Outputs> {
     );
     let mut beam = Beam::start(&import, name, &[]);
     println!(
-        "{name}: unpack, load and instantiate {:.3} s",
+        "{name}: unpack, load, instantiate and initialise {:.3} s",
         started.elapsed().as_secs_f64()
     );
     beam.run_from_start(steps)
@@ -103,7 +103,7 @@ fn compare(scene: &Path, name: &str) -> Vec<Outputs> {
         &library,
     );
     println!(
-        "{name}: {} bytes, run of {EXPORT_STEPS} communication steps through the FMU {:.3} s",
+        "{name}: {} bytes; unpack, load and run of {EXPORT_STEPS} communication steps through the FMU {:.3} s",
         std::fs::metadata(&fmu).map(|m| m.len()).unwrap_or(0),
         fmu_time.as_secs_f64()
     );
@@ -124,6 +124,30 @@ fn the_exported_calculix_beam_runs_as_the_library() {
     let scene = fmu_build::workspace_root().join("examples/calculix-beam/scene.toml");
     let out = compare(&scene, "CalculixBeam");
     assert!(out.iter().any(|o| !o.stick));
+}
+
+/// fmi2Reset returns to the scene's values, not StickSlipBeam's: a scene whose belt
+/// runs at 0.03 m/s (StickSlipBeam's default: 0.02) runs the same before and after a
+/// reset, and as the library runs the scene.
+#[test]
+fn reset_returns_to_the_scene() {
+    let scene = scratch().join("fast-belt.toml");
+    std::fs::write(&scene, "[loading]\nbelt_speed = 0.03\n").unwrap();
+    let fmu = export(&scene, "FastBelt");
+    install_logger();
+    let import: Fmi2Import = fmi::import::from_path(&fmu).unwrap();
+    let mut beam = Beam::start(&import, "fast-belt", &[]);
+    let first = beam.run_from_start(EXPORT_STEPS);
+    assert_bitwise(
+        "FastBelt against the library",
+        &first,
+        &library_run(&scene, EXPORT_STEPS),
+    );
+    Common::reset(&mut beam.inst).expect("fmi2Reset");
+    Beam::initialize(&mut beam.inst, &[]);
+    beam.t = 0.0;
+    let again = beam.run_from_start(EXPORT_STEPS);
+    assert_bitwise("FastBelt after fmi2Reset", &again, &first);
 }
 
 #[test]
