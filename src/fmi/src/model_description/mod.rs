@@ -52,7 +52,7 @@ pub(crate) fn hash_guid(bytes: impl AsRef<[u8]>) -> String {
 
 /// The GUID of model `M`: a hash of its description without the GUID.
 pub fn guid<M: Model>() -> String {
-    hash_guid(&body::<M>(""))
+    Described::<M>::built_in().guid()
 }
 
 /// What a description says of one FMU of model `M`: its modelName and
@@ -78,7 +78,7 @@ impl<M: Model> Described<M> {
     /// Its GUID (and FMI 3.0 instantiationToken): a hash of its FMI 2.0 description
     /// without the GUID.
     pub fn guid(&self) -> String {
-        hash_guid(&body_of(self, ""))
+        hash_guid(body_of(self, ""))
     }
 
     /// Its FMI 2.0 description without the GUID (what the GUID hashes).
