@@ -17,7 +17,7 @@ use std::sync::OnceLock;
 use stickslip::scene::Scene;
 
 /// Communication steps to 0.5 s: past the paper's breakaway (0.4 s) into slip.
-const EXPORT_STEPS: usize = 500;
+pub(super) const EXPORT_STEPS: usize = 500;
 
 /// A scratch folder of this test process.
 fn scratch() -> PathBuf {
@@ -30,26 +30,38 @@ fn scratch() -> PathBuf {
     .clone()
 }
 
-/// StickSlipBeam.fmu (FMI 2.0) around the host build of this tree's library.
-fn from_fmu() -> PathBuf {
-    static FMU: OnceLock<PathBuf> = OnceLock::new();
-    FMU.get_or_init(|| {
-        let library = fmu_build::build_library().expect("the host build of stickslip-fmi");
-        let dir = scratch().join("from");
-        fmu_build::package(
-            FmuKind::StickSlipBeam,
-            &[(Platform::X86_64Linux, library)],
-            &dir,
-        )
-        .expect("StickSlipBeam.fmu packaged from the host library")
-    })
-    .clone()
+/// StickSlipBeam.fmu of FMI `version` (2 or 3) around the host build of this tree's
+/// library.
+fn from_fmu(version: u8) -> PathBuf {
+    static LIBRARY: OnceLock<PathBuf> = OnceLock::new();
+    static FMUS: Mutex<Vec<(u8, PathBuf)>> = Mutex::new(Vec::new());
+    let library = LIBRARY
+        .get_or_init(|| fmu_build::build_library().expect("the host build of stickslip-fmi"));
+    let mut fmus = FMUS.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((_, path)) = fmus.iter().find(|(v, _)| *v == version) {
+        return path.clone();
+    }
+    let dir = scratch().join(format!("from{version}"));
+    let binaries = [(Platform::X86_64Linux, library.clone())];
+    let path = if version == 2 {
+        fmu_build::package(FmuKind::StickSlipBeam, &binaries, &dir)
+    } else {
+        fmu_build::package3(FmuKind::StickSlipBeam, &binaries, &dir)
+    }
+    .expect("StickSlipBeam.fmu packaged from the host library");
+    fmus.push((version, path.clone()));
+    path
 }
 
-/// Exports `scene` as `<name>.fmu` in the scratch folder.
+/// Exports `scene` as `<name>.fmu` (FMI 2.0) in the scratch folder.
 fn export(scene: &Path, name: &str) -> PathBuf {
+    export_as(scene, name, 2)
+}
+
+/// Exports `scene` as `<name>.fmu` of FMI `version` in the scratch folder.
+pub(super) fn export_as(scene: &Path, name: &str, version: u8) -> PathBuf {
     let out = scratch().join(format!("{name}.fmu"));
-    let exported = fmu_build::export::export_fmu(scene, &out, 2, &from_fmu())
+    let exported = fmu_build::export::export_fmu(scene, &out, version, &from_fmu(version))
         .unwrap_or_else(|e| panic!("export of {}: {e}", scene.display()));
     assert_eq!(exported.model_identifier, name);
     assert_eq!(exported.platforms, [Platform::X86_64Linux]);
@@ -58,7 +70,7 @@ fn export(scene: &Path, name: &str) -> PathBuf {
 
 /// The library's run of the scene file, read as `stickslip simulate` reads it, with
 /// `advance_to` at the communication points 0, h, ... (the FMU's clock).
-fn library_run(scene: &Path, steps: usize) -> Vec<Outputs> {
+pub(super) fn library_run(scene: &Path, steps: usize) -> Vec<Outputs> {
     let scene = Scene::load(scene).expect("the scene loads");
     let law = stickslip::law_source::LawSource::resolve(&scene)
         .and_then(|law| law.law())
