@@ -69,7 +69,8 @@ pub struct Exported {
     pub bytes: u64,
 }
 
-/// FMI version of the export: 2 or 3.
+/// The default `--from`: the StickSlipBeam.fmu of FMI `version` (2 or 3) that fmu-build
+/// writes under `target/fmu/`.
 pub fn default_from(version: u8) -> PathBuf {
     let dir = if version == 2 {
         crate::fmu_dir()
