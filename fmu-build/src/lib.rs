@@ -15,6 +15,7 @@
 //! Archives are reproducible: entries in a fixed order with a fixed timestamp.
 
 pub mod archive;
+pub mod export;
 pub mod glibc;
 pub mod platform;
 pub mod ssp;

@@ -1,6 +1,7 @@
 //! The `stickslip` command line contract, and `import-network`.
 
 mod contract;
+mod export_fmu;
 mod files;
 mod import;
 mod law_parameters;

@@ -414,6 +414,7 @@ fn friction_at(inst: &mut InstanceCS, vrs: &FrictionVrs, v: f64, normal: f64) ->
 }
 
 mod coupled;
+mod export;
 mod initialization_mode;
 mod neural_friction;
 mod paper_scene;

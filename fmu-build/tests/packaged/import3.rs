@@ -350,3 +350,25 @@ fn i_fmi3_beam_returns_early_at_a_switch_and_handles_event_mode() {
     );
     assert!(early_returns >= 1 && switches.len() >= 2, "{switches:?}");
 }
+
+/// The CalculiX beam exported for FMI 3.0 (`stickslip export-fmu --fmi 3.0`) runs as the
+/// library runs the scene file, bit for bit, to 0.5 s.
+#[test]
+fn i_fmi3_export_of_the_calculix_beam_equals_the_library() {
+    use super::export::{export_as, library_run, EXPORT_STEPS};
+    let scene = fmu_build::workspace_root().join("examples/calculix-beam/scene.toml");
+    // The value references are the table's: read from the FMI 2.0 export.
+    let import2: Fmi2Import = fmi::import::from_path(export_as(&scene, "CalculixBeamTwo", 2))
+        .expect("the FMI 2.0 export imports");
+    let vrs = BeamVrs::of(&import2);
+    install_logger();
+    let fmu = export_as(&scene, "CalculixBeamThree", 3);
+    let import: Fmi3Import = fmi::import::from_path(&fmu).expect("the FMI 3.0 export imports");
+    assert_eq!(import.model_description().fmi_version, "3.0");
+    let three = Beam3::start(&import, "export-fmi3", vrs, &[]).run_from_start(EXPORT_STEPS);
+    assert_bitwise(
+        "FMI 3.0 export of the CalculiX beam against the library",
+        &three,
+        &library_run(&scene, EXPORT_STEPS),
+    );
+}

@@ -52,6 +52,9 @@ pub enum CliError {
         path: PathBuf,
         source: std::io::Error,
     },
+    /// `export-fmu` (its messages name the flag or file).
+    #[error(transparent)]
+    Export(#[from] fmu_build::export::ExportError),
     /// An input file (`stickslip::files` names the path and the reason).
     #[error(transparent)]
     File(#[from] InputFileError),

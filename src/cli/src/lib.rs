@@ -15,6 +15,7 @@
 pub mod choice;
 mod error;
 pub mod estimates;
+pub mod export_fmu;
 pub mod import;
 pub mod scene_args;
 pub mod simulate;

@@ -38,6 +38,10 @@ enum Command {
     /// An ONNX network (scikit-learn, PyTorch, Keras exports) as a weights file, its
     /// inputs described by the file's metadata or by flags; optionally checked on data.
     ImportNetwork(stickslip_cli::import::ImportArgs),
+    /// The scene (its [structure] included) as a co-simulation FMU of its own, made from
+    /// the shipped StickSlipBeam.fmu: the scene's values as start values, its files in
+    /// resources/.
+    ExportFmu(stickslip_cli::export_fmu::ExportFmuArgs),
 }
 
 fn main() -> ExitCode {
@@ -53,6 +57,7 @@ fn main() -> ExitCode {
         }
         Command::Search(args) => stickslip_cli::train::run_search(args).map(|_| ()),
         Command::ImportNetwork(args) => stickslip_cli::import::run_import(args).map(|_| ()),
+        Command::ExportFmu(args) => stickslip_cli::export_fmu::export_fmu(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -36,6 +36,7 @@
 pub mod beam;
 mod boundary;
 mod declare;
+pub mod export;
 pub mod ffi2;
 pub mod ffi3;
 pub mod friction;

@@ -34,6 +34,7 @@
 //! implementation that the FMI layer drives.
 
 mod build;
+mod exported;
 mod model;
 mod saved;
 mod variables;
@@ -123,6 +124,9 @@ struct Running {
 
 pub struct StickSlipBeam {
     settings: Settings,
+    /// The start values, which `reset` returns to: the defaults, or an exported scene's
+    /// (`exported`).
+    start: Settings,
     networks: Networks,
     /// `auto` choices not yet logged.
     auto_log: Vec<String>,

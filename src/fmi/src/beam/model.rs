@@ -27,6 +27,7 @@ impl Model for StickSlipBeam {
     fn with_defaults() -> Self {
         Self {
             settings: Settings::default(),
+            start: Settings::default(),
             networks: Networks::default(),
             auto_log: Vec::new(),
             running: None,
@@ -39,7 +40,7 @@ impl Model for StickSlipBeam {
     }
 
     fn reset(&mut self) {
-        self.settings = Settings::default();
+        self.settings = self.start.clone();
         self.running = None;
         self.initialized = false;
     }

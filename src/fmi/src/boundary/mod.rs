@@ -244,6 +244,58 @@ pub(crate) fn new_component(
     })
 }
 
+/// The model of the exported FMU in `resources` (`crate::export`) for `guid`, a GUID
+/// neither built-in FMU has, and its resources folder. `Err`: why not, the unknown-GUID
+/// message when `resources` holds no export.
+pub(crate) fn exported_model(
+    what: &str,
+    guid: &str,
+    resources: Option<PathBuf>,
+) -> Result<(PathBuf, StickSlipBeam), String> {
+    let Some(dir) = resources.filter(|dir| dir.join(crate::export::EXPORT_RESOURCE).exists())
+    else {
+        return Err(unknown_guid(what, guid));
+    };
+    let export = crate::export::Export::read(&dir)
+        .map_err(|reason| format!("{} (exported FMU: {reason})", unknown_guid(what, guid)))?;
+    let expected = export.guid();
+    if expected != guid {
+        return Err(format!(
+            "{what} \"{guid}\" does not match the exported FMU {} in {}, whose description and resources hash to {expected}: modelDescription.xml and resources/ are not of one export (edited or mixed after export-fmu wrote them); export the scene again",
+            export.settings.model_identifier,
+            dir.display()
+        ));
+    }
+    Ok((dir, export.described().defaults))
+}
+
+/// A new instance of an exported FMU's `model` (`exported_model`) under `guid`, or NULL
+/// after the instance logged why.
+pub(crate) fn new_exported_component(
+    version: FmiVersion,
+    name: &str,
+    (resources, model): (PathBuf, StickSlipBeam),
+    guid: &str,
+    logging_on: bool,
+    logger: Logger,
+) -> Option<Component> {
+    let instance = Instance::instantiate_model(
+        version,
+        name,
+        Some(&resources),
+        logging_on,
+        logger,
+        model,
+        guid.to_owned(),
+    )
+    .ok()?;
+    Some(Component {
+        instance: AnyInstance::Beam(Box::new(instance)),
+        strings: Vec::new(),
+        states: Vec::new(),
+    })
+}
+
 /// The pointer an instantiation function returns for `component`.
 pub(crate) fn into_pointer(component: Component) -> *mut c_void {
     Box::into_raw(Box::new(component)) as *mut c_void

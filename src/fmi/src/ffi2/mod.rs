@@ -25,8 +25,8 @@ pub use values::*;
 
 use crate::boundary::logger::{Callback, ImporterLogger, Message};
 use crate::boundary::{
-    self, component_at, each, into_pointer, mode_change, new_component, text, unknown_guid,
-    with_component,
+    self, component_at, each, exported_model, into_pointer, mode_change, new_component,
+    new_exported_component, text, unknown_guid, with_component,
 };
 use crate::instance::{FmiVersion, Status};
 use crate::FmuKind;
@@ -169,17 +169,32 @@ pub unsafe extern "C" fn fmi2Instantiate(
         }
         // SAFETY: NULL or NUL-terminated, the importer's obligation.
         let guid = unsafe { text(fmuGUID) }.unwrap_or_default();
-        let Some(kind) = FmuKind::from_guid(&guid) else {
-            return fail(unknown_guid("GUID", &guid));
-        };
+        let kind = FmuKind::from_guid(&guid);
         // SAFETY: NULL or NUL-terminated, the importer's obligation.
         let location = unsafe { text(fmuResourceLocation) };
         let resources = match location.as_deref().map(resource_folder) {
             None => None,
             Some(Ok(dir)) => Some(dir),
-            Some(Err(reason)) => return fail(reason),
+            Some(Err(reason)) if kind.is_some() => return fail(reason),
+            Some(Err(_)) => return fail(unknown_guid("GUID", &guid)),
         };
         let logging_on = loggingOn != FMI2_FALSE;
+        let Some(kind) = kind else {
+            // Not a built-in FMU: an exported one, if resources/ holds its export.
+            let exported = match exported_model("GUID", &guid, resources) {
+                Ok(exported) => exported,
+                Err(reason) => return fail(reason),
+            };
+            return new_exported_component(
+                FmiVersion::V2,
+                &name,
+                exported,
+                &guid,
+                logging_on,
+                logger.into_logger(),
+            )
+            .map_or(std::ptr::null_mut(), into_pointer);
+        };
         new_component(
             FmiVersion::V2,
             kind,

@@ -48,8 +48,8 @@ pub use values::*;
 
 use crate::boundary::logger::{Callback, ImporterLogger, Message};
 use crate::boundary::{
-    self, component_at, each, into_pointer, mode_change, new_component, null_argument, status,
-    text, unknown_guid, with_component,
+    self, component_at, each, exported_model, into_pointer, mode_change, new_component,
+    new_exported_component, null_argument, status, text, unknown_guid, with_component,
 };
 use crate::instance::{EventOptions, FmiVersion, Status};
 use crate::FmuKind;
@@ -245,18 +245,36 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
         }
         // SAFETY: NULL or NUL-terminated, the importer's obligation.
         let token = unsafe { text(instantiationToken) }.unwrap_or_default();
-        let Some(kind) = FmuKind::from_guid(&token) else {
-            return refuse(unknown_guid("instantiationToken", &token));
-        };
+        let kind = FmuKind::from_guid(&token);
         // SAFETY: NULL or NUL-terminated, the importer's obligation.
         let resources = match unsafe { text(resourcePath) }.as_deref().map(resource_path) {
             None => None,
             Some(Ok(dir)) => Some(dir),
-            Some(Err(reason)) => return refuse(reason),
+            Some(Err(reason)) if kind.is_some() => return refuse(reason),
+            Some(Err(_)) => return refuse(unknown_guid("instantiationToken", &token)),
         };
         // SAFETY: the importer's obligation: its callback may be called with its
         // environment.
         let logger = unsafe { ImporterLogger::new(logMessage, instanceEnvironment, &name) };
+        let Some(kind) = kind else {
+            // Not a built-in FMU: an exported one, if resources/ holds its export.
+            let exported = match exported_model("instantiationToken", &token, resources) {
+                Ok(exported) => exported,
+                Err(reason) => return refuse(reason),
+            };
+            return new_exported_component(
+                FmiVersion::V3,
+                &name,
+                exported,
+                &token,
+                is_true(loggingOn),
+                logger.into_logger(),
+            )
+            .map_or(std::ptr::null_mut(), |mut c| {
+                each!(&mut c.instance, i => i.set_events(events));
+                into_pointer(c)
+            });
+        };
         new_component(
             FmiVersion::V3,
             kind,

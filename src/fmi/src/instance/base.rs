@@ -66,10 +66,32 @@ impl<M: Model> Instance<M> {
         name: &str,
         resources: Option<&Path>,
         logging_on: bool,
+        logger: Logger,
+    ) -> Result<Self, String> {
+        Self::instantiate_model(
+            version,
+            name,
+            resources,
+            logging_on,
+            logger,
+            M::with_defaults(),
+            guid::<M>(),
+        )
+    }
+
+    /// [`Self::instantiate`] of `model` (at its start values) for the FMU of `guid`: an
+    /// exported FMU (`crate::export`) is StickSlipBeam at a scene's values, under its own
+    /// GUID, which its FMU states carry.
+    pub fn instantiate_model(
+        version: FmiVersion,
+        name: &str,
+        resources: Option<&Path>,
+        logging_on: bool,
         mut logger: Logger,
+        mut model: M,
+        guid: String,
     ) -> Result<Self, String> {
         let names = version.names();
-        let mut model = M::with_defaults();
         let loaded = match resources {
             Some(dir) => model.load_resources(dir),
             None => Err(format!("{} is NULL: no resource location was given; the FMU reads its network weights from its resources/ folder", names.resource_argument)),
@@ -86,7 +108,7 @@ impl<M: Model> Instance<M> {
             version,
             events: EventOptions::default(),
             event_pending: false,
-            guid: guid::<M>(),
+            guid,
             model,
             mode: Mode::Instantiated,
             logger,

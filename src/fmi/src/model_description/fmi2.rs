@@ -4,6 +4,7 @@ use super::parts::{
     choice_variables, dependency_attributes, description, initial_attribute, output_dependencies,
     start_attribute, write_units_categories_experiment, CHOICES_TOOL,
 };
+use super::Described;
 use crate::model::Model;
 use crate::variables::{Access, Causality, DependencyKind, Variability, Variable};
 use crate::version::FmiVersion;
@@ -12,8 +13,13 @@ use std::fmt::Write;
 
 /// The FMI 2.0 modelDescription.xml of model `M`'s table, with `guid` as its GUID.
 pub(super) fn body<M: Model>(guid: &str) -> String {
+    body_of(&Described::<M>::built_in(), guid)
+}
+
+/// The FMI 2.0 modelDescription.xml of `described`, with `guid` as its GUID.
+pub(super) fn body_of<M: Model>(described: &Described<M>, guid: &str) -> String {
     let info = &M::INFO;
-    let defaults = M::with_defaults();
+    let defaults = &described.defaults;
     let variables = M::variables();
     let mut x = String::new();
     let w = &mut x;
@@ -22,22 +28,22 @@ pub(super) fn body<M: Model>(guid: &str) -> String {
     let _ = writeln!(
         w,
         r#"<fmiModelDescription fmiVersion="2.0" modelName="{}" guid="{}" description="{}" generationTool="stickslip {}" variableNamingConvention="structured" numberOfEventIndicators="0">"#,
-        info.model_identifier,
+        described.model_identifier,
         guid,
-        escape(info.description),
+        escape(&described.description),
         env!("CARGO_PKG_VERSION")
     );
     let _ = writeln!(
         w,
         r#"  <CoSimulation modelIdentifier="{}" needsExecutionTool="false" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" providesDirectionalDerivative="{}"/>"#,
-        info.model_identifier, info.provides_directional_derivatives
+        described.model_identifier, info.provides_directional_derivatives
     );
 
     write_units_categories_experiment(w, variables, FmiVersion::V2);
 
     write_choices(w, variables);
 
-    write_variables(w, variables, &defaults);
+    write_variables(w, variables, defaults);
     write_structure(w, variables);
     let _ = writeln!(w, "</fmiModelDescription>");
     debug_assert!(variables.iter().all(|v| match v.causality {

@@ -4,6 +4,7 @@ use super::parts::{
     dependency_attributes, description, initial_attribute, output_dependencies, start_attribute,
     write_units_categories_experiment,
 };
+use super::Described;
 use crate::model::Model;
 use crate::variables::{Access, ArrayVariable, Causality, DependencyKind, Variable};
 use crate::version::FmiVersion;
@@ -25,8 +26,14 @@ pub const TIME_VALUE_REFERENCE: u32 = 0;
 /// one table, so one hash names the interface, and an FMU state saved through one
 /// version restores through the other.
 pub(super) fn body3<M: Model>(token: &str) -> String {
+    body3_of(&Described::<M>::built_in(), token)
+}
+
+/// The FMI 3.0 modelDescription.xml of `described`, with `token` as its
+/// instantiationToken.
+pub(super) fn body3_of<M: Model>(described: &Described<M>, token: &str) -> String {
     let info = &M::INFO;
-    let defaults = M::with_defaults();
+    let defaults = &described.defaults;
     let variables = M::variables();
     let mut x = String::new();
     let w = &mut x;
@@ -34,15 +41,17 @@ pub(super) fn body3<M: Model>(token: &str) -> String {
     let _ = writeln!(
         w,
         r#"<fmiModelDescription fmiVersion="3.0" modelName="{}" instantiationToken="{}" description="{}" generationTool="stickslip {}" variableNamingConvention="structured">"#,
-        info.model_identifier,
+        described.model_identifier,
         token,
-        escape(info.description),
+        escape(&described.description),
         env!("CARGO_PKG_VERSION")
     );
     let _ = writeln!(
         w,
         r#"  <CoSimulation modelIdentifier="{}" needsExecutionTool="false" canBeInstantiatedOnlyOncePerProcess="false" canGetAndSetFMUState="true" canSerializeFMUState="true" providesDirectionalDerivatives="{}" providesAdjointDerivatives="false" providesPerElementDependencies="false" canHandleVariableCommunicationStepSize="true" maxOutputDerivativeOrder="0" providesIntermediateUpdate="false" mightReturnEarlyFromDoStep="{}" canReturnEarlyAfterIntermediateUpdate="false" hasEventMode="true" providesEvaluateDiscreteStates="false"/>"#,
-        info.model_identifier, info.provides_directional_derivatives, info.returns_early_at_events
+        described.model_identifier,
+        info.provides_directional_derivatives,
+        info.returns_early_at_events
     );
     write_units_categories_experiment(w, variables, FmiVersion::V3);
 
@@ -58,9 +67,9 @@ pub(super) fn body3<M: Model>(token: &str) -> String {
         // An array's elements are rows of the table: the array is written in place of
         // its first element, the other elements not at all.
         match ArrayVariable::containing(M::arrays(), v.value_reference) {
-            Some((array, 1)) => write_array(w, array, variables, &defaults),
+            Some((array, 1)) => write_array(w, array, variables, defaults),
             Some(_) => {}
-            None => write_scalar(w, v, &defaults),
+            None => write_scalar(w, v, defaults),
         }
     }
     let _ = writeln!(w, "  </ModelVariables>");

@@ -23,8 +23,8 @@ mod fmi3;
 mod parts;
 
 use crate::model::Model;
-use fmi2::body;
-use fmi3::body3;
+use fmi2::{body, body_of};
+use fmi3::{body3, body3_of};
 
 pub use fmi3::TIME_VALUE_REFERENCE;
 pub use parts::{
@@ -32,9 +32,10 @@ pub use parts::{
     LOG_CATEGORIES,
 };
 
-fn hash_guid(text: &str) -> String {
+/// FNV-1a (128 bit) of `bytes` as a GUID.
+pub(crate) fn hash_guid(bytes: impl AsRef<[u8]>) -> String {
     let mut h: u128 = 0x6c62272e07bb014262b821756295c58d;
-    for byte in text.bytes() {
+    for &byte in bytes.as_ref() {
         h ^= byte as u128;
         h = h.wrapping_mul(0x0000000001000000000000000000013B);
     }
@@ -51,7 +52,49 @@ fn hash_guid(text: &str) -> String {
 
 /// The GUID of model `M`: a hash of its description without the GUID.
 pub fn guid<M: Model>() -> String {
-    hash_guid(&body::<M>(""))
+    Described::<M>::built_in().guid()
+}
+
+/// What a description says of one FMU of model `M`: its modelName and
+/// modelIdentifier, its description, and the model whose values are the start values.
+/// A built-in FMU is `M::INFO` with `M::with_defaults()`; an exported FMU
+/// (`crate::export`) is the same table with its own name and start values.
+pub struct Described<M> {
+    pub model_identifier: String,
+    pub description: String,
+    pub defaults: M,
+}
+
+impl<M: Model> Described<M> {
+    /// The built-in FMU of model `M`.
+    pub fn built_in() -> Self {
+        Self {
+            model_identifier: M::INFO.model_identifier.to_owned(),
+            description: M::INFO.description.to_owned(),
+            defaults: M::with_defaults(),
+        }
+    }
+
+    /// Its GUID (and FMI 3.0 instantiationToken): a hash of its FMI 2.0 description
+    /// without the GUID.
+    pub fn guid(&self) -> String {
+        hash_guid(body_of(self, ""))
+    }
+
+    /// Its FMI 2.0 description without the GUID (what the GUID hashes).
+    pub fn body_without_guid(&self) -> String {
+        body_of(self, "")
+    }
+
+    /// Its FMI 2.0 modelDescription.xml with `guid`.
+    pub fn generate_with(&self, guid: &str) -> String {
+        body_of(self, guid)
+    }
+
+    /// Its FMI 3.0 modelDescription.xml with instantiationToken `token`.
+    pub fn generate3_with(&self, token: &str) -> String {
+        body3_of(self, token)
+    }
 }
 
 /// modelDescription.xml of model `M`.

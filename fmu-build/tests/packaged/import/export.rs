@@ -1,0 +1,207 @@
+//! Exported FMUs (`stickslip export-fmu`, `fmu_build::export`) imported with the `fmi`
+//! crate: the default paper scene and the CalculiX beam (examples/calculix-beam), run to
+//! 0.5 s, equal bit for bit to the library's run of the same scene file read as
+//! `stickslip simulate` reads it; a tampered resources/scene.toml refused at
+//! instantiation.
+//!
+//! The `--from` FMU is packaged here from the host build of this source tree's library
+//! (`fmu_build::build_library`, x86_64 Linux only), so that the binary is the code under
+//! test, not whatever `target/fmu/` holds.
+
+use super::*;
+use fmu_build::archive::{write_zip, Entry};
+use fmu_build::platform::Platform;
+use std::io::Read as _;
+use std::path::Path;
+use std::sync::OnceLock;
+use stickslip::scene::Scene;
+
+/// Communication steps to 0.5 s: past the paper's breakaway (0.4 s) into slip.
+pub(super) const EXPORT_STEPS: usize = 500;
+
+/// A scratch folder of this test process.
+fn scratch() -> PathBuf {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let dir = std::env::temp_dir().join(format!("stickslip-export-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("scratch folder");
+        dir
+    })
+    .clone()
+}
+
+/// StickSlipBeam.fmu of FMI `version` (2 or 3) around the host build of this tree's
+/// library.
+fn from_fmu(version: u8) -> PathBuf {
+    static LIBRARY: OnceLock<PathBuf> = OnceLock::new();
+    static FMUS: Mutex<Vec<(u8, PathBuf)>> = Mutex::new(Vec::new());
+    let library = LIBRARY
+        .get_or_init(|| fmu_build::build_library().expect("the host build of stickslip-fmi"));
+    let mut fmus = FMUS.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((_, path)) = fmus.iter().find(|(v, _)| *v == version) {
+        return path.clone();
+    }
+    let dir = scratch().join(format!("from{version}"));
+    let binaries = [(Platform::X86_64Linux, library.clone())];
+    let path = if version == 2 {
+        fmu_build::package(FmuKind::StickSlipBeam, &binaries, &dir)
+    } else {
+        fmu_build::package3(FmuKind::StickSlipBeam, &binaries, &dir)
+    }
+    .expect("StickSlipBeam.fmu packaged from the host library");
+    fmus.push((version, path.clone()));
+    path
+}
+
+/// Exports `scene` as `<name>.fmu` (FMI 2.0) in the scratch folder.
+fn export(scene: &Path, name: &str) -> PathBuf {
+    export_as(scene, name, 2)
+}
+
+/// Exports `scene` as `<name>.fmu` of FMI `version` in the scratch folder.
+pub(super) fn export_as(scene: &Path, name: &str, version: u8) -> PathBuf {
+    let out = scratch().join(format!("{name}.fmu"));
+    let exported = fmu_build::export::export_fmu(scene, &out, version, &from_fmu(version))
+        .unwrap_or_else(|e| panic!("export of {}: {e}", scene.display()));
+    assert_eq!(exported.model_identifier, name);
+    assert_eq!(exported.platforms, [Platform::X86_64Linux]);
+    out
+}
+
+/// The library's run of the scene file, read as `stickslip simulate` reads it, with
+/// `advance_to` at the communication points 0, h, ... (the FMU's clock).
+pub(super) fn library_run(scene: &Path, steps: usize) -> Vec<Outputs> {
+    let scene = Scene::load(scene).expect("the scene loads");
+    let law = stickslip::law_source::LawSource::resolve(&scene)
+        .and_then(|law| law.law())
+        .expect("an analytical law");
+    let mut sim = Simulator::new(scene, law).expect("the scene builds");
+    let mut out = vec![Outputs::of_simulator(&sim)];
+    for &t in &communication_points(steps)[1..] {
+        sim.advance_to(t).expect("advance_to");
+        out.push(Outputs::of_simulator(&sim));
+    }
+    out
+}
+
+/// The exported FMU's run from its start values (no parameter set).
+fn fmu_run(fmu: &Path, name: &str, steps: usize) -> Vec<Outputs> {
+    install_logger();
+    let started = std::time::Instant::now();
+    let import: Fmi2Import = fmi::import::from_path(fmu)
+        .unwrap_or_else(|e| panic!("cannot import {}: {e}", fmu.display()));
+    let cs = import.model_description().co_simulation.as_ref();
+    assert_eq!(
+        cs.expect("a <CoSimulation> element").model_identifier,
+        fmu.file_stem().unwrap().to_string_lossy()
+    );
+    let mut beam = Beam::start(&import, name, &[]);
+    println!(
+        "{name}: unpack, load, instantiate and initialise {:.3} s",
+        started.elapsed().as_secs_f64()
+    );
+    beam.run_from_start(steps)
+}
+
+fn compare(scene: &Path, name: &str) -> Vec<Outputs> {
+    let fmu = export(scene, name);
+    let started = std::time::Instant::now();
+    let from_fmu = fmu_run(&fmu, &format!("{name}-run"), EXPORT_STEPS);
+    let fmu_time = started.elapsed();
+    let library = library_run(scene, EXPORT_STEPS);
+    assert_bitwise(
+        &format!("exported {name} against the library"),
+        &from_fmu,
+        &library,
+    );
+    println!(
+        "{name}: {} bytes; unpack, load and run of {EXPORT_STEPS} communication steps through the FMU {:.3} s",
+        std::fs::metadata(&fmu).map(|m| m.len()).unwrap_or(0),
+        fmu_time.as_secs_f64()
+    );
+    from_fmu
+}
+
+#[test]
+fn the_exported_paper_scene_runs_as_the_library() {
+    let scene = scratch().join("paper.toml");
+    std::fs::write(&scene, "# the paper scene: every section at its default\n").unwrap();
+    let out = compare(&scene, "PaperScene");
+    // Not a run that stays put: the tip broke away before 0.5 s.
+    assert!(out.iter().any(|o| !o.stick));
+}
+
+#[test]
+fn the_exported_calculix_beam_runs_as_the_library() {
+    let scene = fmu_build::workspace_root().join("examples/calculix-beam/scene.toml");
+    let out = compare(&scene, "CalculixBeam");
+    assert!(out.iter().any(|o| !o.stick));
+}
+
+/// fmi2Reset returns to the scene's values, not StickSlipBeam's: a scene whose belt
+/// runs at 0.03 m/s (StickSlipBeam's default: 0.02) runs the same before and after a
+/// reset, and as the library runs the scene.
+#[test]
+fn reset_returns_to_the_scene() {
+    let scene = scratch().join("fast-belt.toml");
+    std::fs::write(&scene, "[loading]\nbelt_speed = 0.03\n").unwrap();
+    let fmu = export(&scene, "FastBelt");
+    install_logger();
+    let import: Fmi2Import = fmi::import::from_path(&fmu).unwrap();
+    let mut beam = Beam::start(&import, "fast-belt", &[]);
+    let first = beam.run_from_start(EXPORT_STEPS);
+    assert_bitwise(
+        "FastBelt against the library",
+        &first,
+        &library_run(&scene, EXPORT_STEPS),
+    );
+    Common::reset(&mut beam.inst).expect("fmi2Reset");
+    Beam::initialize(&mut beam.inst, &[]);
+    beam.t = 0.0;
+    let again = beam.run_from_start(EXPORT_STEPS);
+    assert_bitwise("FastBelt after fmi2Reset", &again, &first);
+}
+
+#[test]
+fn a_tampered_scene_is_refused_at_instantiation() {
+    let scene = scratch().join("tamper.toml");
+    std::fs::write(&scene, "[loading]\nbelt_speed = 0.03\n").unwrap();
+    let fmu = export(&scene, "Tampered");
+    // The same archive with the belt speed in resources/scene.toml changed.
+    let file = std::fs::File::open(&fmu).unwrap();
+    let mut archive = zip::ZipArchive::new(file).unwrap();
+    let mut entries = Vec::new();
+    let mut changed = false;
+    for k in 0..archive.len() {
+        let mut entry = archive.by_index(k).unwrap();
+        let name = entry.name().unwrap().into_owned();
+        let mut bytes = Vec::new();
+        entry.read_to_end(&mut bytes).unwrap();
+        if name == "resources/scene.toml" {
+            let text = String::from_utf8(bytes).unwrap();
+            let edited = text.replace("belt_speed = 0.03", "belt_speed = 0.04");
+            changed = edited != text;
+            bytes = edited.into_bytes();
+        }
+        entries.push(Entry::deflated(name, bytes));
+    }
+    assert!(changed, "the exported scene names the belt speed");
+    let tampered = scratch().join("TamperedEdit.fmu");
+    write_zip(&tampered, entries).unwrap();
+
+    install_logger();
+    let import: Fmi2Import = fmi::import::from_path(&tampered).unwrap();
+    let name = "tampered-instance";
+    assert!(
+        import.instantiate_cs(name, false, false).is_err(),
+        "a tampered export must not instantiate"
+    );
+    let messages = messages_of(name);
+    assert!(
+        messages
+            .iter()
+            .any(|(level, text)| *level == log::Level::Error
+                && text.contains("does not match the exported FMU Tampered")),
+        "the refusal is logged with its reason: {messages:?}"
+    );
+}
