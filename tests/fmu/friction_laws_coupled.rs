@@ -450,8 +450,10 @@ fn measure_step_consistent_coupling() {
 /// The bounds (0.092 mm, 1 %) are not met at this h except by the slip law;
 /// asserted is what the coupling gives, with margins: the deviation within 1.25 times
 /// the measured (a change of the coupling that makes it worse fails) and the period
-/// error within the measured plus 1 percentage point (the falls are timed to a sample,
-/// 1 ms, of a ~0.2 s period, 0.5 %, at each end).
+/// error's magnitude within the measured one's plus 1 percentage point (one-sided: a
+/// coupling that brings the period closer passes; the falls are timed to a sample,
+/// 1 ms, and the period is their mean over about 0.8 s, so timing costs at most about
+/// 0.25 %).
 #[test]
 fn the_step_coupling_at_the_systems_step() {
     let h = 1e-3;
@@ -471,7 +473,7 @@ fn the_step_coupling_at_the_systems_step() {
             "{name}: {d} m, measured {deviation} m"
         );
         assert!(
-            (p - period).abs() < 0.01,
+            p.abs() < f64::abs(*period) + 0.01,
             "{name}: period error {p}, measured {period}"
         );
     }

@@ -149,9 +149,12 @@ fn a_failing_sparse_pivot_names_its_dof() {
 
 /// The reduced model of the committed block against its full model in the paper's
 /// stick-slip scene: the largest tip deviation over the run per number of modes (all
-/// with the static correction). Printed for docs/structures.md; asserted only as the
-/// modal model's convergence (the deviation with 24 modes below a tenth of the tip's
-/// range, and below that with 2 modes).
+/// with the static correction). Printed for docs/structures.md. Measured 6.2e-8, 2.4e-9,
+/// 3.7e-11 and 5.9e-13 m for 2, 6, 12 and 24 modes (tip range 7.0e-5 m): each step in
+/// the mode count shrinks the deviation 26 to 65 times, as the first mode left out
+/// moves up. Asserted: every step shrinks it at least 5 times (a reduction that stopped
+/// converging fails), and 24 modes stay within 1e-6 of the range (a hundred times the
+/// measured 8.4e-9).
 #[test]
 fn the_reduced_block_follows_the_full_one() {
     let scene = Scene::load(&example().join("scene.toml")).unwrap();
@@ -186,15 +189,18 @@ fn the_reduced_block_follows_the_full_one() {
         );
         deviations.push(worst);
     }
-    assert!(deviations[3] < 0.1 * range, "{deviations:?}");
-    assert!(deviations[3] < deviations[0], "{deviations:?}");
+    for pair in deviations.windows(2) {
+        assert!(pair[1] < 0.2 * pair[0], "{deviations:?}");
+    }
+    assert!(deviations[3] < 1e-6 * range, "{deviations:?}");
 }
 
 /// With ccx installed: the committed files regenerate from the deck to the same
 /// structure, and the 80 x 12 x 12 block (40,560 DOFs), which the band refuses, is
 /// reduced from its sparse matrices with its static compliance exact. The longest test
-/// here: 92 s measured on two cores under a load average of 8 (ccx 5 s, reading 97 MB,
-/// the scalar factorisations of M and K: 20 s in the bench under the same load).
+/// here: 92 s measured on two cores under a load average of 8, 50 s (the whole file)
+/// under a CI run beside it (ccx 5 s, reading 97 MB, the scalar factorisations of M and
+/// K: 20 s in the bench under load).
 #[test]
 fn with_ccx_the_block_regenerates_and_the_wide_one_reduces() {
     if Command::new("ccx").arg("-v").output().is_err() {
@@ -238,7 +244,9 @@ fn with_ccx_the_block_regenerates_and_the_wide_one_reduces() {
     println!("40,560 DOFs: static tip {static_tip:.12e} m/N, reduced {c:.12e}");
     // Exact in exact arithmetic; the reduced stiffness comes from the identities
     // K phi_i = omega_i^2 M phi_i, which the Lanczos vectors satisfy to their 1e-10
-    // relative residual: measured 3.0e-9 with 12 modes, below 1e-9 at 1,500 DOFs.
+    // relative residual: measured 6e-12 with the 6 modes used here and 3.0e-9 with 12
+    // (more Lanczos vectors, more residual), below 1e-9 at 1,500 DOFs; 1e-8 holds the
+    // 12-mode figure with a margin of 3.
     assert!(
         (c - static_tip).abs() < 1e-8 * static_tip,
         "{c} vs {static_tip}"
