@@ -1,7 +1,7 @@
 //! `stickslip export-fmu`: the scene as a co-simulation FMU of its own
 //! (`fmu_build::export`, which the library's `stickslip_fmi::export` runs).
 
-use crate::CliError;
+use crate::error::CliError;
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 

@@ -18,7 +18,8 @@
 //! reason logged, instead of running something the description does not describe.
 
 use crate::beam::StickSlipBeam;
-use crate::model_description::{hash_guid, Described};
+use crate::model_description::described::Described;
+use crate::model_description::hash_guid;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use stickslip::scene::Scene;

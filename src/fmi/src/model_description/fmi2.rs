@@ -1,10 +1,10 @@
 //! The FMI 2.0 modelDescription.xml (FMI 2.0 standard, section 2.2).
 
+use super::described::Described;
 use super::parts::{
     choice_variables, dependency_attributes, description, initial_attribute, output_dependencies,
     start_attribute, write_units_categories_experiment, CHOICES_TOOL,
 };
-use super::Described;
 use crate::model::Model;
 use crate::variables::{Access, Causality, DependencyKind, Variability, Variable};
 use crate::version::FmiVersion;

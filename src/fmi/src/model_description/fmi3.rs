@@ -1,10 +1,10 @@
 //! The FMI 3.0 modelDescription.xml (FMI 3.0 standard, section 2.4).
 
+use super::described::Described;
 use super::parts::{
     dependency_attributes, description, initial_attribute, output_dependencies, start_attribute,
     write_units_categories_experiment,
 };
-use super::Described;
 use crate::model::Model;
 use crate::variables::{Access, ArrayVariable, Causality, DependencyKind, Variable};
 use crate::version::FmiVersion;

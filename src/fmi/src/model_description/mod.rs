@@ -18,11 +18,13 @@
 //!
 //! `parts` writes what both versions share, `fmi2` and `fmi3` each version's document.
 
+pub mod described;
 mod fmi2;
 mod fmi3;
 mod parts;
 
 use crate::model::Model;
+use described::Described;
 use fmi2::{body, body_of};
 use fmi3::{body3, body3_of};
 
@@ -55,26 +57,7 @@ pub fn guid<M: Model>() -> String {
     Described::<M>::built_in().guid()
 }
 
-/// What a description says of one FMU of model `M`: its modelName and
-/// modelIdentifier, its description, and the model whose values are the start values.
-/// A built-in FMU is `M::INFO` with `M::with_defaults()`; an exported FMU
-/// (`crate::export`) is the same table with its own name and start values.
-pub struct Described<M> {
-    pub model_identifier: String,
-    pub description: String,
-    pub defaults: M,
-}
-
 impl<M: Model> Described<M> {
-    /// The built-in FMU of model `M`.
-    pub fn built_in() -> Self {
-        Self {
-            model_identifier: M::INFO.model_identifier.to_owned(),
-            description: M::INFO.description.to_owned(),
-            defaults: M::with_defaults(),
-        }
-    }
-
     /// Its GUID (and FMI 3.0 instantiationToken): a hash of its FMI 2.0 description
     /// without the GUID.
     pub fn guid(&self) -> String {
