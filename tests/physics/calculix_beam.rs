@@ -143,10 +143,7 @@ fn the_read_structure_has_scipys_frequencies() {
 /// they give the built-in numbers; skipped, with the reason, where ccx is not installed.
 #[test]
 fn ccx_regenerates_the_matrices_from_the_deck() {
-    if Command::new("ccx").arg("-v").output().is_err() {
-        println!(
-            "note: skipped: ccx is not installed (bash scripts/system-deps.sh installs calculix-ccx)"
-        );
+    if !crate::fe_tools::available("ccx", &["-v"], "calculix-ccx") {
         return;
     }
     let dir = std::env::temp_dir().join(format!("calculix-beam-{}", std::process::id()));

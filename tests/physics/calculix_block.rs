@@ -203,8 +203,7 @@ fn the_reduced_block_follows_the_full_one() {
 /// K: 20 s in the bench under load).
 #[test]
 fn with_ccx_the_block_regenerates_and_the_wide_one_reduces() {
-    if Command::new("ccx").arg("-v").output().is_err() {
-        println!("ccx is not installed: skipped (bash scripts/system-deps.sh installs it)");
+    if !crate::fe_tools::available("ccx", &["-v"], "calculix-ccx") {
         return;
     }
     let dir = std::env::temp_dir().join(format!("stickslip-block-{}", std::process::id()));

@@ -15,6 +15,7 @@ mod coupling;
 mod dynamics;
 mod errors;
 mod extremes;
+mod fe_tools;
 mod gmsh_beam;
 mod layering;
 mod mesh_modes;
