@@ -6,7 +6,8 @@
 //! at 40,560 DOFs the band would need 3.7 GB, this one 0.44 GB).
 //!
 //! The checks are [`LinearStructure`]'s (the same code: one row per label, symmetric
-//! within [`super::SYMMETRY_TOLERANCE`], K and M positive definite on the free DOFs), and a
+//! within [`super::SYMMETRY_TOLERANCE`]; K and M positive definite on the free DOFs, M
+//! checked block by block by [`mass_definite`]), and a
 //! failing pivot is reported with the DOF where it fails, mapped back through faer's
 //! ordering; faer does not return the pivot's value, so the message gives its sign only.
 //!
@@ -308,8 +309,9 @@ fn mass_definite(
     }
     for block in members.iter().filter(|b| !b.is_empty()) {
         if let [j] = block[..] {
-            // Not `<= 0.0`: NaN is refused too.
-            if !(m.get(j, j) > 0.0) {
+            // NaN is refused too (data not from a reader may hold one).
+            let diagonal = m.get(j, j);
+            if diagonal <= 0.0 || diagonal.is_nan() {
                 return Err(refuse(FailedColumn(j)));
             }
             continue;
