@@ -4,8 +4,8 @@
 //! the peak resident memory is that block's:
 //!
 //! 1. read: the ccx files parsed (`read_calculix`);
-//! 2. factorise: `SparseStructure::new` (checks, faer's symbolic analysis, the numeric
-//!    Cholesky of M for its check and of K);
+//! 2. factorise: `SparseStructure::new` (checks, M's check block by block, faer's
+//!    symbolic analysis and numeric Cholesky of K);
 //! 3. reduce: `sparse_modal::reduce`, the lowest `MODES` modes by shift-invert Lanczos on
 //!    that factor plus the static correction at the contact DOF;
 //! 4. the full model's cost per time step, measured as what a step of it does at least:

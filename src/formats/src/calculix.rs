@@ -19,8 +19,8 @@
 //! input.
 
 use crate::structure_file::{
-    direction, index, node, value, DofLabel, DofSet, EntrySet, FileText, Problem, ReadError,
-    Stored, StructureMatrices, Triplet, Triplets,
+    direction, fields, index, node, value, DofLabel, DofSet, EntrySet, FileText, Problem,
+    ReadError, Stored, StructureMatrices, Triplet, Triplets,
 };
 use std::path::{Path, PathBuf};
 
@@ -130,17 +130,10 @@ pub fn read_matrix(
 }
 
 fn matrix_entry(content: &str, size: usize) -> Result<Triplet, Problem> {
-    let fields: Vec<&str> = content.split_whitespace().collect();
-    if fields.len() != 3 {
-        return Err(Problem::FieldCount {
-            found: fields.len(),
-            expected: 3,
-            form: "i j value",
-        });
-    }
-    let row = index(fields[0], "row", size)?;
-    let col = index(fields[1], "column", size)?;
-    let value = value(fields[2])?;
+    let [i, j, v] = fields(content, "i j value")?;
+    let row = index(i, "row", size)?;
+    let col = index(j, "column", size)?;
+    let value = value(v)?;
     if row > col {
         return Err(Problem::WrongTriangle {
             row: row + 1,
@@ -229,6 +222,11 @@ mod tests {
             (
                 sti("1 1 4\n2 2 4\n1 1 5\n"),
                 "b.sti, line 3: entry (1, 1) appears a second time (first on line 1)",
+            ),
+            (
+                // Out of ccx's column order from line 3 on, the repeat two lines later.
+                sti("1 1 4\n2 2 4\n1 2 1\n3 3 1\n1 2 2\n"),
+                "b.sti, line 5: entry (1, 2) appears a second time (first on line 3)",
             ),
             (
                 sti("1 1 4\n2 2 4\n"),

@@ -24,8 +24,8 @@
 //! is proportional to the input, whatever the size line claims.
 
 use crate::structure_file::{
-    direction, index, node, value, DofLabel, DofSet, EntrySet, FileText, Problem, ReadError,
-    Stored, StructureMatrices, Triplet, Triplets,
+    direction, fields, index, node, value, DofLabel, DofSet, EntrySet, FileText, Problem,
+    ReadError, Stored, StructureMatrices, Triplet, Triplets,
 };
 
 /// The structure in the texts of Matrix Market files (K, M, optionally C) and a DOF map
@@ -161,17 +161,10 @@ fn size_line(content: &str) -> Result<(usize, usize), Problem> {
 }
 
 fn matrix_entry(content: &str, size: usize, stored: Stored) -> Result<Triplet, Problem> {
-    let fields: Vec<&str> = content.split_whitespace().collect();
-    if fields.len() != 3 {
-        return Err(Problem::FieldCount {
-            found: fields.len(),
-            expected: 3,
-            form: "i j value",
-        });
-    }
-    let row = index(fields[0], "row", size)?;
-    let col = index(fields[1], "column", size)?;
-    let value = value(fields[2])?;
+    let [i, j, v] = fields(content, "i j value")?;
+    let row = index(i, "row", size)?;
+    let col = index(j, "column", size)?;
+    let value = value(v)?;
     match stored {
         Stored::General => Ok(Triplet { row, col, value }),
         Stored::Upper if row < col => Err(Problem::WrongTriangle {
