@@ -112,11 +112,39 @@ enum Scheme {
     Jacobi,
 }
 
+/// The sliding velocity NeuralFriction holds over its step (Gauss-Seidel), with which
+/// it commits its law's state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum StateVelocity {
+    /// v_rel(t_k+1), the beam's at the step's end (what the SSP systems do).
+    End,
+    /// The step's mean v_rel, its slip distance over h: v_b - (u(t_k+1) - u(t_k)) / h
+    /// from the tip deflection u, exact for any motion within the step (the belt speed
+    /// v_b is constant). After the step NeuralFriction is given v_rel(t_k+1), so its
+    /// outputs, the step pair included, are at the step's end velocity as with `End`.
+    /// No FMU output carries the mean yet: the loop computes it (issue 36's
+    /// measurement of a design, docs/cosimulation.md).
+    Mean,
+}
+
 /// The coupled run of `law` in NeuralFriction with the beam of `setup` (its law
 /// `external`), by `scheme` as `stickslip_checks.master` runs it: Gauss-Seidel beam
 /// first (above); Jacobi reads every output at t_k (NeuralFriction's at the v_rel(t_k-1)
 /// it held), then sets the inputs and steps both.
 fn coupled_with(law: NeuralFrictionLaw, setup: &Setup, h: f64, scheme: Scheme) -> Vec<f64> {
+    coupled_holding(law, setup, h, scheme, StateVelocity::End)
+}
+
+/// `coupled_with`, with NeuralFriction's state committed at `held` (Gauss-Seidel only:
+/// Jacobi steps NeuralFriction before the beam's step is known).
+fn coupled_holding(
+    law: NeuralFrictionLaw,
+    setup: &Setup,
+    h: f64,
+    scheme: Scheme,
+    held: StateVelocity,
+) -> Vec<f64> {
+    assert!(scheme == Scheme::GaussSeidel || held == StateVelocity::End);
     let beam_setup = Setup {
         law: FrictionLawKind::External,
         ..*setup
@@ -171,11 +199,23 @@ fn coupled_with(law: NeuralFrictionLaw, setup: &Setup, h: f64, scheme: Scheme) -
             if scheme == Scheme::Jacobi {
                 f.set_real(&sliding, &[v_rel(&mut b)]).unwrap();
             }
+            let tip_before = beam_real(&mut b, "tip_deflection");
             b.do_step(t, h).unwrap();
-            if scheme == Scheme::GaussSeidel {
-                f.set_real(&sliding, &[v_rel(&mut b)]).unwrap();
+            match (scheme, held) {
+                (Scheme::GaussSeidel, StateVelocity::End) => {
+                    f.set_real(&sliding, &[v_rel(&mut b)]).unwrap();
+                }
+                (Scheme::GaussSeidel, StateVelocity::Mean) => {
+                    let slid = beam_real(&mut b, "tip_deflection") - tip_before;
+                    let mean = beam_real(&mut b, "belt_speed") - slid / h;
+                    f.set_real(&sliding, &[mean]).unwrap();
+                }
+                (Scheme::Jacobi, _) => {}
             }
             f.do_step(t, h).unwrap();
+            if held == StateVelocity::Mean {
+                f.set_real(&sliding, &[v_rel(&mut b)]).unwrap();
+            }
             beam_real(&mut b, "tip_deflection")
         })
         .collect()
@@ -411,6 +451,12 @@ fn measure_step_consistent_coupling() {
         .map(|x| x.parse().unwrap())
         .collect();
     let only = std::env::var("COUPLING_LAWS").unwrap_or_default();
+    // COUPLING_STATE_VELOCITY=mean: NeuralFriction commits its state at the step's
+    // mean v_rel in the Gauss-Seidel runs (`StateVelocity::Mean`).
+    let held = match std::env::var("COUPLING_STATE_VELOCITY").as_deref() {
+        Ok("mean") => StateVelocity::Mean,
+        _ => StateVelocity::End,
+    };
     for h in steps {
         for (name, law, setup) in state_law_setups(ExternalCoupling::Step) {
             if !only.is_empty() && !only.split(',').any(|o| o == name) {
@@ -419,10 +465,15 @@ fn measure_step_consistent_coupling() {
             let reference = alone_with(&setup, h);
             for coupling in [ExternalCoupling::Signed, ExternalCoupling::Step] {
                 for scheme in [Scheme::GaussSeidel, Scheme::Jacobi] {
-                    let run = coupled_with(law, &Setup { coupling, ..setup }, h, scheme);
+                    let held = if scheme == Scheme::Jacobi {
+                        StateVelocity::End
+                    } else {
+                        held
+                    };
+                    let run = coupled_holding(law, &Setup { coupling, ..setup }, h, scheme, held);
                     let (deviation, period) = coupling_error(&reference, &run, h);
                     println!(
-                        "h {h:e} {name:22} {:7} {scheme:?}: {:.4} mm, period {:+.2} %, falls {:.4?} (embedded {:.4?})",
+                        "h {h:e} {name:22} {:7} {scheme:?} {held:?}: {:.4} mm, period {:+.2} %, falls {:.4?} (embedded {:.4?})",
                         coupling.name(),
                         deviation * 1e3,
                         period * 100.0,
@@ -498,5 +549,59 @@ fn the_step_coupling_meets_the_bounds_at_a_smaller_step() {
         let (d, p) = coupling_error(&reference, &run, h);
         assert!(d < 0.092e-3, "{name}: {d} m");
         assert!(p.abs() < 0.01, "{name}: period error {p}");
+    }
+}
+
+/// The state committed at the step's mean sliding velocity (`StateVelocity::Mean`: the
+/// beam's slip distance over the step / h) instead of v_rel(t_k+1), h = 1e-3 s,
+/// Gauss-Seidel, step coupling, default fidelity. Measured
+/// (`COUPLING_STATE_VELOCITY=mean`, docs/cosimulation.md), against the end velocity:
+///
+/// | law | mean | end |
+/// | --- | --- | --- |
+/// | LuGre | 0.0069 mm, +0.19 % | 0.244 mm, +4.66 % |
+/// | rate-and-state, slip | 0.066 mm, -0.18 % | 0.092 mm, -0.53 % |
+/// | rate-and-state, aging | 0.197 mm, +3.69 % | 0.138 mm, +3.36 % |
+/// | learned law with memory | 0.230 mm, +4.03 % | 0.168 mm, +2.68 % |
+///
+/// LuGre's bristle deflection integrates the slip (dz/dt = v - |v| z sigma_0 / g(v)):
+/// held at the end velocity over a step in which a slip starts or stops, z moves by
+/// v(t_k+1) h instead of the distance slid. LuGre and the slip law meet the issue's
+/// bounds (0.092 mm to 0.7 s, 1 % of period to 1.2 s), asserted; the margins: LuGre's
+/// deviation is 13x below the bound, the slip law's 1.4x; both periods within 0.2 %,
+/// where timing the falls to 1 ms costs up to about 0.25 %. The aging and the learned
+/// laws get worse: asserted is the measured, within 1.25 times the deviation and 1
+/// percentage point of period (as `the_step_coupling_at_the_systems_step`), and that
+/// they stay worse than with the end velocity (so that the docs' choice per law holds).
+#[test]
+fn the_state_committed_at_the_steps_mean_velocity() {
+    let h = 1e-3;
+    let worse = [
+        ("rate-and-state aging", 0.197e-3, 0.0369_f64),
+        ("learned", 0.230e-3, 0.0403),
+    ];
+    for (name, law, setup) in state_law_setups(ExternalCoupling::Step) {
+        let reference = alone_with(&setup, h);
+        let mean = coupled_holding(law, &setup, h, Scheme::GaussSeidel, StateVelocity::Mean);
+        let (d, p) = coupling_error(&reference, &mean, h);
+        match worse.iter().find(|m| m.0 == name) {
+            None => {
+                assert!(d < 0.092e-3, "{name}: {d} m");
+                assert!(p.abs() < 0.01, "{name}: period error {p}");
+            }
+            Some((_, deviation, period)) => {
+                assert!(
+                    d < 1.25 * deviation,
+                    "{name}: {d} m, measured {deviation} m"
+                );
+                assert!(
+                    p.abs() < period.abs() + 0.01,
+                    "{name}: period error {p}, measured {period}"
+                );
+                let end = coupled_with(law, &setup, h, Scheme::GaussSeidel);
+                let (d_end, _) = coupling_error(&reference, &end, h);
+                assert!(d > d_end, "{name}: mean {d} m, end {d_end} m");
+            }
+        }
     }
 }

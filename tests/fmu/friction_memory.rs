@@ -79,7 +79,7 @@ fn a_velocity_step_through_the_fmu_gives_the_laws_direct_jump_then_its_steady_fo
 
 /// The law state is in the FMU state: a saved state, serialised and restored in a fresh
 /// instance, gives the same forces bit for bit as the instance that went on; its version
-/// is 4 and it carries the state; a version-3 state (the settings alone) still restores,
+/// is 6 and it carries the state and the step size (without which it is refused); a version-3 state (the settings alone) still restores,
 /// with the law's initial state.
 #[test]
 fn the_law_state_round_trips_bit_for_bit_and_old_states_are_read() {
@@ -89,7 +89,8 @@ fn the_law_state_round_trips_bit_for_bit_and_old_states_are_read() {
         let t = steps(&mut f, version, 0.0, 1e-3, 7);
         let saved = f.get_state().unwrap();
         assert_eq!(saved.version, STATE_VERSION);
-        assert_eq!(saved.version, 5);
+        assert_eq!(saved.version, 6);
+        assert_eq!(saved.model["step_size"], serde_json::json!(1e-3));
         let law_state = saved.model["law_state"].as_array().unwrap();
         assert_eq!(law_state.len(), 1);
         let bytes = f.serialize_state(&saved).unwrap();
@@ -123,6 +124,19 @@ fn the_law_state_round_trips_bit_for_bit_and_old_states_are_read() {
         bad.model["law_state"] = serde_json::json!([1.0, 2.0]);
         let e = fresh.set_state(&bad);
         assert!(e.is_err());
+
+        // Without the step size (the h the step-consistent pair looks ahead over) a
+        // state after a step is refused: required from version 6; version 5 states
+        // were written with and without it, and without it they cannot restore the run.
+        for v in [6, 5] {
+            let mut no_h = saved.clone();
+            no_h.version = v;
+            no_h.model.as_object_mut().unwrap().remove("step_size");
+            assert!(fresh.set_state(&no_h).is_err(), "version {v}");
+        }
+        let mut with_h = saved.clone();
+        with_h.version = 5;
+        fresh.set_state(&with_h).unwrap();
     }
 }
 

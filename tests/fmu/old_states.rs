@@ -125,8 +125,13 @@ pub(crate) fn restored_outputs(f: &Fixture) -> Vec<Vec<u64>> {
     }
 }
 
+/// StickSlipBeam's version-4 states restore bit for bit. NeuralFriction's, each of a
+/// law with state after 30 steps, are refused with the reason: they have no
+/// `step_size` (the master's h, which the step-consistent pair of issue 36 looks ahead
+/// over, required from version 6 on), and restored with h = 0 their first outputs
+/// would be the instantaneous pair, not the run's.
 #[test]
-fn version_4_states_restore_bit_for_bit() {
+fn version_4_states_restore_bit_for_bit_or_are_refused_without_a_step_size() {
     let all = fixtures();
     assert_eq!(
         all.len(),
@@ -134,8 +139,37 @@ fn version_4_states_restore_bit_for_bit() {
         "fixtures: {:?}",
         all.iter().map(|f| &f.0).collect::<Vec<_>>()
     );
+    let mut refused = 0;
     for (name, fixture) in &all {
         assert!(fixture.state.contains("\"version\":4"), "{name}");
-        assert_eq!(restored_outputs(fixture), fixture.values, "{name}");
+        if fixture.fmu == "NeuralFriction" {
+            let reason = refusal::<NeuralFriction>(fixture);
+            assert!(
+                reason.contains("has no step_size") && reason.contains("save it again"),
+                "{name}: {reason}"
+            );
+            refused += 1;
+        } else {
+            assert_eq!(restored_outputs(fixture), fixture.values, "{name}");
+        }
     }
+    assert_eq!(refused, 6);
+}
+
+/// The reason the instance gives for refusing the fixture's state (logged at error).
+fn refusal<M: Model>(f: &Fixture) -> String {
+    let messages = std::sync::Arc::new(std::sync::Mutex::new(String::new()));
+    let sink = messages.clone();
+    let logger = Box::new(move |_, _: &str, message: &str| {
+        sink.lock().unwrap().push_str(message);
+    });
+    let dir = stickslip_tests::weights_dir();
+    let version = fmi_version(&f.fmi);
+    let mut fresh = Instance::<M>::instantiate(version, "old", Some(&dir), false, logger).unwrap();
+    let restored = fresh
+        .deserialize_state(with_current_guid::<M>(&f.state).as_bytes())
+        .and_then(|state| fresh.set_state(&state));
+    assert!(restored.is_err(), "{} {} restored", f.fmu, f.fmi);
+    let text = messages.lock().unwrap().clone();
+    text
 }

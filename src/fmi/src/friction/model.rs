@@ -84,7 +84,8 @@ impl Model for NeuralFriction {
         self.derivatives().map_err(|e| e.to_string())
     }
 
-    /// State versions 4 and 5: the settings and the law state (`state_laws`).
+    /// State versions 4 to 6: the settings, the law state and the last step's size
+    /// (`state_laws`).
     fn save(&self) -> serde_json::Value {
         self.saved()
     }
@@ -93,7 +94,8 @@ impl Model for NeuralFriction {
         self.check_saved_state(saved, at)
     }
 
-    /// Versions 1 to 3 hold the settings alone, versions 4 and 5 the law state besides.
+    /// Versions 1 to 3 hold the settings alone, versions 4 to 6 the law state besides
+    /// (and the step size, required from version 6 on).
     fn restore(&mut self, saved: serde_json::Value, at: &Restoring) -> Result<(), String> {
         self.restore_saved(saved, at)
     }

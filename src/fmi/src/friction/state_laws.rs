@@ -29,7 +29,9 @@
 //!   states of versions 1 to 3, which NeuralFriction wrote before it had laws with state,
 //!   are the plain settings and restore with the initial law state. Version-4 states
 //!   written before `lugre` and `rate-and-state` came have no parameters for them: they
-//!   read with the defaults (`Settings`).
+//!   read with the defaults (`Settings`). From state version 6 the state carries the
+//!   last communication step's size (`step_size`); a version-4 or -5 state of a law
+//!   with state after a step that lacks it is refused (`step_size_of`).
 
 use super::{EvaluateError, InitialiseError, NeuralFriction, Outputs, Settings};
 use crate::instance::{check_as_set, parse_saved};
@@ -43,6 +45,9 @@ use stickslip::law_source::LawSource;
 /// The first FMU state version whose NeuralFriction state holds the law's state.
 pub(super) const LAW_STATE_VERSION: u32 = 4;
 
+/// The first FMU state version whose NeuralFriction state must hold `step_size`.
+pub(super) const STEP_SIZE_VERSION: u32 = 6;
+
 /// NeuralFriction's saved form from state version 4 on.
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -52,9 +57,30 @@ struct Saved {
     /// step: the initial state).
     law_state: Vec<f64>,
     /// The last communication step's size (s), which the step-consistent pair looks
-    /// ahead over; absent (0) in states saved before it existed.
+    /// ahead over. Required from version 6 on; versions 4 and 5 may lack it (it came
+    /// in version 5 without a bump): `step_size_of`.
     #[serde(default)]
-    step_size: f64,
+    step_size: Option<f64>,
+}
+
+/// The step size of a saved state of `version`: required from version 6 on; before,
+/// absent reads as 0 (no step taken yet) where that restores the run as it was, and is
+/// refused where it would not: a law with state after a step, whose step-consistent
+/// pair looks ahead over h, would restore with the instantaneous pair instead.
+fn step_size_of(saved: &Saved, version: u32) -> Result<f64, String> {
+    match saved.step_size {
+        Some(h) if h.is_finite() && h >= 0.0 => Ok(h),
+        Some(h) => Err(format!(
+            "step_size = {h}: the last communication step's size must be finite and >= 0 (s)"
+        )),
+        None if version >= STEP_SIZE_VERSION => Err(format!(
+            "step_size is missing: states of version {STEP_SIZE_VERSION} and later carry the last communication step's size (s)"
+        )),
+        None if saved.law_state.is_empty() => Ok(0.0),
+        None => Err(format!(
+            "a state of version {version} of a law with state after a step has no step_size (the communication step the step-consistent pair looks ahead over, saved from version {STEP_SIZE_VERSION} on); it cannot restore the run as it was: save it again with this FMU"
+        )),
+    }
 }
 
 /// Whether `a` and `b` choose the same law with the same parameters (the inputs may
@@ -259,7 +285,7 @@ impl NeuralFriction {
         serde_json::to_value(Saved {
             settings: self.settings.clone(),
             law_state: self.law_state.clone(),
-            step_size: self.step_size,
+            step_size: Some(self.step_size),
         })
         .unwrap_or(serde_json::Value::Null)
     }
@@ -270,8 +296,10 @@ impl NeuralFriction {
     fn adopt_saved(&mut self, saved: serde_json::Value, at: &Restoring) -> Result<Adopted, String> {
         const WHAT: &str = "NeuralFriction";
         let parsed = if at.version >= LAW_STATE_VERSION {
-            parse_saved::<Saved>(saved)
-                .map(|saved| (saved.settings, saved.law_state, saved.step_size))
+            parse_saved::<Saved>(saved).and_then(|saved| {
+                let step_size = step_size_of(&saved, at.version)?;
+                Ok((saved.settings, saved.law_state, step_size))
+            })
         } else {
             parse_saved::<Settings>(saved).map(|settings| (settings, Vec::new(), 0.0))
         };

@@ -44,7 +44,12 @@ pub const STATE_FORMAT: &str = "stickslip-fmu-state";
 ///   memory's state); its version-1 to -3 states, the settings alone, still read.
 /// - 5: the JSON text is followed by its checksum ([`CHECKSUM_VERSION`]); the JSON is
 ///   that of version 4.
-pub const STATE_VERSION: u32 = 5;
+/// - 6: NeuralFriction's state always carries `step_size`, the master's h that its
+///   step-consistent pair looks ahead over (issue 36). Version-5 states were written
+///   with and without it (it came without a bump); one without it, of a law with state
+///   after a step, is refused (`friction::state_laws`), because restored with h = 0 its
+///   first outputs would be the instantaneous pair, not the run's.
+pub const STATE_VERSION: u32 = 6;
 /// The first version whose bytes end in a checksum: the JSON text, then
 /// [`CHECKSUM_MARK`] and the CRC-32 (IEEE) of the JSON text's bytes in 8 lowercase hex
 /// digits. Older versions are the JSON text alone.
