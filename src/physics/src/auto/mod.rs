@@ -126,10 +126,14 @@ mod verification;
 pub use bound::{window_deviation, Horizon, Reach, DIRECT_LIMIT};
 pub use chain::{choose, choose_over, Candidate, Selection};
 pub use deviation::first_cycle_deviation;
-pub use front::{check_front, for_scene, paper_front, partner, refinement};
+pub use front::{
+    check_front, for_scene, front_for, paper_front, partner, refinement, ShippedFront,
+};
 pub use horizon::calibration_horizon;
 pub use resolve::{choose_cached, describe, resolve, span, tolerance_of};
-pub use verification::{finer, verification_scenes, verify, Verification};
+pub use verification::{
+    finer, verification_scenes, verification_scenes_with_state, verify, Verification,
+};
 
 use crate::scene::SceneError;
 use crate::study::{Failed, FrontPoint, MeasureError};
@@ -192,9 +196,13 @@ pub const DEFAULT_TOLERANCE: f64 = 1e-5;
 /// Why `fidelity = auto` could not choose (or, in [`verify`], check its choice).
 #[derive(Debug, thiserror::Error)]
 pub enum AutoError {
-    /// The shipped front is not valid JSON of front points.
-    #[error("data/pareto_front.json: {0}")]
-    FrontJson(#[source] serde_json::Error),
+    /// A shipped front is not valid JSON of front points.
+    #[error("{file}: {source}")]
+    FrontJson {
+        file: &'static str,
+        #[source]
+        source: serde_json::Error,
+    },
     #[error("the front needs at least two points")]
     FrontTooShort,
     /// `first` comes before `second` on the front but is not cheaper and less accurate.
