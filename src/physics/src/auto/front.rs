@@ -1,6 +1,9 @@
 //! The shipped front and the partners along it.
 
-use super::{AutoError, CHAIN_COST_RATIO, CHEAP_RUN_SECONDS, PARTNER_ACCURACY_RATIO};
+use super::{
+    AutoError, CHAIN_COST_RATIO, CHEAP_RUN_SECONDS, PARTNER_ACCURACY_RATIO, SAFETY_FACTOR,
+    SAFETY_FACTOR_WITH_STATE,
+};
 use crate::friction::rate_and_state::{RateStateParameters, StateEvolution};
 use crate::friction::FrictionLawKind;
 use crate::law_source::LawSource;
@@ -48,6 +51,22 @@ impl ShippedFront {
                 _ => ShippedFront::Memoryless,
             },
             LawSource::Network(_) | LawSource::External { .. } => ShippedFront::Memoryless,
+        }
+    }
+
+    /// Whether the front is a law with state's.
+    pub fn has_state(self) -> bool {
+        self != ShippedFront::Memoryless
+    }
+
+    /// The chain's safety factor for this front's laws: [`SAFETY_FACTOR`] for the
+    /// memoryless laws, [`SAFETY_FACTOR_WITH_STATE`], measured on their verification
+    /// scenes, for the others.
+    pub fn safety_factor(self) -> f64 {
+        if self.has_state() {
+            SAFETY_FACTOR_WITH_STATE
+        } else {
+            SAFETY_FACTOR
         }
     }
 

@@ -36,11 +36,17 @@
 //!
 //! # How the deviation is estimated on the user's scene
 //!
-//! The front is the one `stickslip study` measured on the paper scene
-//! (`data/pareto_front.json`, cheapest first). Its ordering by cost holds for any scene
-//! (cost follows degrees of freedom and steps); its errors do not, since geometry,
-//! material and belt speed move the frequencies that a model must resolve. So the
-//! errors are measured again, on the scene itself:
+//! The front is the one `stickslip study` measured on the paper scene with the scene's
+//! law (cheapest first): `data/pareto_front.json` for the memoryless laws, and for each
+//! law with state its own ([`ShippedFront`]: LuGre, rate-and-state with the aging and
+//! with the slip law, the learned law with memory; issue 36), measured against the
+//! 2.5e-6 s reference those laws need. A law with state walks the same chain with one
+//! constant of its own, from its verification ([`SAFETY_FACTOR_WITH_STATE`];
+//! docs/speed-accuracy.md, "Laws with state").
+//! A front's ordering by cost holds for any scene (cost follows degrees of freedom and
+//! steps); its errors do not, since geometry, material and belt speed move the
+//! frequencies that a model must resolve. So the errors are measured again, on the
+//! scene itself:
 //!
 //! 1. **Window.** Every calibration run covers the whole run up to [`DIRECT_LIMIT`].
 //!    For a longer or open horizon a pilot run of the cheapest point finds the third
@@ -167,6 +173,15 @@ pub const CHAIN_COST_RATIO: f64 = 4.0;
 
 /// A run this cheap on the paper scene (s, over its 1.2 s) is always affordable.
 pub const CHEAP_RUN_SECONDS: f64 = 0.05;
+
+/// [`SAFETY_FACTOR`] for a law with state. 1.25 (the tail factor's 1 + 1/4 again):
+/// on the eleven verification scenes of the laws with state at 100, 10 and 1 um, with a
+/// factor of 1 the true largest deviation of a choice reached 1.15 (rate-and-state at
+/// 0.4 D_c*, 10 um: estimate 9.3 um, true 10.7 um) and 1.10 (learned law at 180 N, 10
+/// um: 9.4 against 10.3 um) times the estimate and failed the tolerance, against
+/// references converged to 0.07 and 0.28 um; the memoryless laws' factor of 1 stands
+/// for them (speed-accuracy.md, "Laws with state").
+pub const SAFETY_FACTOR_WITH_STATE: f64 = 1.25;
 
 /// Calibration runs end at this multiple of the pilot's [`SLIPS_IN_WINDOW`]-th
 /// major-slip onset (or at the scene's end, if earlier). The pilot (the cheapest front
