@@ -91,6 +91,14 @@ pub fn choose_over(
 ) -> Result<Selection, AutoError> {
     check_request(tolerance, horizon)?;
     if scene.structure.is_some() {
+        // A user's structure's ladder (`structure`) was verified with the memoryless
+        // laws only (issue 35); the laws with state converge at first order in the step,
+        // which its safety factor of 1 was not measured for.
+        if super::front::ShippedFront::of(scene, law).has_state() {
+            return Err(AutoError::StructureWithState {
+                law: crate::choice::Choice::name(scene.friction.law),
+            });
+        }
         // A user's structure: the paper beam's front does not apply (`structure`).
         return super::structure::choose(scene, law, tolerance, horizon, progress);
     }

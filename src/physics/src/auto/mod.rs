@@ -247,6 +247,11 @@ pub enum AutoError {
         best: f64,
         over: String,
     },
+    /// `fidelity = auto` on a user's `[structure]` with a law with state (`law`, the
+    /// scene's `friction.law`): the structure's ladder was verified with the memoryless
+    /// laws only.
+    #[error("fidelity = auto on a [structure] with friction.law = {law}: the structure's convergence ladder was verified with the memoryless laws only, not with a law with state; choose the structure's fidelity (structure-modal or structure) and time step by hand")]
+    StructureWithState { law: &'static str },
     /// [`verify`] could not run the choice or the next cheaper point.
     #[error(transparent)]
     Verification(MeasureError),
