@@ -74,3 +74,19 @@ fn an_unreachable_tolerance_is_refused_with_the_best_achievable() {
     };
     assert!(best > 1e-12 && best.is_finite(), "{best}");
 }
+
+/// A law with state on a user's structure is refused by auto with the reason: the
+/// structure's ladder was verified with the memoryless laws only (issue 36).
+#[test]
+fn auto_on_a_structure_refuses_a_law_with_state_with_the_reason() {
+    let mut scene = auto_scene();
+    scene.friction.law = stickslip::friction::FrictionLawKind::Lugre;
+    let law = LawSource::resolve(&scene.clone().check().unwrap()).unwrap();
+    let front = paper_front().unwrap();
+    let error = choose(&scene, &law, 1e-4, &front, &mut |_| {}).unwrap_err();
+    assert!(
+        matches!(error, AutoError::StructureWithState { law: "lugre" }),
+        "{error}"
+    );
+    assert!(error.to_string().contains("by hand"), "{error}");
+}

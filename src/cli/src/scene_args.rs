@@ -165,8 +165,9 @@ impl SceneArgs {
         let Some(tolerance) = auto_tolerance else {
             return Ok((scene.check()?, None));
         };
-        let front = stickslip::auto::paper_front()?;
         let source = law_of(&scene.clone().check()?)?;
+        // The front measured with the scene's law (a law with state has its own).
+        let front = stickslip::auto::front_for(&scene, &source)?;
         let (resolved, choice) =
             stickslip::auto::resolve(scene, &source, &front, &mut |line| eprintln!("{line}"))?;
         if let Some(choice) = &choice {

@@ -773,20 +773,16 @@ impl Contact {
     ) -> Result<(), SceneError> {
         within("contact.preload", self.preload, 0.0, 1.0, true)?;
         if law.has_memory() {
-            self.check_with_memory_law(law, level)?;
+            self.check_with_memory_law(law)?;
         }
         self.check_with_scheme(scheme)?;
         self.check_slip_modes(level)
     }
 
     /// What a law with state (`law`) needs of the contact: the relative sliding
-    /// velocity, no modal slip, a concrete model (`level` not auto) and the default
-    /// slip-phase rules.
-    fn check_with_memory_law(
-        &self,
-        law: FrictionLawKind,
-        level: FidelityLevel,
-    ) -> Result<(), SceneError> {
+    /// velocity, no modal slip and the default slip-phase rules. `fidelity = auto`
+    /// chooses from the law's own measured front (`auto::front_for`).
+    fn check_with_memory_law(&self, law: FrictionLawKind) -> Result<(), SceneError> {
         // A law with state is stepped with the relative slip velocity (its state
         // evolves with the slip), on the one model the whole run uses.
         if self.sliding_velocity != SlidingVelocity::Relative {
@@ -805,21 +801,6 @@ impl Contact {
                 self.slip_modes_below,
                 "0 with a law with state (it has no stick phase to keep on the full mesh)",
             ));
-        }
-        if level == FidelityLevel::Auto {
-            // auto's front, its partner ratios and its verification were measured
-            // with the memoryless switch (data/pareto_front.json). The laws with
-            // state have measured fronts (the study's law axis), but their stick is a
-            // velocity threshold and their own fronts differ (LuGre's cheapest point
-            // under 1 um is another configuration), so auto's chain does not carry over.
-            return Err(SceneError::Invalid {
-                field: "fidelity.level",
-                value: "auto".into(),
-                requirement: format!(
-                    "modal, beam or plane-stress with friction.law = {}: auto's measured front and partner chain are for the memoryless laws only, none was measured for a law with state as auto walks it (their own study fronts: `stickslip study --laws`, docs/speed-accuracy.md, \"Friction laws with memory\")",
-                    crate::choice::Choice::name(law)
-                ),
-            });
         }
         match self.refusal_with_memory(crate::choice::Choice::name(law)) {
             Some(error) => Err(error),

@@ -113,3 +113,38 @@ fn fidelity_auto_calibrates_with_the_instances_own_weights() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A law with state under fidelity.level = auto (issue 36): the instance calibrates on
+/// the law's own front (its log names the choice) and steps through breakaway.
+#[test]
+fn fidelity_auto_chooses_for_the_laws_with_state() {
+    for law in [FrictionLawKind::Lugre, FrictionLawKind::RateAndState] {
+        let (mut b, log) = beam(true);
+        b.set_integer(
+            &[
+                vr::<StickSlipBeam>("fidelity.level"),
+                vr::<StickSlipBeam>("friction.law"),
+            ],
+            &[FidelityLevel::Auto.code(), law.code()],
+        )
+        .unwrap();
+        b.set_real(&[vr::<StickSlipBeam>("fidelity.tolerance")], &[1e-4])
+            .unwrap();
+        b.setup_experiment(0.0, Some(0.6)).unwrap();
+        b.enter_initialization_mode().unwrap();
+        b.exit_initialization_mode()
+            .unwrap_or_else(|_| panic!("{law:?}: {:?}", log.lock().unwrap()));
+        assert!(
+            logged(&log, "fidelity = auto (tolerance 1e-4 m"),
+            "{law:?}: {:?}",
+            log.lock().unwrap()
+        );
+        run(&mut b, 0.0, 0.6, 1e-2);
+        // Past breakaway at about 0.43 s the tip has slipped back below its 8 mm peak.
+        let deflection = tip(&mut b);
+        assert!(
+            deflection > 0.0 && deflection < 8.1e-3,
+            "{law:?}: {deflection}"
+        );
+    }
+}

@@ -296,7 +296,7 @@ fn the_scene_refuses_bad_parameters_and_options_with_the_reason() {
         s.check().unwrap_err().to_string()
     };
     type Edit<'a> = &'a dyn Fn(&mut Scene);
-    let cases: [(Edit, &str); 6] = [
+    let cases: [(Edit, &str); 5] = [
         (
             &|s| s.friction.laws.set(&lugre::BRISTLE_STIFFNESS, -1.0),
             "friction.lugre.bristle_stiffness",
@@ -320,10 +320,6 @@ fn the_scene_refuses_bad_parameters_and_options_with_the_reason() {
         (
             &|s| s.contact.sliding_velocity = SlidingVelocity::Tip,
             "a law with state evolves with the relative slip velocity",
-        ),
-        (
-            &|s| s.fidelity.level = FidelityLevel::Auto,
-            "none was measured for a law with state",
         ),
     ];
     for (edit, expected) in cases {

@@ -134,7 +134,8 @@ impl StickSlipBeam {
             calibrated.friction.law = FrictionLawKind::Exponential;
         }
         let law = law.stand_alone();
-        let front = stickslip::auto::paper_front()?;
+        // The front measured with that law (a law with state has its own).
+        let front = stickslip::auto::front_for(&calibrated, &law)?;
         let mut progress = Vec::new();
         let choice =
             stickslip::auto::choose_cached(&calibrated, &law, horizon, &front, &mut |line| {

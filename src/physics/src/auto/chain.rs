@@ -5,8 +5,7 @@ use super::drift::drift_rate;
 use super::front::affordable;
 use super::horizon::{calibration_run, horizon_counted};
 use super::{
-    check_front, partner, refinement, AutoError, PARTNER_ACCURACY_RATIO, SAFETY_FACTOR,
-    TAIL_FACTOR, WINDOW_LIMIT,
+    check_front, partner, refinement, AutoError, PARTNER_ACCURACY_RATIO, TAIL_FACTOR, WINDOW_LIMIT,
 };
 use crate::law_source::LawSource;
 use crate::scene::Scene;
@@ -18,7 +17,8 @@ use std::time::Instant;
 pub struct Candidate {
     pub configuration: Configuration,
     /// Estimated largest tip deviation on this scene (m), as the selection's [`Reach`]
-    /// counts it: [`SAFETY_FACTOR`] times the chain's bound d(candidate, last partner) +
+    /// counts it: the safety factor ([`super::SAFETY_FACTOR`], for a law with state
+    /// [`super::SAFETY_FACTOR_WITH_STATE`]) times the chain's bound d(candidate, last partner) +
     /// [`TAIL_FACTOR`] * d_last, with d_last the last link's deviation.
     pub estimated_error: f64,
     /// The chain's bound on the phase drift rate (s per s of simulated time):
@@ -91,6 +91,14 @@ pub fn choose_over(
 ) -> Result<Selection, AutoError> {
     check_request(tolerance, horizon)?;
     if scene.structure.is_some() {
+        // A user's structure's ladder (`structure`) was verified with the memoryless
+        // laws only (issue 35); the laws with state converge at first order in the step,
+        // which its safety factor of 1 was not measured for.
+        if super::front::ShippedFront::of(scene, law).has_state() {
+            return Err(AutoError::StructureWithState {
+                law: crate::choice::Choice::name(scene.friction.law),
+            });
+        }
         // A user's structure: the paper beam's front does not apply (`structure`).
         return super::structure::choose(scene, law, tolerance, horizon, progress);
     }
@@ -105,7 +113,9 @@ pub fn choose_over(
     let reach = Reach::of(horizon, window);
     let mut calibrated = scene.clone();
     calibrated.time.end = window;
+    let safety = super::front::ShippedFront::of(scene, law).safety_factor();
     let mut runs = Calibration {
+        safety,
         scene: &calibrated,
         law,
         front,
@@ -195,6 +205,9 @@ fn calibration_window(
 
 /// The calibration runs over the window, each front point run at most once.
 struct Calibration<'a, 'p> {
+    /// The estimate's safety factor for the law's front
+    /// ([`super::front::ShippedFront::safety_factor`]).
+    safety: f64,
     /// The scene cut to the calibration window.
     scene: &'a Scene,
     law: &'a LawSource,
@@ -231,7 +244,7 @@ impl Calibration<'_, '_> {
 ///
 /// The chain: e_k <= d(k, p) + e_p for any partner p, so the bound is
 /// d(k, last) + [`TAIL_FACTOR`] d_last, the same for the drift rate r, each times
-/// [`SAFETY_FACTOR`].
+/// the safety factor of the law's front ([`super::front::ShippedFront::safety_factor`]).
 fn bound_by_chain(
     runs: &mut Calibration,
     k: usize,
@@ -276,9 +289,9 @@ fn bound_by_chain(
     }
     let candidate = Candidate {
         configuration: front[k].configuration,
-        estimated_error: SAFETY_FACTOR * bound,
+        estimated_error: runs.safety * bound,
         drift_rate: match rates {
-            (Some(direct), Some(last)) => Some(SAFETY_FACTOR * (direct + TAIL_FACTOR * last)),
+            (Some(direct), Some(last)) => Some(runs.safety * (direct + TAIL_FACTOR * last)),
             _ => None,
         },
         partner: front[first].configuration,

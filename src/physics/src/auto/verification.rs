@@ -55,6 +55,83 @@ pub fn verification_scenes() -> Vec<(&'static str, Scene)> {
     ]
 }
 
+/// The scenes on which `stickslip study --verify-auto --auto-with-state` checks the
+/// choice for the laws with state (issue 36): the paper scene with each law (LuGre,
+/// rate-and-state with the aging and the slip law, the learned law with memory of
+/// `learned_weights`, e.g. weights/rate-and-state-learned.json), and scenes that move
+/// what the state does: rate-and-state near its stick-slip threshold (D_c* = 4.35e-4 m
+/// on the paper beam, friction-with-memory.md; at D_c = 1.74e-4 m = 0.4 D_c* the tip
+/// still sticks in each of the 13 cycles of 3 s, at 2.6e-4 m = 0.6 D_c* it sticks three
+/// times and then slides on a limit cycle: modal 4 modes, 1e-4 s), LuGre with soft
+/// bristles (sigma0 = 1e6 N/m, 160 times the tip stiffness rather than 1600: 50 um of
+/// presliding at breakaway, a period of 0.287 s against 0.20 s), belt speeds, a longer
+/// beam and a larger normal force.
+pub fn verification_scenes_with_state(learned_weights: &str) -> Vec<(&'static str, Scene)> {
+    use crate::friction::rate_and_state::{StateEvolution, CHARACTERISTIC_SLIP, STATE_EVOLUTION};
+    use crate::friction::{lugre, FrictionLawKind};
+    let with_law = |law: FrictionLawKind, edit: &dyn Fn(&mut Scene)| {
+        let mut scene = Scene::default();
+        scene.friction.law = law;
+        edit(&mut scene);
+        scene
+    };
+    let learned = |scene: &mut Scene| scene.friction.weights = Some(learned_weights.into());
+    let slip_law = |scene: &mut Scene| {
+        let slip = f64::from(crate::choice::Choice::code(StateEvolution::Slip));
+        scene.friction.laws.set(&STATE_EVOLUTION, slip);
+    };
+    let (lugre, rate_state) = (FrictionLawKind::Lugre, FrictionLawKind::RateAndState);
+    vec![
+        ("lugre paper", with_law(lugre, &|_| {})),
+        ("rate-and-state paper", with_law(rate_state, &|_| {})),
+        (
+            "rate-and-state slip law paper",
+            with_law(rate_state, &slip_law),
+        ),
+        (
+            "learned memory paper",
+            with_law(FrictionLawKind::Neural, &learned),
+        ),
+        (
+            "rate-and-state D_c 0.4 D_c* (sticks)",
+            with_law(rate_state, &|s| {
+                s.friction.laws.set(&CHARACTERISTIC_SLIP, 1.74e-4)
+            }),
+        ),
+        (
+            "rate-and-state D_c 0.6 D_c* (stops sticking)",
+            with_law(rate_state, &|s| {
+                s.friction.laws.set(&CHARACTERISTIC_SLIP, 2.6e-4)
+            }),
+        ),
+        (
+            "lugre soft bristles 1e6 N/m",
+            with_law(lugre, &|s| {
+                s.friction.laws.set(&lugre::BRISTLE_STIFFNESS, 1e6)
+            }),
+        ),
+        (
+            "lugre belt 0.05 m/s",
+            with_law(lugre, &|s| s.loading.belt_speed = 0.05),
+        ),
+        (
+            "rate-and-state belt 0.05 m/s",
+            with_law(rate_state, &|s| s.loading.belt_speed = 0.05),
+        ),
+        (
+            "rate-and-state beam 1.5 m",
+            with_law(rate_state, &|s| s.geometry.length = 1.5),
+        ),
+        (
+            "learned memory normal force 180 N",
+            with_law(FrictionLawKind::Neural, &|s| {
+                learned(s);
+                s.loading.normal_force = 180.0;
+            }),
+        ),
+    ]
+}
+
 /// The choice on one scene, checked against the scene's own converged reference over
 /// the whole run.
 #[derive(Clone, Debug)]

@@ -12,7 +12,7 @@ use crate::friction::FrictionLawKind;
 use crate::neural::inference::Inference;
 use crate::neural::NeuralError;
 use crate::neural::SceneLawError;
-use crate::scene::{CheckedScene, FidelityLevel, Scene, SlidingVelocity};
+use crate::scene::{CheckedScene, Scene, SlidingVelocity};
 
 /// The learned state law a scene names, if it names one; refused with the reason when
 /// the file is corrupt or the scene asks for what a law with state cannot do (the same
@@ -46,8 +46,7 @@ pub fn scene_state_law(
 }
 
 /// Why `scene` cannot run a law with state, if it cannot: the rules of the analytical
-/// laws with state (relative sliding velocity, no modal slip phase, no `fidelity = auto`,
-/// whose front was measured for memoryless laws only), and exact evaluation.
+/// laws with state (relative sliding velocity, no modal slip phase) and exact evaluation.
 pub fn refusal(scene: &Scene) -> Option<String> {
     let friction = &scene.friction;
     if friction.inference != Inference::Exact {
@@ -59,8 +58,6 @@ pub fn refusal(scene: &Scene) -> Option<String> {
         Some("a law with state needs contact.sliding_velocity = relative (its state evolves with the relative slip velocity)".into())
     } else if scene.contact.slip_modes_below > 0.0 {
         Some("a law with state needs contact.slip_modes_below = 0 (it has no stick phase to keep on the full mesh)".into())
-    } else if scene.fidelity.level == FidelityLevel::Auto {
-        Some("fidelity.level = auto: its measured front and partner chain are for the memoryless laws only, none was measured for a law with state; choose modal, beam or plane-stress".into())
     } else {
         None
     }
