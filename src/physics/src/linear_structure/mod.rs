@@ -590,6 +590,32 @@ mod tests {
                 assert_eq!(c.get(i, j), 1e-3 * s.stiffness().get(i, j), "({i}, {j})");
             }
         }
+        // A `general` C whose (1, 3) and (3, 1) differ by 1e-6 of the entry: refused with
+        // the pair, as K would be (the same check).
+        let mut skewed = matrices.damping.clone().unwrap();
+        skewed.stored = Stored::General;
+        let lower: Vec<Triplet> = skewed
+            .entries
+            .iter()
+            .filter(|e| e.row != e.col)
+            .map(|e| Triplet {
+                row: e.col,
+                col: e.row,
+                value: e.value * (1.0 + 1e-6),
+            })
+            .collect();
+        skewed.entries.extend(lower);
+        let mut unsymmetric = matrices.clone();
+        unsymmetric.damping = Some(skewed);
+        let message = LinearStructure::new(&unsymmetric, &[label(1, 1)])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.starts_with("the damping matrix is not symmetric: a(")
+                && message.contains("-1e3 but a(")
+                && message.contains("-1.000000999"),
+            "{message}"
+        );
         let mut short = matrices.damping.clone().unwrap();
         short.size = 3;
         matrices.damping = Some(short);
