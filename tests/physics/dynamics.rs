@@ -86,6 +86,7 @@ fn oscillator_error(coefficients: Coefficients, dt: f64) -> f64 {
         mass: SymBandMatrix::from_diagonal(&[1.0]),
         stiffness: SymBandMatrix::from_diagonal(&[w * w]),
         tip: vec![(0, 1.0)],
+        damping: None,
     };
     let mut integrator = Integrator::new(&model, coefficients, dt, 0.0, 0.0).unwrap();
     let mut k = Kinematics {

@@ -1,5 +1,7 @@
 //! Implicit time integration of M u'' + C u' + K u = c F with Rayleigh damping
-//! C = a M + b K, and one scalar tip force F decided by the contact each step.
+//! C = a M + b K, plus a damping matrix C0 from a user's structure's files where the
+//! model has one (C = C0 + a M + b K), and one scalar tip force F decided by the
+//! contact each step.
 //!
 //! Both schemes reduce a step to one solve with a constant effective matrix S:
 //! x = x_free + F z with S x_free = r (the step without tip force) and z = S^-1 c, both
@@ -98,6 +100,16 @@ pub struct Integrator {
     /// M p + K q in one fused pass; p and q are written straight into its inputs.
     product: BandPairProduct,
     free: Vec<f64>,
+    /// The model's damping matrix C0 with its input and product buffers, when it has one
+    /// and this integrator damps.
+    matrix_damping: Option<MatrixDamping>,
+}
+
+/// A damping matrix C0 in the step: its input x and the product C0 x.
+struct MatrixDamping {
+    matrix: SymBandMatrix,
+    input: Vec<f64>,
+    product: Vec<f64>,
 }
 
 /// The step without tip force, and how the tip responds to a force: what the contact
@@ -122,7 +134,8 @@ pub struct TrialStep {
 
 impl Integrator {
     /// Factorises the effective matrix of `model` for time step `dt` (s) with Rayleigh
-    /// coefficients a = `mass_damping` (1/s), b = `stiffness_damping` (s).
+    /// coefficients a = `mass_damping` (1/s), b = `stiffness_damping` (s), and the
+    /// model's damping matrix C0 when it has one.
     pub fn new(
         model: &StructuralModel,
         coefficients: Coefficients,
@@ -130,7 +143,43 @@ impl Integrator {
         mass_damping: f64,
         stiffness_damping: f64,
     ) -> Result<Self, ModelError> {
-        let (a, b) = (mass_damping, stiffness_damping);
+        Self::build(
+            model,
+            coefficients,
+            dt,
+            (mass_damping, stiffness_damping),
+            model.damping.as_ref(),
+        )
+    }
+
+    /// [`Self::new`] without any damping: no Rayleigh terms and the model's damping
+    /// matrix left out (the stick phase of `contact.damping_phase = slip`).
+    pub fn undamped(
+        model: &StructuralModel,
+        coefficients: Coefficients,
+        dt: f64,
+    ) -> Result<Self, ModelError> {
+        Self::build(model, coefficients, dt, (0.0, 0.0), None)
+    }
+
+    fn build(
+        model: &StructuralModel,
+        coefficients: Coefficients,
+        dt: f64,
+        (a, b): (f64, f64),
+        damping_matrix: Option<&SymBandMatrix>,
+    ) -> Result<Self, ModelError> {
+        // The factor of C0 in the effective matrix: that of C in it, whose Rayleigh
+        // part is folded into the factors of M and K.
+        let c_scale = match coefficients {
+            Coefficients::GeneralizedAlpha {
+                alpha_f,
+                gamma,
+                beta,
+                ..
+            } => (1.0 - alpha_f) * gamma / (beta * dt),
+            Coefficients::MoreauJean { theta } => dt * theta,
+        };
         let (s_mass, s_stiffness) = match coefficients {
             Coefficients::GeneralizedAlpha {
                 alpha_m,
@@ -151,10 +200,13 @@ impl Integrator {
                 dt * theta * b + dt * dt * theta * theta,
             ),
         };
-        let effective: SymBandMatrix =
+        let mut effective: SymBandMatrix =
             model
                 .mass
                 .linear_combination(s_mass, &model.stiffness, s_stiffness);
+        if let Some(c0) = damping_matrix {
+            effective = effective.linear_combination(1.0, c0, c_scale);
+        }
         let factor = effective.cholesky().map_err(singular("effective"))?;
         let n = model.dofs();
         let mut tip_response = vec![0.0; n];
@@ -171,6 +223,11 @@ impl Integrator {
             tip_compliance,
             product: BandPairProduct::new(&model.mass, &model.stiffness),
             free: vec![0.0; n],
+            matrix_damping: damping_matrix.map(|c0| MatrixDamping {
+                matrix: c0.clone(),
+                input: vec![0.0; n],
+                product: vec![0.0; n],
+            }),
         })
     }
 
@@ -217,6 +274,12 @@ impl Integrator {
                     *pi = m1 * (ui + dt * vi) + m2 * ai + a * c_tilde;
                     *qi = b * c_tilde - alpha_f * ui;
                 }
+                // ... + C0 c~.
+                if let Some(d) = &mut self.matrix_damping {
+                    for (xi, ((ui, vi), ai)) in d.input.iter_mut().zip(u.iter().zip(v).zip(acc)) {
+                        *xi = c0 * ui - c1 * vi - c2 * ai;
+                    }
+                }
             }
             Coefficients::MoreauJean { theta } => {
                 // r = M v (1 - h (1-theta) a) + K (-h u - (h (1-theta) b + h^2 theta (1-theta)) v)
@@ -226,9 +289,22 @@ impl Integrator {
                     *pi = mv * vi;
                     *qi = -dt * ui - kv * vi;
                 }
+                // ... - h (1 - theta) C0 v.
+                if let Some(d) = &mut self.matrix_damping {
+                    for (xi, vi) in d.input.iter_mut().zip(v) {
+                        *xi = -dt * (1.0 - theta) * vi;
+                    }
+                }
             }
         }
         self.product.apply(&mut self.free);
+        if let Some(d) = &mut self.matrix_damping {
+            d.matrix.mul_vec(&d.input, &mut d.product);
+            self.free
+                .iter_mut()
+                .zip(&d.product)
+                .for_each(|(f, c)| *f += c);
+        }
         self.factor.solve_in_place(&mut self.free);
         let tip_free = model.tip_value(&self.free);
         let tip_u = model.tip_value(u);

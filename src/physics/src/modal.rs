@@ -403,6 +403,15 @@ impl StructuralModel {
     }
 }
 
+/// Why a structure with a damping matrix from a file has no modal model yet: Phi^T C0
+/// Phi is a full matrix, where the modal model is diagonal, and dropping C0 would run
+/// another structure than the user's.
+pub(crate) fn damping_not_projected() -> ModelError {
+    ModelError::UserStructure(
+        "structure.damping: a damping matrix from a file is not projected onto modes yet (Phi^T C Phi is a full matrix; the modal model is diagonal); use fidelity.level = plane-stress (the full model) or the scene's Rayleigh damping".to_string(),
+    )
+}
+
 /// The modal model of `full` with its lowest `modes` modes, plus the static tip-load
 /// shape when `static_correction` is set.
 pub fn reduce(
@@ -410,6 +419,9 @@ pub fn reduce(
     modes: usize,
     static_correction: bool,
 ) -> Result<StructuralModel, ModelError> {
+    if full.damping.is_some() {
+        return Err(damping_not_projected());
+    }
     let eigen = modes_of(full, modes)?;
     let static_shape = if static_correction {
         Some(full.static_displacement(1.0)?)
@@ -495,6 +507,7 @@ pub(crate) fn reduced_model<M: SymmetricOperator>(
         mass: SymBandMatrix::from_diagonal(&vec![1.0; t.len()]),
         stiffness: SymBandMatrix::from_diagonal(&values),
         tip,
+        damping: None,
     })
 }
 

@@ -101,6 +101,7 @@ impl SlipBasis {
                 .enumerate()
                 .map(|(i, phi)| (i, full.tip_value(phi)))
                 .collect(),
+            damping: None,
         };
         Ok(Self {
             cutoff,

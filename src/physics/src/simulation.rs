@@ -291,12 +291,10 @@ impl Simulator {
         )?;
         let stick_integrator = match scene.contact.damping_phase {
             DampingPhase::Always => None,
-            DampingPhase::Slip => Some(Integrator::new(
+            DampingPhase::Slip => Some(Integrator::undamped(
                 &model,
                 Coefficients::from_scene(&scene),
                 scene.time.step,
-                0.0,
-                0.0,
             )?),
         };
         let contact = Contact::new(&scene, integrator.coefficients());
@@ -913,6 +911,12 @@ impl ModalSlip {
         model: &StructuralModel,
         cutoff: f64,
     ) -> Result<Self, SimulationError> {
+        if model.damping.is_some() {
+            return Err(ModelError::UserStructure(
+                "contact.slip_modes_below with structure.damping: the slip phase's modal basis does not carry a damping matrix from a file yet; leave slip_modes_below at 0 or use the scene's Rayleigh damping".to_string(),
+            )
+            .into());
+        }
         let basis = SlipBasis::below(model, cutoff)?;
         let (a, b) = phase_damping(scene, ContactState::Slip);
         let integrator = Integrator::new(

@@ -34,6 +34,10 @@ pub struct StructuralModel {
     pub stiffness: SymBandMatrix,
     /// Sparse tip observation vector c: (dof, weight) pairs, u_tip = sum w u_dof.
     pub tip: Vec<(usize, f64)>,
+    /// A damping matrix C0 from the `[structure]`'s files (N s/m, ...), same size and
+    /// bandwidth as M, acting with the scene's Rayleigh damping: C = C0 + a M + b K
+    /// (`integrator`). None for every built-in and reduced model.
+    pub damping: Option<SymBandMatrix>,
 }
 
 /// A model that could not be built.
@@ -98,6 +102,7 @@ impl StructuralModel {
             mass: m,
             stiffness: k,
             tip: vec![(n - 2, 1.0)],
+            damping: None,
         }
     }
 
@@ -176,6 +181,7 @@ impl StructuralModel {
             mass: m,
             stiffness: k,
             tip,
+            damping: None,
         }
     }
 

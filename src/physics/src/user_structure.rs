@@ -33,7 +33,8 @@
 //!
 //! The structure is the full model: M and K as given, clamped DOFs removed, the scene's
 //! Rayleigh damping C = a M + b K on them as on the beam (the integrator forms it from
-//! the model's M and K). The tip is the contact DOF: u_tip = u_contact, and the friction
+//! the model's M and K), plus a damping matrix C0 where a Matrix Market structure gives
+//! one (`damping = "c.mtx"`: C = C0 + a M + b K). The tip is the contact DOF: u_tip = u_contact, and the friction
 //! force enters as a force on that DOF (N, or N m on a rotation).
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -93,8 +94,11 @@ pub struct StructureSection {
     /// matrix-market: M's file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mass: Option<PathBuf>,
-    /// matrix-market: a damping matrix's file; refused by the check (the integrator's
-    /// damping is Rayleigh, C = a M + b K, from the scene's `[damping]`).
+    /// matrix-market: a damping matrix C0's file (optional), read and checked as K and
+    /// M are (same DOF map, symmetric); the integrator's damping is then C0 plus the
+    /// scene's Rayleigh damping, C = C0 + a M + b K (`[damping]`; set a = b = 0 for C0
+    /// alone), in the phases `contact.damping_phase` says. The full model only: a modal
+    /// reduction refuses it (`modal::reduce`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping: Option<PathBuf>,
     /// matrix-market: the DOF map file.
@@ -234,11 +238,11 @@ impl StructureSection {
                 format!("absent with structure.format = {format}: it belongs to the other format"),
             ));
         }
-        if let Some(path) = &self.damping {
+        if let (Some(path), false) = (&self.damping, self.format == StructureFormat::MatrixMarket) {
             return Err(refused(
                 "structure.damping",
                 path.display(),
-                "absent: a damping matrix from a file is not used yet; the scene's Rayleigh damping ([damping]: C = a M + b K) acts on the structure",
+                format!("absent with structure.format = {format}: a damping matrix is read from a Matrix Market file with the DOF map of K and M (ccx 2.20 writes none; a Gmsh mesh carries none); the scene's Rayleigh damping ([damping]: C = a M + b K) acts on the structure"),
             ));
         }
         check_dof("structure.contact", self.contact)?;

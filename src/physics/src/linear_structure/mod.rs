@@ -123,6 +123,14 @@ pub enum StructureError {
         band: usize,
         gigabytes: f64,
     },
+    #[error("the damping matrix is not positive semi-definite on the free DOFs: c({row}, {col}) = {entry:e} (row {row}: {label}) where a semi-definite C has {} {bound:e}, so some motion there would gain energy from its damping", if row == col { "at least" } else { "|c_ij| <= sqrt(c_ii c_jj) =" })]
+    DampingNotSemidefinite {
+        row: usize,
+        col: usize,
+        label: DofLabel,
+        entry: f64,
+        bound: f64,
+    },
     #[error("every DOF of the structure is clamped: nothing is left to move")]
     NothingFree,
     #[error("{0}")]
@@ -160,7 +168,7 @@ impl LinearStructure {
             })?;
             free[row] = false;
         }
-        let upper = Self::checked_upper_triangles(matrices)?;
+        let upper = Self::checked_upper_triangles(matrices, &free)?;
         let band_order = BandOrder::new(&free, &upper)?;
         let kept = |&(i, j, _): &(usize, usize, f64)| free[i] && free[j];
         let assemble = |entries: &[(usize, usize, f64)]| {
@@ -207,9 +215,12 @@ impl LinearStructure {
     }
 
     /// The upper triangle of K, M and (if given) C in file rows, in that order, each
-    /// checked for its size against the DOF map, entries inside it, and symmetry.
+    /// checked for its size against the DOF map, entries inside it, and symmetry; C also
+    /// for what positive semi-definiteness needs on the free DOFs (`free`, by file row):
+    /// [`semidefinite_necessary`].
     fn checked_upper_triangles(
         matrices: &StructureMatrices,
+        free: &[bool],
     ) -> Result<Vec<UpperTriangle>, StructureError> {
         let dofs = &matrices.dofs;
         let named = [
@@ -241,6 +252,9 @@ impl LinearStructure {
                 });
             }
             upper.push(symmetric_upper(name, triplets, dofs)?);
+        }
+        if let Some(damping) = upper.get(2) {
+            semidefinite_necessary(damping, free, dofs)?;
         }
         Ok(upper)
     }
@@ -365,6 +379,49 @@ fn not_definite_reason(name: &str) -> &'static str {
 
 /// A matrix's upper triangle as (file row, file column, value) entries, i <= j.
 type UpperTriangle = Vec<(usize, usize, f64)>;
+
+/// Refuses a damping matrix C that cannot be positive semi-definite on the free DOFs
+/// (a C that is not feeds energy into some motion): a negative diagonal entry, or an
+/// entry larger than the geometric mean of its diagonals, |c_ij| > sqrt(c_ii c_jj), which
+/// makes the 2 x 2 principal minor negative. Both are necessary conditions, so no
+/// semi-definite C is refused (the pair's bound is widened by [`SYMMETRY_TOLERANCE`] for
+/// the 14-digit printing of a dashpot's exact c_ij^2 = c_ii c_jj); an indefinite C that
+/// meets both passes (a full check would need a factorisation that tolerates zero
+/// pivots: not done).
+fn semidefinite_necessary(
+    upper: &UpperTriangle,
+    free: &[bool],
+    dofs: &[DofLabel],
+) -> Result<(), StructureError> {
+    let mut diagonal = vec![0.0; free.len()];
+    for &(i, j, v) in upper {
+        if i == j {
+            diagonal[i] += v;
+        }
+    }
+    if let Some(i) = (0..free.len()).find(|&i| free[i] && diagonal[i] < 0.0) {
+        return Err(StructureError::DampingNotSemidefinite {
+            row: i + 1,
+            col: i + 1,
+            label: dofs[i],
+            entry: diagonal[i],
+            bound: 0.0,
+        });
+    }
+    for &(i, j, v) in upper {
+        let bound = (diagonal[i] * diagonal[j]).sqrt() * (1.0 + SYMMETRY_TOLERANCE);
+        if i != j && free[i] && free[j] && v.abs() > bound {
+            return Err(StructureError::DampingNotSemidefinite {
+                row: i + 1,
+                col: j + 1,
+                label: dofs[i],
+                entry: v,
+                bound,
+            });
+        }
+    }
+    Ok(())
+}
 
 /// The free DOFs' order for the band solver: reverse Cuthill-McKee on the graph of the
 /// kept entries, with its half-bandwidth, refused if the band would not fit in memory.
@@ -590,6 +647,76 @@ mod tests {
                 assert_eq!(c.get(i, j), 1e-3 * s.stiffness().get(i, j), "({i}, {j})");
             }
         }
+        // A `general` C whose (1, 3) and (3, 1) differ by 1e-6 of the entry: refused with
+        // the pair, as K would be (the same check).
+        let mut skewed = matrices.damping.clone().unwrap();
+        skewed.stored = Stored::General;
+        let lower: Vec<Triplet> = skewed
+            .entries
+            .iter()
+            .filter(|e| e.row != e.col)
+            .map(|e| Triplet {
+                row: e.col,
+                col: e.row,
+                value: e.value * (1.0 + 1e-6),
+            })
+            .collect();
+        skewed.entries.extend(lower);
+        let mut unsymmetric = matrices.clone();
+        unsymmetric.damping = Some(skewed);
+        let message = LinearStructure::new(&unsymmetric, &[label(1, 1)])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.starts_with("the damping matrix is not symmetric: a(")
+                && message.contains("-1e3 but a(")
+                && message.contains("-1.000000999"),
+            "{message}"
+        );
+        // C = -1e-3 K has negative diagonals; C with a 2 x 2 block [[1, 2], [2, 1]] (c_24
+        // against sqrt(1 * 1), file rows 2 and 4; row 1 is the clamped node) has positive ones and a negative minor.
+        let mut negative = matrices.clone();
+        if let Some(c) = &mut negative.damping {
+            c.entries.iter_mut().for_each(|e| e.value = -e.value);
+        }
+        let message = LinearStructure::new(&negative, &[label(1, 1)])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.starts_with(
+                "the damping matrix is not positive semi-definite on the free DOFs: c("
+            ) && message.contains("= -2e3 (row")
+                && message.contains("has at least 0e0"),
+            "{message}"
+        );
+        let mut minor = matrices.clone();
+        let c = minor.damping.as_mut().unwrap();
+        c.entries = (0..c.size)
+            .map(|i| Triplet {
+                row: i,
+                col: i,
+                value: 1.0,
+            })
+            .chain([Triplet {
+                row: 1,
+                col: 3,
+                value: 2.0,
+            }])
+            .collect();
+        assert_eq!(
+            LinearStructure::new(&minor, &[label(1, 1)]).unwrap_err().to_string(),
+            format!("the damping matrix is not positive semi-definite on the free DOFs: c(2, 4) = 2e0 (row 2: {}) where a semi-definite C has |c_ij| <= sqrt(c_ii c_jj) = 1.000000000001e0, so some motion there would gain energy from its damping", minor.dofs[1])
+        );
+        // The same pair at 1 (a dashpot between the two DOFs, c_24^2 = c_22 c_44) passes.
+        minor
+            .damping
+            .as_mut()
+            .unwrap()
+            .entries
+            .last_mut()
+            .unwrap()
+            .value = -1.0;
+        assert!(LinearStructure::new(&minor, &[label(1, 1)]).is_ok());
         let mut short = matrices.damping.clone().unwrap();
         short.size = 3;
         matrices.damping = Some(short);

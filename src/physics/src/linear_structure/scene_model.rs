@@ -24,7 +24,7 @@ pub fn read_section(
         StructureFormat::MatrixMarket => read_matrix_market(
             &given(&section.stiffness),
             &given(&section.mass),
-            None,
+            section.damping.as_deref(),
             &given(&section.dofs),
         ),
         StructureFormat::Gmsh => {
@@ -75,6 +75,7 @@ impl StructuralModel {
             mass: structure.mass().clone(),
             stiffness: structure.stiffness().clone(),
             tip: vec![(tip, 1.0)],
+            damping: structure.damping().cloned(),
         })
     }
 }

@@ -363,7 +363,7 @@ impl SparseStructure {
             })?;
             free[row] = false;
         }
-        let upper = LinearStructure::checked_upper_triangles(matrices)?;
+        let upper = LinearStructure::checked_upper_triangles(matrices, &free)?;
         let file_rows: Vec<usize> = (0..dofs.len()).filter(|&r| free[r]).collect();
         if file_rows.is_empty() {
             return Err(StructureError::NothingFree);

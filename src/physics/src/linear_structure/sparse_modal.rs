@@ -27,6 +27,9 @@ pub fn reduce(
     static_correction: bool,
     label: &str,
 ) -> Result<StructuralModel, ModelError> {
+    if structure.damping().is_some() {
+        return Err(modal::damping_not_projected());
+    }
     let tip = [(contact_index(structure, contact)?, 1.0)];
     let eigen = structure
         .lowest_modes(modes)
