@@ -101,6 +101,9 @@ impl SlipBasis {
                 .enumerate()
                 .map(|(i, phi)| (i, full.tip_value(phi)))
                 .collect(),
+            // The steps on the slip modes are expanded to the full kinematics, which
+            // the sensors read.
+            sensors: Vec::new(),
         };
         Ok(Self {
             cutoff,
