@@ -23,7 +23,8 @@ use std::io::Read as _;
 use std::path::{Path, PathBuf};
 use stickslip::scene::{CheckedScene, Scene};
 use stickslip_fmi::export::{
-    is_c_identifier, structure_files, Export, ExportSettings, EXPORT_RESOURCE, SCENE_RESOURCE,
+    check_sensor_names, is_c_identifier, structure_files, Export, ExportSettings, EXPORT_RESOURCE,
+    SCENE_RESOURCE,
 };
 use stickslip_fmi::networks::DEFAULT_WEIGHTS;
 use stickslip_fmi::FmuKind;
@@ -167,6 +168,9 @@ pub fn export_fmu(
     let checked = Scene::load(scene_path)?;
     stickslip::structure::StructuralModel::build(&checked)
         .map_err(|e| ExportError::Structure(e.to_string()))?;
+    if let Some(section) = &checked.scene().structure {
+        check_sensor_names(section).map_err(ExportError::Structure)?;
+    }
     let from_entries = read_from(from, version)?;
 
     let mut scene = CheckedScene::into_scene(checked);
