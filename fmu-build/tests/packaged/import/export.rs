@@ -221,6 +221,7 @@ pub(super) fn sensor_scene(name: &str, level: &str) -> PathBuf {
             r#"[fidelity]
 level = "{level}"
 modes = 10
+tolerance = 1e-4
 
 [structure]
 format = "calculix"
@@ -386,6 +387,76 @@ fn the_exported_sensors_equal_the_librarys_run() {
         // Sensors are outputs: setting one is refused.
         assert!(beam.inst.set_real(&vrs[..1], &[1.0]).is_err());
     }
+}
+
+/// `fidelity.level = auto` in an exported FMU: the FMU chooses at initialisation over
+/// its experiment (0 to 1.2 s, the stop time `Beam::start` sets), as the library's
+/// `auto::choose_cached` does for the same scene and horizon, and runs that choice bit
+/// for bit as the library runs it (tip outputs and sensors, to 0.5 s). Tolerance 1e-4 m
+/// (docs/structures.md: 5 modes at 5e-4 s on this beam; the smallest calibration).
+#[test]
+fn an_exported_auto_scene_runs_the_librarys_choice() {
+    use stickslip::auto::{choose_cached, paper_front, Horizon};
+    let scene = sensor_scene("SensorsAuto", "auto");
+    let fmu = export(&scene, "SensorsAuto");
+    let vrs = sensor_vrs(&fmu, 2);
+    install_logger();
+    let import: Fmi2Import = fmi::import::from_path(&fmu).unwrap();
+    let mut beam = Beam::start(&import, "SensorsAuto", &[]);
+    let read = |beam: &mut Beam| {
+        let mut values = vec![0.0; vrs.len()];
+        beam.inst.get_real(&vrs, &mut values).expect("fmi2GetReal");
+        values
+    };
+    let mut outputs = vec![beam.outputs()];
+    let mut sensors = vec![read(&mut beam)];
+    for _ in 0..EXPORT_STEPS {
+        beam.step();
+        outputs.push(beam.outputs());
+        sensors.push(read(&mut beam));
+    }
+
+    let loaded = Scene::load(&scene).expect("the scene loads");
+    let mut request = loaded.scene().clone();
+    request.time.end = STOP;
+    let law = stickslip::law_source::LawSource::resolve(&loaded).unwrap();
+    let choice = choose_cached(
+        &request,
+        &law,
+        Horizon::Until(STOP),
+        &paper_front().unwrap(),
+        &mut |_| {},
+    )
+    .expect("a choice at 1e-4 m");
+    println!("auto chose {:?}", choice.configuration);
+    let chosen = choice.configuration.apply(&request).check().unwrap();
+    assert_ne!(chosen.fidelity.level, FidelityLevel::Auto);
+    let mut sim = Simulator::new(chosen, law.law().unwrap()).unwrap();
+    let read_library = |sim: &Simulator| -> Vec<f64> {
+        sim.sensor_readings()
+            .iter()
+            .flat_map(|r| [r.displacement, r.velocity])
+            .collect()
+    };
+    let mut library = vec![Outputs::of_simulator(&sim)];
+    let mut library_sensors = vec![read_library(&sim)];
+    for &t in &communication_points(EXPORT_STEPS)[1..] {
+        sim.advance_to(t).expect("advance_to");
+        library.push(Outputs::of_simulator(&sim));
+        library_sensors.push(read_library(&sim));
+    }
+    assert_bitwise(
+        "exported auto scene against the library's choice",
+        &outputs,
+        &library,
+    );
+    let bits = |rows: &[Vec<f64>]| -> Vec<Vec<u64>> {
+        rows.iter()
+            .map(|r| r.iter().map(|v| v.to_bits()).collect())
+            .collect()
+    };
+    assert_eq!(bits(&sensors), bits(&library_sensors), "auto: sensors");
+    assert!(outputs.iter().any(|o| !o.stick), "auto: a slip");
 }
 
 /// A sensor named as a variable of the FMU is refused at export, naming both.
