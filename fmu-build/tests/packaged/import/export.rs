@@ -469,8 +469,7 @@ fn a_sensor_named_like_a_variable_is_refused() {
     std::fs::write(&scene, text).unwrap();
     let out = scratch().join("Clash.fmu");
     let error = fmu_build::export::export_fmu(&scene, &out, 2, &from_fmu(2))
-        .err()
-        .expect("refused")
+        .expect_err("refused")
         .to_string();
     assert_eq!(
         error,

@@ -63,7 +63,7 @@ impl StickSlipBeam {
             .sensor_readings()
             .get(index / 2)
             .map_or(f64::NAN, |r| {
-                if index % 2 == 0 {
+                if index.is_multiple_of(2) {
                     r.displacement
                 } else {
                     r.velocity
