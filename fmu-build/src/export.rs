@@ -21,9 +21,10 @@ use crate::archive::{write_zip, Entry};
 use crate::platform::Platform;
 use std::io::Read as _;
 use std::path::{Path, PathBuf};
-use stickslip::scene::{CheckedScene, Scene};
+use stickslip::scene::{CheckedScene, FidelityLevel, Scene};
 use stickslip_fmi::export::{
-    is_c_identifier, structure_files, Export, ExportSettings, EXPORT_RESOURCE, SCENE_RESOURCE,
+    check_sensor_names, is_c_identifier, structure_files, Export, ExportSettings, EXPORT_RESOURCE,
+    SCENE_RESOURCE,
 };
 use stickslip_fmi::networks::DEFAULT_WEIGHTS;
 use stickslip_fmi::FmuKind;
@@ -165,8 +166,20 @@ pub fn export_fmu(
     // structure files named relative to the scene file; then its structure built once,
     // so that a missing or malformed structure file is refused here, not in the FMU.
     let checked = Scene::load(scene_path)?;
-    stickslip::structure::StructuralModel::build(&checked)
+    // `auto` is chosen by the FMU at initialisation (its experiment's horizon); here the
+    // files and DOFs are checked on the full model, which every choice reduces.
+    let built = if checked.fidelity.level == FidelityLevel::Auto {
+        let mut full = checked.scene().clone();
+        full.fidelity.level = FidelityLevel::PlaneStress;
+        full.check()?
+    } else {
+        checked.clone()
+    };
+    stickslip::structure::StructuralModel::build(&built)
         .map_err(|e| ExportError::Structure(e.to_string()))?;
+    if let Some(section) = &checked.scene().structure {
+        check_sensor_names(section).map_err(ExportError::Structure)?;
+    }
     let from_entries = read_from(from, version)?;
 
     let mut scene = CheckedScene::into_scene(checked);

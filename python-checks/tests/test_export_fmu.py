@@ -1,7 +1,12 @@
 """`stickslip export-fmu` (docs/structures.md, "Exporting an FMU"): the CalculiX beam
 (examples/calculix-beam) exported for FMI 2.0 and 3.0 from the packaged StickSlipBeam.fmu,
 validated by fmpy, and run by fmpy to 0.5 s equal to `stickslip simulate` of the same
-scene at every communication point, to the digits its CSV prints (11 significant)."""
+scene at every communication point, to the digits its CSV prints (11 significant).
+
+With sensors (`[structure] sensors`): the export validated by fmpy and by
+fmu-manipulation-toolbox's `fmutool -check` (the FMU Compliance Checker is on no package
+registry here: docs/structures.md), its sensor outputs equal to the CLI's sensor columns,
+and run alone in libcosim equal to fmpy's run bit for bit."""
 
 from __future__ import annotations
 
@@ -12,6 +17,7 @@ import pytest
 from fmpy import simulate_fmu
 from fmpy.validation import validate_fmu
 
+from stickslip_checks import other_masters
 from stickslip_checks.artifacts import REPO, find_binary
 
 SCENE = REPO / "examples" / "calculix-beam" / "scene.toml"
@@ -73,3 +79,110 @@ def test_exported_calculix_beam_validates_and_equals_the_cli(
         worst = np.max(np.abs(fmu_values - cli[column]))
         assert np.array_equal(fmu_values, cli[column]), f"{column}: largest difference {worst}"
     assert np.array_equal(result["stick"].astype(int), cli["stick"].astype(int))
+
+
+SENSORS = (("mid_y", 252, 2), ("contact_y", 502, 2), ("tip_x", 502, 1))
+SENSOR_COLUMNS = tuple(c for name, _, _ in SENSORS for c in (name, f"{name}_velocity"))
+
+
+@pytest.fixture(scope="module")
+def sensor_scene(tmp_path_factory):
+    """The example scene with three sensors (mid-span in y, the contact DOF in y and x),
+    its structure named by absolute path."""
+    path = tmp_path_factory.mktemp("sensors") / "scene.toml"
+    sensors = ", ".join(
+        f'{{ name = "{name}", node = {node}, direction = {direction} }}'
+        for name, node, direction in SENSORS
+    )
+    path.write_text(
+        "[structure]\n"
+        'format = "calculix"\n'
+        f'job = "{REPO / "examples" / "calculix-beam" / "beam"}"\n'
+        "contact = { node = 502, direction = 2 }\n"
+        f"sensors = [{sensors}]\n"
+    )
+    return path
+
+
+def export(scene, fmu, version, fmu_versions):
+    subprocess.run(
+        [
+            find_binary(),
+            "export-fmu",
+            "--scene",
+            scene,
+            "--out",
+            fmu,
+            "--fmi",
+            version,
+            "--from",
+            fmu_versions[version]["StickSlipBeam"],
+        ],
+        check=True,
+        capture_output=True,
+    )
+
+
+@pytest.mark.parametrize("version", ["2.0", "3.0"])
+def test_exported_sensors_pass_the_checkers_and_equal_the_cli(
+    version, fmu_versions, sensor_scene, tmp_path
+):
+    fmu = tmp_path / "Sensors.fmu"
+    export(sensor_scene, fmu, version, fmu_versions)
+    assert validate_fmu(str(fmu)) == []
+    check = subprocess.run(
+        [other_masters.fmucontainer_command().parent / "fmutool", "-input", fmu, "-check"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    log = check.stdout + check.stderr
+    assert f"This FMU seems to be compliant with FMI-{version}." in log, log
+    assert f"No semantic error against the FMI-{version[0]} standard." in log, log
+
+    csv = tmp_path / "sensors.csv"
+    subprocess.run(
+        [find_binary(), "simulate", "--scene", sensor_scene, "--t-end", str(STOP),
+         "--out", csv, "--every", "10"],
+        check=True,
+        capture_output=True,
+    )
+    cli = np.genfromtxt(csv, delimiter=",", names=True)
+    result = simulate_fmu(
+        str(fmu),
+        stop_time=STOP,
+        output_interval=OUTPUT_INTERVAL,
+        output=[*COLUMNS, *SENSOR_COLUMNS],
+    )
+    assert len(cli) == len(result) == 501
+    for column in (*COLUMNS, *SENSOR_COLUMNS):
+        fmu_values = printed(result[column])
+        worst = np.max(np.abs(fmu_values - cli[column]))
+        assert np.array_equal(fmu_values, cli[column]), f"{column}: largest difference {worst}"
+    # The contact sensor is the tip, bit for bit.
+    assert np.array_equal(result["contact_y"], result["tip_deflection"])
+    assert np.array_equal(result["contact_y_velocity"], result["tip_velocity"])
+
+
+def test_libcosim_runs_the_exported_fmu_as_fmpy(fmu_versions, sensor_scene, tmp_path):
+    """libcosim (fixed-step, integer nanoseconds) on the exported FMI 2.0 FMU alone, to
+    0.5 s at 1 ms: the tip, the friction force and every sensor equal fmpy's run bit for
+    bit at all 501 points (libcosim hands the FMU the step size, which the FMU
+    integrates over, so its clock does not move the bits)."""
+    fmu = tmp_path / "SensorsCosim.fmu"
+    export(sensor_scene, fmu, "2.0", fmu_versions)
+    names = (*COLUMNS, *SENSOR_COLUMNS)
+    cosim = other_masters.run_libcosim(
+        fmu=fmu, record=tuple(("beam", n) for n in names), t_end=STOP
+    )
+    fmpy = other_masters.run_fmpy_fmu(fmu, names, t_end=STOP)
+    n = round(STOP / other_masters.H)
+    for name in names:
+        got = cosim.at_grid(("beam", name), n)
+        expected = fmpy.at_grid(("", name), n)
+        assert not np.isnan(got).any() and not np.isnan(expected).any(), name
+        assert np.array_equal(got, expected), (
+            f"{name}: libcosim differs from fmpy by up to {np.max(np.abs(got - expected)):.3g}"
+        )
+    # Not a run that stays put: the tip slipped back (v < 0) before 0.5 s.
+    assert np.min(cosim.at_grid(("beam", "tip_velocity"), n)) < 0

@@ -81,6 +81,7 @@ fn numerical_dissipation_below_rho_one() {
 fn oscillator_error(coefficients: Coefficients, dt: f64) -> f64 {
     let w = 2.0 * std::f64::consts::PI * 5.0;
     let model = StructuralModel {
+        sensors: Vec::new(),
         level: FidelityLevel::Modal,
         label: "oscillator".into(),
         mass: SymBandMatrix::from_diagonal(&[1.0]),

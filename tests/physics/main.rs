@@ -30,4 +30,5 @@ mod stribeck;
 mod structure_auto;
 mod structure_modal;
 mod structure_run;
+mod structure_sensors;
 mod switch_stop;

@@ -7,7 +7,9 @@
 //! followed, for a friction law with state, by one column per state variable of the law
 //! under its name (`bristle_deflection` (m) for LuGre, `state_theta` (s) for
 //! rate-and-state, `state_psi` (1) for the learned law with memory:
-//! `stickslip::friction::state::STATE_VARIABLES`), and prints a summary.
+//! `stickslip::friction::state::STATE_VARIABLES`), then, for a scene whose
+//! `[structure]` names sensors, two columns per sensor: `NAME` (m) and `NAME_velocity`
+//! (m/s), in the section's order; and prints a summary.
 //! `stickslip static [--fidelity LEVEL] [--element-size M] [--convergence]`.
 //!
 //! LEVEL, LAW and SCHEME are the words of the scene's `fidelity.level`, `friction.law`
@@ -22,9 +24,10 @@ use std::path::PathBuf;
 use stickslip::files::{write_atomically, Outputs};
 use stickslip::friction::state::STATE_VARIABLES;
 use stickslip::run::run_scene;
-use stickslip::simulation::Sample;
+use stickslip::simulation::{Sample, SensorReading};
 use stickslip::statics::convergence_study;
 use stickslip::structure::{euler_bernoulli_tip_deflection, StructuralModel};
+use stickslip::user_structure::Sensor;
 
 /// Arguments of `stickslip simulate`.
 #[derive(Args, Debug, Clone)]
@@ -33,7 +36,7 @@ pub struct SimulateArgs {
     pub scene: SceneArgs,
     /// CSV output: t,tip_deflection,tip_velocity,friction_force,stick (SI units), and
     /// for a law with state its state variables (bristle_deflection, state_theta or
-    /// state_psi).
+    /// state_psi), then each [structure] sensor's NAME and NAME_velocity.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Write every N-th step to the CSV.
@@ -47,18 +50,23 @@ pub struct SimulateArgs {
 /// Writes samples as the contract's CSV, with a column for each of the law's state
 /// variables `law_state` (indices in `STATE_VARIABLES` and `Sample::law_state`, as
 /// `run::Run::law_state_slots` gives them; none for a memoryless law, whose file is
-/// then the five columns it always was).
+/// then the five columns it always was), then each sensor's displacement and velocity
+/// (`readings` holds one row per sample, or is empty without sensors).
 pub fn write_csv(
     w: &mut dyn Write,
     samples: &[Sample],
     law_state: &[usize],
+    (sensors, readings): (&[Sensor], &[Vec<SensorReading>]),
 ) -> std::io::Result<()> {
     write!(w, "t,tip_deflection,tip_velocity,friction_force,stick")?;
     for &k in law_state {
         write!(w, ",{}", STATE_VARIABLES[k].name)?;
     }
+    for sensor in sensors {
+        write!(w, ",{},{}", sensor.name, sensor.velocity_name())?;
+    }
     writeln!(w)?;
-    for s in samples {
+    for (n, s) in samples.iter().enumerate() {
         write!(
             w,
             "{:.10e},{:.10e},{:.10e},{:.10e},{}",
@@ -66,6 +74,9 @@ pub fn write_csv(
         )?;
         for &k in law_state {
             write!(w, ",{:.10e}", s.law_state[k])?;
+        }
+        for r in readings.get(n).into_iter().flatten() {
+            write!(w, ",{:.10e},{:.10e}", r.displacement, r.velocity)?;
         }
         writeln!(w)?;
     }
@@ -76,6 +87,11 @@ pub fn write_csv(
 pub fn simulate(args: &SimulateArgs) -> Result<(), CliError> {
     let (scene, law) = args.scene.scene_and_law()?;
     let end = scene.time.end;
+    let sensors: Vec<Sensor> = scene
+        .structure
+        .as_ref()
+        .map(|s| s.sensors.clone())
+        .unwrap_or_default();
     // The summary is computed on every step; decimation applies to the CSV only.
     let run = run_scene(scene, &law, 1)?;
     // Both files or neither: a summary without its samples would be taken for a run.
@@ -83,7 +99,11 @@ pub fn simulate(args: &SimulateArgs) -> Result<(), CliError> {
     if let Some(path) = &args.out {
         let every = args.every.max(1);
         let kept: Vec<Sample> = run.samples.iter().step_by(every).copied().collect();
-        outputs.add_with(path, |w| write_csv(w, &kept, &run.law_state_slots))?;
+        let readings: Vec<Vec<SensorReading>> =
+            run.sensors.iter().step_by(every).cloned().collect();
+        outputs.add_with(path, |w| {
+            write_csv(w, &kept, &run.law_state_slots, (&sensors, &readings))
+        })?;
     }
     if let Some(path) = &args.summary_json {
         let text = serde_json::to_string_pretty(&run.summary).map_err(|source| CliError::Json {

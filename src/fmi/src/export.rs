@@ -17,12 +17,15 @@
 //! modelDescription.xml from another export is refused at instantiation, with the
 //! reason logged, instead of running something the description does not describe.
 
+use crate::beam::exported::sensor_outputs;
 use crate::beam::StickSlipBeam;
+use crate::model::Model;
 use crate::model_description::described::Described;
 use crate::model_description::hash_guid;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use stickslip::scene::Scene;
+use stickslip::user_structure::StructureSection;
 
 /// The scene in `resources/`.
 pub const SCENE_RESOURCE: &str = "scene.toml";
@@ -77,6 +80,9 @@ impl Export {
             .map_err(|e| format!("resources/{SCENE_RESOURCE}: {e}"))?;
         let mut hashed = scene_bytes;
         hashed.extend_from_slice(&export_bytes);
+        if let Some(section) = &scene.structure {
+            check_sensor_names(section).map_err(|e| format!("resources/{SCENE_RESOURCE}: {e}"))?;
+        }
         if let Some(section) = &mut scene.structure {
             section.resolve_paths(resources);
             for path in structure_files(section) {
@@ -116,9 +122,29 @@ impl Export {
     }
 }
 
+/// The sensors' output names (`beam::exported::sensor_outputs`) against StickSlipBeam's
+/// variables and FMI 3.0's `time`, which an exported FMU declares beside them (the
+/// scene's check has made them identifiers, unique among the sensors'): the first
+/// clash, named.
+pub fn check_sensor_names(section: &StructureSection) -> Result<(), String> {
+    for output in sensor_outputs(&section.sensors) {
+        let taken = StickSlipBeam::variables()
+            .iter()
+            .map(|v| (v.name, v.causality.as_str()))
+            .chain([("time", "independent variable")])
+            .find(|(name, _)| *name == output.name);
+        if let Some((name, causality)) = taken {
+            return Err(format!(
+                "structure.sensors: the sensor output {name} has the name of the exported FMU's {causality} {name} (StickSlipBeam's variables are all declared beside the sensors); rename the sensor"
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// The files a structure section names that exist as files: for CalculiX the job's
 /// `.sti`, `.mas` and `.dof`, otherwise the paths given.
-pub fn structure_files(section: &stickslip::user_structure::StructureSection) -> Vec<PathBuf> {
+pub fn structure_files(section: &StructureSection) -> Vec<PathBuf> {
     let mut files = Vec::new();
     if let Some(job) = &section.job {
         files.extend(stickslip_formats::calculix::job_files(job));

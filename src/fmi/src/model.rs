@@ -2,7 +2,7 @@
 //! the interface between the plain-Rust models (`beam`, `friction`) and the FMI layer
 //! (`instance`, `model_description`, `ffi2`, `ffi3`).
 
-use crate::variables::{ArrayVariable, Variable};
+use crate::variables::{ArrayVariable, DynamicOutput, Variable};
 use std::path::Path;
 
 /// Static facts of an FMU.
@@ -93,6 +93,19 @@ pub trait Model: Send + Sized + 'static {
 
     /// A model with every variable at its start value and nothing loaded.
     fn with_defaults() -> Self;
+
+    /// The outputs this model declares beyond [`Model::variables`] (none by default):
+    /// fixed by its start values (an exported FMU's scene), so that its description
+    /// and its instances agree.
+    fn dynamic_outputs(&self) -> &[DynamicOutput] {
+        &[]
+    }
+
+    /// The current value of dynamic output `index` (a position in
+    /// [`Model::dynamic_outputs`]).
+    fn dynamic_output_value(&self, _index: usize) -> f64 {
+        f64::NAN
+    }
 
     /// Reads the files in the unpacked `resources/` folder (at instantiation).
     fn load_resources(&mut self, resources: &Path) -> Result<(), String>;

@@ -183,6 +183,23 @@ pub struct Variable<M: 'static> {
     pub depends_on: Option<Dependencies>,
 }
 
+/// A Real output a model declares beyond its static table, known from its start
+/// values: an exported FMU's sensors (`beam::exported`), named by the user's scene.
+/// Continuous, `initial = "calculated"`, read through `Model::dynamic_output_value`,
+/// never set; its value reference lies above the table's, and its dependencies
+/// (ModelStructure) are those of the table's output `like`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DynamicOutput {
+    pub name: String,
+    pub value_reference: u32,
+    /// A unit of [`UNITS`].
+    pub unit: &'static str,
+    pub description: String,
+    /// The value reference of the table output computed the same way (from the
+    /// simulation's state, changed only by a step).
+    pub like: u32,
+}
+
 /// An FMI 3.0 array variable made of scalar rows of the same table (one
 /// `<Dimension start="N"/>`). The rows stay the variables of the FMI 2.0 description,
 /// which has no arrays; the FMI 3.0 description writes the array in place

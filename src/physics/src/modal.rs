@@ -15,7 +15,7 @@
 use crate::banded::{dot, dots, BandCholesky, SymBandMatrix};
 use crate::elementary;
 use crate::scene::FidelityLevel;
-use crate::structure::{ModelError, StructuralModel};
+use crate::structure::{observe, ModelError, Observation, StructuralModel};
 use nalgebra::{DMatrix, Dyn, SymmetricEigen};
 
 /// The lowest eigenpairs, ascending; vectors are M-normalised (phi^T M phi = 1).
@@ -428,22 +428,29 @@ pub fn reduce(
     } else {
         None
     };
-    reduced_model(eigen, static_shape, &full.mass, &full.tip, &full.label)
+    reduced_model(
+        eigen,
+        static_shape,
+        &full.mass,
+        (&full.tip, &full.sensors),
+        &full.label,
+    )
 }
 
 /// The modal model spanned by the M-normalised `eigen` modes of a structure with mass
-/// matrix `mass` and tip vector `tip` (the full model's, u_tip = sum w u_dof), plus the
-/// static tip-load shape psi = K^-1 c (`static_shape`) when given; `label` names the
-/// full model. Shared by [`reduce`] (a band model) and `linear_structure::sparse_modal`
+/// matrix `mass`, tip vector and sensors' observation vectors `(tip, sensors)` (the full
+/// model's, u_tip = sum w u_dof), plus the static tip-load shape psi = K^-1 c
+/// (`static_shape`) when given; `label` names the full model. Each observation vector
+/// is projected on the basis T as the tip's is: w_j = c . T_j. Shared by [`reduce`] (a band model) and `linear_structure::sparse_modal`
 /// (a structure too wide for the band).
 pub(crate) fn reduced_model<M: SymmetricOperator>(
     eigen: Modes,
     static_shape: Option<Vec<f64>>,
     mass: &M,
-    tip: &[(usize, f64)],
+    (tip, sensors): (&[(usize, f64)], &[Observation]),
     label: &str,
 ) -> Result<StructuralModel, ModelError> {
-    let tip_value = |x: &[f64]| -> f64 { tip.iter().map(|&(i, w)| w * x[i]).sum() };
+    let tip_value = |x: &[f64]| -> f64 { observe(tip, x) };
     let n = mass.size();
     let q = eigen.vectors.len();
     let modes = q;
@@ -488,11 +495,14 @@ pub(crate) fn reduced_model<M: SymmetricOperator>(
         eig.eigenvectors[(r, order[c])]
     });
     let t = combine(&basis, &rotation, basis.len());
-    let tip = t
-        .iter()
-        .enumerate()
-        .map(|(j, tj)| (j, tip_value(tj)))
-        .collect();
+    let project = |c: &[(usize, f64)]| -> Observation {
+        t.iter()
+            .enumerate()
+            .map(|(j, tj)| (j, observe(c, tj)))
+            .collect()
+    };
+    let tip = project(tip);
+    let sensors = sensors.iter().map(|s| project(s)).collect();
     Ok(StructuralModel {
         level: FidelityLevel::Modal,
         label: format!(
@@ -508,6 +518,7 @@ pub(crate) fn reduced_model<M: SymmetricOperator>(
         stiffness: SymBandMatrix::from_diagonal(&values),
         tip,
         damping: None,
+        sensors,
     })
 }
 

@@ -102,6 +102,9 @@ impl SlipBasis {
                 .map(|(i, phi)| (i, full.tip_value(phi)))
                 .collect(),
             damping: None,
+            // The steps on the slip modes are expanded to the full kinematics, which
+            // the sensors read.
+            sensors: Vec::new(),
         };
         Ok(Self {
             cutoff,

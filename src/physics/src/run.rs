@@ -8,7 +8,7 @@ use crate::law_source::LawSource;
 use crate::metrics::Summary;
 use crate::neural::SceneLawError;
 use crate::scene::CheckedScene;
-use crate::simulation::{Sample, SimulationError, Simulator};
+use crate::simulation::{Sample, SensorReading, SimulationError, Simulator};
 use std::time::Instant;
 
 /// Why a scene could not be run.
@@ -48,6 +48,9 @@ pub struct Run {
     /// The law's state variables, as indices in `memory::STATE_VARIABLES` and in each
     /// sample's `law_state` (`Simulator::law_state_slots`); empty for a memoryless law.
     pub law_state_slots: Vec<usize>,
+    /// The `[structure]`'s sensors' readings at each sample, in the section's sensor
+    /// order; empty without sensors.
+    pub sensors: Vec<Vec<SensorReading>>,
 }
 
 /// Runs a checked scene to its end time under `law` (resolved from this scene, or
@@ -62,7 +65,7 @@ pub fn run_scene(scene: CheckedScene, law: &LawSource, every: usize) -> Result<R
     let mut sim = Simulator::new(scene, law)?;
     // The summary's slip phases and major slips need every transition of the run.
     sim.keep_all_transitions();
-    let samples = sim.run(every)?;
+    let (samples, sensors) = sim.run_observed(every)?;
     let seconds = started.elapsed().as_secs_f64();
     // The summary wants every step; with decimated samples it is computed on those.
     let summary = Summary::new(&samples, sim.transitions());
@@ -73,5 +76,6 @@ pub fn run_scene(scene: CheckedScene, law: &LawSource, every: usize) -> Result<R
         label: format!("{}, {} friction", sim.model().label, sim.law_name()),
         dofs: sim.model().dofs(),
         law_state_slots: sim.law_state_slots(),
+        sensors,
     })
 }

@@ -15,7 +15,7 @@ use crate::integrator::{Coefficients, Integrator, Kinematics, TrialStep};
 use crate::modal_slip::{SlipBasis, SlipBasisError};
 use crate::scene::{CheckedScene, DampingPhase, InitialState, TipVelocity};
 use crate::short::Short;
-use crate::structure::{singular, ModelError, StructuralModel};
+use crate::structure::{observe, singular, ModelError, StructuralModel};
 use serde::{Deserialize, Serialize};
 
 /// Everything that evolves in time; plain data, so that it can be saved and restored.
@@ -70,6 +70,14 @@ pub struct Sample {
     /// not that variable (every entry for a memoryless law; see
     /// [`Simulator::law_state_slots`] for the ones it has).
     pub law_state: LawStateValues,
+}
+
+/// A sensor's reading (`user_structure::Sensor`, `StructuralModel::sensors`): its DOF's
+/// displacement (m, rad on a rotation) and velocity (m/s, rad/s).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SensorReading {
+    pub displacement: f64,
+    pub velocity: f64,
 }
 
 /// A value per entry of [`STATE_VARIABLES`] (see [`Sample::law_state`]).
@@ -459,6 +467,19 @@ impl Simulator {
             stick: self.state.contact == ContactState::Stick,
             law_state: self.law_state_values(),
         }
+    }
+
+    /// Each sensor's reading now, in the model's sensor order (empty without sensors).
+    pub fn sensor_readings(&self) -> Vec<SensorReading> {
+        let k = &self.state.kinematics;
+        self.model
+            .sensors
+            .iter()
+            .map(|s| SensorReading {
+                displacement: observe(s, &k.displacement),
+                velocity: observe(s, &k.velocity),
+            })
+            .collect()
     }
 
     /// The committed law state of `state` spread over [`STATE_VARIABLES`]: read off the
@@ -856,17 +877,34 @@ impl Simulator {
     /// Runs to the scene's end time, recording a sample every `every` steps (and the
     /// initial one).
     pub fn run(&mut self, every: usize) -> Result<Vec<Sample>, SimulationError> {
+        Ok(self.run_observed(every)?.0)
+    }
+
+    /// [`Self::run`], with the sensors' readings at each sample (none without sensors).
+    #[allow(clippy::type_complexity)]
+    pub fn run_observed(
+        &mut self,
+        every: usize,
+    ) -> Result<(Vec<Sample>, Vec<Vec<SensorReading>>), SimulationError> {
         let every = every.max(1) as u64;
         let steps = (self.scene.time.end / self.scene.time.step).round() as u64;
         let mut samples = Vec::with_capacity((steps / every + 2) as usize);
-        samples.push(self.sample());
+        let observing = !self.model.sensors.is_empty();
+        let mut readings = Vec::new();
+        let mut record = |sim: &Self| {
+            samples.push(sim.sample());
+            if observing {
+                readings.push(sim.sensor_readings());
+            }
+        };
+        record(self);
         while self.state.step < steps {
             self.step()?;
             if self.state.step.is_multiple_of(every) || self.state.step == steps {
-                samples.push(self.sample());
+                record(self);
             }
         }
-        Ok(samples)
+        Ok((samples, readings))
     }
 }
 

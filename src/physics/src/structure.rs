@@ -38,6 +38,20 @@ pub struct StructuralModel {
     /// bandwidth as M, acting with the scene's Rayleigh damping: C = C0 + a M + b K
     /// (`integrator`). None for every built-in and reduced model.
     pub damping: Option<SymBandMatrix>,
+    /// Observation vectors of a `[structure]`'s sensors (`user_structure::Sensor`), in
+    /// the section's order, as `tip`: u_sensor = sum w u_dof. Empty for the built-in
+    /// models.
+    pub sensors: Vec<Observation>,
+}
+
+/// A sparse observation vector: (dof, weight) pairs, the value sum w x_dof.
+pub type Observation = Vec<(usize, f64)>;
+
+/// The value sum w x_dof of `observation` on `x` (the tip's and the sensors' one rule,
+/// so that a sensor at the contact DOF reads the tip's bits).
+#[inline]
+pub fn observe(observation: &[(usize, f64)], x: &[f64]) -> f64 {
+    observation.iter().map(|&(i, w)| w * x[i]).sum()
 }
 
 /// A model that could not be built.
@@ -103,6 +117,7 @@ impl StructuralModel {
             stiffness: k,
             tip: vec![(n - 2, 1.0)],
             damping: None,
+            sensors: Vec::new(),
         }
     }
 
@@ -182,6 +197,7 @@ impl StructuralModel {
             stiffness: k,
             tip,
             damping: None,
+            sensors: Vec::new(),
         }
     }
 
@@ -193,7 +209,12 @@ impl StructuralModel {
     /// Tip transverse displacement (or velocity, acceleration) c . x.
     #[inline]
     pub fn tip_value(&self, x: &[f64]) -> f64 {
-        self.tip.iter().map(|&(i, w)| w * x[i]).sum()
+        observe(&self.tip, x)
+    }
+
+    /// Each sensor's value on `x` (displacement, velocity, ...), in the sensors' order.
+    pub fn sensor_values(&self, x: &[f64]) -> Vec<f64> {
+        self.sensors.iter().map(|s| observe(s, x)).collect()
     }
 
     /// rhs += c force.

@@ -10,6 +10,7 @@
 //! # dofs = "k.dofs"
 //! contact = { node = 202, direction = 2 }      # where friction acts and the belt moves
 //! clamped = [{ node = 7, direction = 3 }]      # DOFs the files did not remove (optional)
+//! sensors = [{ name = "mid_y", node = 252, direction = 2 }]   # named outputs (optional)
 //! ```
 //!
 //! or a 2D Gmsh mesh assembled in plane stress by our own Q8 element (`crate::plane_mesh`):
@@ -118,6 +119,51 @@ pub struct StructureSection {
     /// gmsh: physical groups whose nodes are fixed in the given directions.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub clamped_groups: Vec<GroupClamp>,
+    /// Named output DOFs ([`Sensor`]), reported by every fidelity.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sensors: Vec<Sensor>,
+}
+
+/// A named output DOF: the displacement u (m, or rad on a rotation) and velocity u'
+/// (m/s, rad/s) of free DOF (`node`, `direction`), reported as `name` and
+/// `name` + [`Sensor::VELOCITY_SUFFIX`] (CSV columns of `stickslip simulate`, outputs of
+/// an exported FMU). The full model reads the DOF; a modal model recovers it from its
+/// basis, u = sum_j T_j[dof] q_j, as it recovers the contact DOF (the static
+/// correction included: under the contact force alone the static shape makes it exact
+/// in statics at any DOF).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sensor {
+    pub name: String,
+    pub node: u64,
+    pub direction: u8,
+}
+
+impl Sensor {
+    /// What the velocity's name adds to the sensor's name.
+    pub const VELOCITY_SUFFIX: &'static str = "_velocity";
+
+    pub fn dof(&self) -> SceneDof {
+        SceneDof {
+            node: self.node,
+            direction: self.direction,
+        }
+    }
+
+    /// The name of the sensor's velocity output.
+    pub fn velocity_name(&self) -> String {
+        format!("{}{}", self.name, Self::VELOCITY_SUFFIX)
+    }
+}
+
+/// Whether `name` is an identifier: a letter or _, then letters, digits or _ (ASCII).
+/// Such a name is a valid FMI variable name under either naming convention (FMI 2.0
+/// section 2.2.9 structured: an identifier is a `name` part), a CSV header without
+/// quoting, and a C and Python identifier.
+pub fn is_identifier(name: &str) -> bool {
+    let mut chars = name.chars();
+    matches!(chars.next(), Some(c) if c == '_' || c.is_ascii_alphabetic())
+        && chars.all(|c| c == '_' || c.is_ascii_alphanumeric())
 }
 
 /// The plane-stress constants of a Gmsh mesh: the out-of-plane thickness t (m), Young's
@@ -268,6 +314,48 @@ impl StructureSection {
                 self.contact.label(),
                 "a free DOF: structure.clamped fixes it, so friction could not move it",
             ));
+        }
+        self.check_sensors()
+    }
+
+    /// Each sensor's name an identifier, its two output names (`name`, `name_velocity`)
+    /// unique among all sensors', its DOF well formed and not in `structure.clamped`
+    /// (whether the DOF is in the files is known when they are read).
+    fn check_sensors(&self) -> Result<(), FieldProblem> {
+        let mut names: Vec<(String, &str)> = Vec::new();
+        for sensor in &self.sensors {
+            let value = |what: &str| match what {
+                "" => format!("'{}'", sensor.name),
+                _ => format!("'{}' {what}", sensor.name),
+            };
+            if !is_identifier(&sensor.name) {
+                return Err(refused(
+                    "structure.sensors",
+                    value(""),
+                    "a name of ASCII letters, digits and _ that starts with a letter or _ (it becomes an FMI variable and a CSV column)",
+                ));
+            }
+            for output in [sensor.name.clone(), sensor.velocity_name()] {
+                if let Some((_, other)) = names.iter().find(|(n, _)| *n == output) {
+                    return Err(refused(
+                        "structure.sensors",
+                        value(""),
+                        format!("a name whose outputs {} and {} no other sensor has: '{other}' has {output}", sensor.name, sensor.velocity_name()),
+                    ));
+                }
+                names.push((output, &sensor.name));
+            }
+            check_dof("structure.sensors", sensor.dof()).map_err(|p| FieldProblem {
+                value: value(&format!("at {}", p.value)),
+                ..p
+            })?;
+            if self.clamped.contains(&sensor.dof()) {
+                return Err(refused(
+                    "structure.sensors",
+                    value(&format!("at {}", sensor.dof().label())),
+                    "a free DOF: structure.clamped fixes it, so it would read 0",
+                ));
+            }
         }
         Ok(())
     }

@@ -34,7 +34,7 @@
 //! implementation that the FMI layer drives.
 
 mod build;
-mod exported;
+pub mod exported;
 mod model;
 mod saved;
 mod variables;
@@ -133,6 +133,9 @@ pub struct StickSlipBeam {
     running: Option<Running>,
     /// fmi2ExitInitializationMode has built the simulation the steps use.
     initialized: bool,
+    /// An exported scene's sensors as outputs (`exported`): displacement and velocity
+    /// of each, in the section's order; none for StickSlipBeam itself.
+    sensors: Vec<crate::variables::DynamicOutput>,
 }
 
 impl StickSlipBeam {

@@ -5,7 +5,7 @@ use super::variables::VARIABLES;
 use super::{Settings, StickSlipBeam};
 use crate::model::{Model, ModelInfo, Restoring};
 use crate::networks::{Networks, WEIGHTS_RESOURCES};
-use crate::variables::Variable;
+use crate::variables::{DynamicOutput, Variable};
 use std::path::Path;
 
 impl Model for StickSlipBeam {
@@ -32,7 +32,16 @@ impl Model for StickSlipBeam {
             auto_log: Vec::new(),
             running: None,
             initialized: false,
+            sensors: Vec::new(),
         }
+    }
+
+    fn dynamic_outputs(&self) -> &[DynamicOutput] {
+        &self.sensors
+    }
+
+    fn dynamic_output_value(&self, index: usize) -> f64 {
+        self.sensor_value(index)
     }
 
     fn load_resources(&mut self, resources: &Path) -> Result<(), String> {

@@ -19,6 +19,11 @@ impl<M: Model> Instance<M> {
         for &vr in vrs {
             match lookup(M::variables(), vr, base) {
                 Ok(v) => outputs |= v.causality == Causality::Output,
+                Err(AccessError::UnknownReference(_))
+                    if base == BaseType::Real && self.dynamic_output(vr).is_some() =>
+                {
+                    outputs = true
+                }
                 Err(e) => return Err(self.access_failed(call, e)),
             }
         }
@@ -51,6 +56,14 @@ impl<M: Model> Instance<M> {
         Ok(())
     }
 
+    /// The position of value reference `vr` among the model's dynamic outputs.
+    fn dynamic_output(&self, vr: u32) -> Option<usize> {
+        self.model
+            .dynamic_outputs()
+            .iter()
+            .position(|o| o.value_reference == vr)
+    }
+
     pub fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> CallResult<()> {
         self.get_with(
             self.names().get_real,
@@ -58,7 +71,14 @@ impl<M: Model> Instance<M> {
             out,
             BaseType::Real,
             Variable::get_real,
-        )
+        )?;
+        // The table's rows are read; the rest were found dynamic in before_get.
+        for (slot, &vr) in out.iter_mut().zip(vrs) {
+            if let Some(k) = self.dynamic_output(vr) {
+                *slot = self.model.dynamic_output_value(k);
+            }
+        }
+        Ok(())
     }
 
     pub fn get_integer(&mut self, vrs: &[u32], out: &mut [i32]) -> CallResult<()> {
@@ -103,7 +123,16 @@ impl<M: Model> Instance<M> {
     ) -> CallResult<&'static Variable<M>> {
         let variable = match lookup(M::variables(), vr, base) {
             Ok(v) => v,
-            Err(e) => return Err(self.access_failed(call, e)),
+            Err(e) => {
+                if let Some(k) = self.dynamic_output(vr) {
+                    let reason = format!(
+                        "{} is an output and cannot be set",
+                        self.model.dynamic_outputs()[k].name
+                    );
+                    return Err(self.fail(call, &reason));
+                }
+                return Err(self.access_failed(call, e));
+            }
         };
         let when_ok = match variable.causality {
             Causality::Parameter => {

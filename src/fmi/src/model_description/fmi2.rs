@@ -2,11 +2,12 @@
 
 use super::described::Described;
 use super::parts::{
-    choice_variables, dependency_attributes, description, initial_attribute, output_dependencies,
-    start_attribute, write_units_categories_experiment, CHOICES_TOOL,
+    choice_variables, dependency_attributes, description, dynamic_dependencies, initial_attribute,
+    output_dependencies, start_attribute, write_units_categories_experiment, IndexedDependencies,
+    CHOICES_TOOL,
 };
 use crate::model::Model;
-use crate::variables::{Access, Causality, DependencyKind, Variability, Variable};
+use crate::variables::{Access, Causality, DependencyKind, DynamicOutput, Variability, Variable};
 use crate::version::FmiVersion;
 use crate::xml::{attribute, escape, optional_attribute, real};
 use std::fmt::Write;
@@ -43,8 +44,9 @@ pub(super) fn body_of<M: Model>(described: &Described<M>, guid: &str) -> String 
 
     write_choices(w, variables);
 
+    let dynamic = defaults.dynamic_outputs();
     write_variables(w, variables, defaults);
-    write_structure(w, variables);
+    write_structure(w, variables, dynamic);
     let _ = writeln!(w, "</fmiModelDescription>");
     debug_assert!(variables.iter().all(|v| match v.causality {
         Causality::Parameter => v.variability == Variability::Fixed,
@@ -54,8 +56,9 @@ pub(super) fn body_of<M: Model>(described: &Described<M>, guid: &str) -> String 
 }
 
 /// `<ModelVariables>`: one `<ScalarVariable>` per row of the table, in table order
-/// (its index is the row's place, counted from 1), with the defaults as start values.
-fn write_variables<M>(w: &mut String, variables: &[Variable<M>], defaults: &M) {
+/// (its index is the row's place, counted from 1), with the defaults as start values,
+/// then the model's dynamic outputs (an exported FMU's sensors).
+fn write_variables<M: Model>(w: &mut String, variables: &[Variable<M>], defaults: &M) {
     let _ = writeln!(w, "  <ModelVariables>");
     for v in variables {
         let _ = writeln!(
@@ -69,6 +72,18 @@ fn write_variables<M>(w: &mut String, variables: &[Variable<M>], defaults: &M) {
             initial_attribute(v.causality)
         );
         let _ = writeln!(w, "      {}", type_element(v, defaults));
+        let _ = writeln!(w, "    </ScalarVariable>");
+    }
+    for o in defaults.dynamic_outputs() {
+        let _ = writeln!(
+            w,
+            r#"    <ScalarVariable name="{}" valueReference="{}" description="{}" causality="output" variability="continuous"{}>"#,
+            escape(&o.name),
+            o.value_reference,
+            escape(&o.description),
+            initial_attribute(Causality::Output)
+        );
+        let _ = writeln!(w, r#"      <Real unit="{}"/>"#, escape(o.unit));
         let _ = writeln!(w, "    </ScalarVariable>");
     }
     let _ = writeln!(w, "  </ModelVariables>");
@@ -109,11 +124,20 @@ fn type_element<M>(v: &Variable<M>, defaults: &M) -> String {
 }
 
 /// `<ModelStructure>`: each output's step dependencies under `<Outputs>` and its
-/// initial ones under `<InitialUnknowns>`, by variable index.
-fn write_structure<M>(w: &mut String, variables: &[Variable<M>]) {
+/// initial ones under `<InitialUnknowns>`, by variable index; the dynamic outputs
+/// (indices after the table's) with their `like` row's.
+fn write_structure<M>(w: &mut String, variables: &[Variable<M>], dynamic: &[DynamicOutput]) {
     let _ = writeln!(w, "  <ModelStructure>");
     let _ = writeln!(w, "    <Outputs>");
-    let dependencies = output_dependencies(variables);
+    let mut dependencies: Vec<(usize, &IndexedDependencies)> = Vec::new();
+    let table = output_dependencies(variables);
+    dependencies.extend(table.iter().map(|(k, d)| (*k, d)));
+    let like = dynamic_dependencies(variables, &table, dynamic);
+    dependencies.extend(
+        like.into_iter()
+            .enumerate()
+            .map(|(i, d)| (variables.len() + 1 + i, d)),
+    );
     for (k, d) in &dependencies {
         let (indices, kinds): (Vec<usize>, Vec<DependencyKind>) = d.step.iter().copied().unzip();
         let _ = writeln!(

@@ -2,11 +2,11 @@
 
 use super::described::Described;
 use super::parts::{
-    dependency_attributes, description, initial_attribute, output_dependencies, start_attribute,
-    write_units_categories_experiment,
+    dependency_attributes, description, dynamic_dependencies, initial_attribute,
+    output_dependencies, start_attribute, write_units_categories_experiment, IndexedDependencies,
 };
 use crate::model::Model;
-use crate::variables::{Access, ArrayVariable, Causality, DependencyKind, Variable};
+use crate::variables::{Access, ArrayVariable, Causality, DependencyKind, DynamicOutput, Variable};
 use crate::version::FmiVersion;
 use crate::xml::{escape, optional_attribute, real};
 use std::fmt::Write;
@@ -72,8 +72,20 @@ pub(super) fn body3_of<M: Model>(described: &Described<M>, token: &str) -> Strin
             None => write_scalar(w, v, defaults),
         }
     }
+    // The dynamic outputs (an exported FMU's sensors) after the table's variables.
+    for o in defaults.dynamic_outputs() {
+        let _ = writeln!(
+            w,
+            r#"    <Float64 name="{}" valueReference="{}" description="{}" causality="output" variability="continuous"{}{}/>"#,
+            escape(&o.name),
+            o.value_reference,
+            escape(&o.description),
+            initial_attribute(Causality::Output),
+            optional_attribute("declaredType", Some(o.unit))
+        );
+    }
     let _ = writeln!(w, "  </ModelVariables>");
-    write_structure::<M>(w, variables);
+    write_structure::<M>(w, variables, defaults.dynamic_outputs());
     // No `stickslip` choices annotation here: FMI 3.0 allows any element inside an
     // <Annotation>, but the `fmi` crate's reader refuses child elements there (it takes
     // text only), and an importer that cannot read the file at all is worse than one
@@ -141,14 +153,24 @@ fn write_scalar<M>(w: &mut String, v: &Variable<M>, defaults: &M) {
 
 /// `<ModelStructure>`: the same dependencies as FMI 2.0's, named by value reference
 /// instead of index; an array element by its array (no per-element dependencies: the
-/// output depends on the whole array if on any element).
-fn write_structure<M: Model>(w: &mut String, variables: &[Variable<M>]) {
-    let vr_of = |k: usize| {
-        let vr = variables[k - 1].value_reference;
-        ArrayVariable::containing(M::arrays(), vr).map_or(vr, |(a, _)| a.value_reference) as usize
+/// output depends on the whole array if on any element). The dynamic outputs come
+/// after the table's, with their `like` row's dependencies.
+fn write_structure<M: Model>(w: &mut String, variables: &[Variable<M>], dynamic: &[DynamicOutput]) {
+    let vr_of = |k: usize| match variables.get(k - 1) {
+        Some(v) => ArrayVariable::containing(M::arrays(), v.value_reference)
+            .map_or(v.value_reference, |(a, _)| a.value_reference) as usize,
+        None => dynamic[k - 1 - variables.len()].value_reference as usize,
     };
     let _ = writeln!(w, "  <ModelStructure>");
-    let dependencies = output_dependencies(variables);
+    let table = output_dependencies(variables);
+    let mut dependencies: Vec<(usize, &IndexedDependencies)> =
+        table.iter().map(|(k, d)| (*k, d)).collect();
+    let like = dynamic_dependencies(variables, &table, dynamic);
+    dependencies.extend(
+        like.into_iter()
+            .enumerate()
+            .map(|(i, d)| (variables.len() + 1 + i, d)),
+    );
     for (k, d) in &dependencies {
         let (vrs, kinds) = merge_elements(d.step.iter().map(|&(k, kind)| (vr_of(k), kind)));
         let _ = writeln!(

@@ -3,7 +3,8 @@
 
 use crate::model::Model;
 use crate::variables::{
-    Access, Causality, ChoiceType, DependencyKind, InitialDependencies, Unit, Variable, UNITS,
+    Access, Causality, ChoiceType, DependencyKind, DynamicOutput, InitialDependencies, Unit,
+    Variable, UNITS,
 };
 use crate::version::{FmiVersion, Names};
 use crate::xml::{attribute, escape, real};
@@ -238,6 +239,34 @@ pub fn output_dependencies<M>(variables: &[Variable<M>]) -> Vec<(usize, IndexedD
             initial.sort_unstable();
             initial.dedup();
             (k + 1, IndexedDependencies { step, initial })
+        })
+        .collect()
+}
+
+/// The dependencies of each of `dynamic` (by position), those of its `like` row among
+/// `dependencies` (what [`output_dependencies`] gave for `variables`).
+pub(super) fn dynamic_dependencies<'a, M>(
+    variables: &[Variable<M>],
+    dependencies: &'a [(usize, IndexedDependencies)],
+    dynamic: &[DynamicOutput],
+) -> Vec<&'a IndexedDependencies> {
+    dynamic
+        .iter()
+        .map(|o| {
+            let like = variables
+                .iter()
+                .position(|v| v.value_reference == o.like)
+                .map(|k| k + 1);
+            dependencies
+                .iter()
+                .find(|(k, _)| Some(*k) == like)
+                .map(|(_, d)| d)
+                .unwrap_or_else(|| {
+                    panic!(
+                        "dynamic output {} is like value reference {}, which is no output",
+                        o.name, o.like
+                    )
+                })
         })
         .collect()
 }

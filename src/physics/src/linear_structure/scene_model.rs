@@ -1,6 +1,6 @@
 //! A scene's `[structure]` (`crate::user_structure`) as the model the time loop runs: its
 //! files read and checked into a [`LinearStructure`], the full model with the contact
-//! DOF as the tip.
+//! DOF as the tip and the sensors' DOFs observed.
 
 use super::read::{read_calculix, read_matrix_market};
 use super::LinearStructure;
@@ -65,6 +65,12 @@ impl StructuralModel {
                 structure.dofs()
             ))
         })?;
+        let sensors = sensor_indices(section, structure.dofs(), |label| {
+            structure.index_of(label).ok()
+        })?
+        .into_iter()
+        .map(|i| vec![(i, 1.0)])
+        .collect();
         Ok(Self {
             level: FidelityLevel::PlaneStress,
             label: format!(
@@ -76,6 +82,30 @@ impl StructuralModel {
             stiffness: structure.stiffness().clone(),
             tip: vec![(tip, 1.0)],
             damping: structure.damping().cloned(),
+            sensors,
         })
     }
+}
+
+/// The free-DOF index of each of `section`'s sensors (`index_of` gives it by label, or
+/// None for a DOF the structure does not have free), or the first sensor whose DOF is not
+/// free, named, among `dofs` free DOFs.
+pub(super) fn sensor_indices(
+    section: &StructureSection,
+    dofs: usize,
+    index_of: impl Fn(DofLabel) -> Option<usize>,
+) -> Result<Vec<usize>, ModelError> {
+    section
+        .sensors
+        .iter()
+        .map(|sensor| {
+            let label = sensor.dof().label();
+            index_of(label).ok_or_else(|| {
+                ModelError::UserStructure(format!(
+                    "structure.sensors '{}' = {label} is not a free DOF of the structure ({dofs} free DOFs: not in the files' DOF map, or removed by them or by structure.clamped; a sensor reads a DOF that can move)",
+                    sensor.name
+                ))
+            })
+        })
+        .collect()
 }

@@ -9,7 +9,7 @@
 //!
 //! [`SymSparseMatrix`]: super::sparse::SymSparseMatrix
 
-use super::scene_model::read_section;
+use super::scene_model::{read_section, sensor_indices};
 use super::sparse::SparseStructure;
 use super::{LinearStructure, StructureError};
 use crate::modal;
@@ -27,10 +27,23 @@ pub fn reduce(
     static_correction: bool,
     label: &str,
 ) -> Result<StructuralModel, ModelError> {
+    reduce_observing(structure, contact, &[], modes, static_correction, label)
+}
+
+/// [`reduce`], the DOFs of free indices `sensors` observed as the model's sensors.
+fn reduce_observing(
+    structure: &SparseStructure,
+    contact: DofLabel,
+    sensors: &[usize],
+    modes: usize,
+    static_correction: bool,
+    label: &str,
+) -> Result<StructuralModel, ModelError> {
     if structure.damping().is_some() {
         return Err(modal::damping_not_projected());
     }
     let tip = [(contact_index(structure, contact)?, 1.0)];
+    let sensors: Vec<_> = sensors.iter().map(|&i| vec![(i, 1.0)]).collect();
     let eigen = structure
         .lowest_modes(modes)
         .map_err(|e| ModelError::UserStructure(e.to_string()))?;
@@ -39,7 +52,13 @@ pub fn reduce(
         c[tip[0].0] = 1.0;
         structure.refined_solve(&c)
     });
-    modal::reduced_model(eigen, static_shape, structure.mass(), &tip, label)
+    modal::reduced_model(
+        eigen,
+        static_shape,
+        structure.mass(),
+        (&tip, &sensors),
+        label,
+    )
 }
 
 fn contact_index(structure: &SparseStructure, contact: DofLabel) -> Result<usize, ModelError> {
@@ -71,7 +90,17 @@ pub fn reduce_section(
                 structure.dofs(),
                 section.source()
             );
-            reduce(&structure, contact, modes, static_correction, &label)
+            let sensors = sensor_indices(section, structure.dofs(), |label| {
+                structure.index_of(label).ok()
+            })?;
+            reduce_observing(
+                &structure,
+                contact,
+                &sensors,
+                modes,
+                static_correction,
+                &label,
+            )
         }
         Err(e) => Err(ModelError::UserStructure(e.to_string())),
         Ok(structure) => modal::reduce(
