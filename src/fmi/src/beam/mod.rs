@@ -120,6 +120,14 @@ struct Running {
     simulator: Simulator,
     /// Time (s) at which the simulation's t = 0 lies.
     start_time: f64,
+    /// The mean sliding velocity (m/s) over the last step that advanced time (output
+    /// `mean_relative_velocity`): v_b - (u(t_k+1) - u(t_k)) / (t_k+1 - t_k) with u
+    /// the tip deflection, the distance slid over the step divided by its length,
+    /// exact for any motion within it (the belt speed is an input, held over the
+    /// step). Before the first step, v_rel at the start. A law with state in a
+    /// coupled friction model commits its state with it (issue 36,
+    /// `friction::state_velocity`).
+    mean_relative_velocity: f64,
 }
 
 pub struct StickSlipBeam {
@@ -155,6 +163,10 @@ impl StickSlipBeam {
             return Err("the simulation was not initialised".into());
         };
         let before = running.simulator.state().transition_count;
+        let (t_before, tip_before) = {
+            let s = running.simulator.sample();
+            (s.time, s.tip_deflection)
+        };
         let target = to - running.start_time;
         let result = if stop_at_switch {
             running.simulator.advance_until_switch(target)
@@ -186,6 +198,12 @@ impl StickSlipBeam {
             ));
         }
         let switched = result.map_err(|e| e.to_string())?;
+        let after = running.simulator.sample();
+        let advanced = after.time - t_before;
+        if advanced > 0.0 {
+            running.mean_relative_velocity =
+                self.settings.inputs.belt_speed - (after.tip_deflection - tip_before) / advanced;
+        }
         // The switch time on the FMU's clock; a switch in the step landing on `to` ends
         // there exactly, as a step without one does.
         Ok(switched.map(|at| {

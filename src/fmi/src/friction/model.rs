@@ -72,9 +72,12 @@ impl Model for NeuralFriction {
 
     fn do_step(&mut self, to: f64, size: f64, _events: &mut Vec<String>) -> Result<(), String> {
         self.advance_state(to, size).map_err(|e| e.to_string())?;
-        // An event iteration's step of size 0 keeps the master's h.
+        // An event iteration's step of size 0 keeps the master's h (and commits
+        // nothing, so a mean set for the step stays for the one that slides).
         if size > 0.0 {
             self.step_size = size;
+            // The mean was this step's; the next step's must be set again.
+            self.settings.mean_given = false;
         }
         self.outputs = self.evaluate().map_err(|e| e.to_string())?;
         Ok(())

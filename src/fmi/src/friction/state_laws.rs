@@ -252,7 +252,7 @@ impl NeuralFriction {
         self.time = to;
         let step = LawStep {
             dt: size,
-            sliding_velocity: self.settings.sliding_velocity,
+            sliding_velocity: self.state_commit_velocity(),
             normal_force: self.settings.normal_force,
         };
         let Some(law) = self.memory_law()? else {
