@@ -262,6 +262,12 @@ fn the_coupled_system_is_wired_beam_to_friction_and_back() {
             "beam",
             "external.step_slope",
         ),
+        (
+            "beam",
+            "mean_relative_velocity",
+            "friction",
+            "mean_sliding_velocity",
+        ),
     ];
     assert_eq!(ssd.matches("<ssd:Connection ").count(), links.len());
     for (a, x, b, y) in links {

@@ -67,10 +67,6 @@ struct Settings {
     /// The input `mean_sliding_velocity` (m/s): the beam's mean v_rel over the step.
     #[serde(default)]
     mean_sliding_velocity: f64,
-    /// `mean_sliding_velocity` was set since the last step, so it is the coming step's
-    /// (a master that links it sets it before every step; one that does not never).
-    #[serde(default)]
-    mean_given: bool,
 }
 
 fn end_velocity() -> StateVelocity {
@@ -144,7 +140,6 @@ impl Default for Settings {
             extra_features: [0.0; EXTRA_FEATURES],
             state_velocity: StateVelocity::default(),
             mean_sliding_velocity: 0.0,
-            mean_given: false,
         }
     }
 }
@@ -219,6 +214,10 @@ pub struct NeuralFriction {
     /// The size (s) of the last communication step of nonzero size, the master's h:
     /// the step the step-consistent pair looks ahead over; 0 before the first step.
     step_size: f64,
+    /// `mean_sliding_velocity` was set since the last step, so it is the coming step's
+    /// (a master that links it sets it before every step; one that does not, never).
+    /// Not a setting: no variable sets it to false (`check_as_set`).
+    mean_given: bool,
 }
 
 /// Why initialisation refuses the parameters (fmi2ExitInitializationMode), and a saved

@@ -39,6 +39,7 @@ impl Model for NeuralFriction {
             law_state: Vec::new(),
             time: 0.0,
             step_size: 0.0,
+            mean_given: false,
         }
     }
 
@@ -54,6 +55,7 @@ impl Model for NeuralFriction {
         self.law_state.clear();
         self.time = 0.0;
         self.step_size = 0.0;
+        self.mean_given = false;
     }
 
     fn refresh_outputs(&mut self, _start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
@@ -77,7 +79,7 @@ impl Model for NeuralFriction {
         if size > 0.0 {
             self.step_size = size;
             // The mean was this step's; the next step's must be set again.
-            self.settings.mean_given = false;
+            self.mean_given = false;
         }
         self.outputs = self.evaluate().map_err(|e| e.to_string())?;
         Ok(())

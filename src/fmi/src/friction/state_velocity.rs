@@ -40,7 +40,7 @@ impl NeuralFriction {
     /// before the input existed).
     pub(super) fn state_commit_velocity(&self) -> f64 {
         let s = &self.settings;
-        if s.mean_given && self.commits_at_mean() {
+        if self.mean_given && self.commits_at_mean() {
             s.mean_sliding_velocity
         } else {
             s.sliding_velocity

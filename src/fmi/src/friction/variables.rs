@@ -203,7 +203,7 @@ pub(super) static VARIABLES: LazyLock<Vec<Variable<NeuralFriction>>> = LazyLock:
         Some("m/s"),
         "Mean sliding velocity over the coming step (StickSlipBeam's mean_relative_velocity, Gauss-Seidel): commits a law's state where state_velocity chooses it; unused unless set since the last step",
         |m: NeuralFriction| m.settings.mean_sliding_velocity,
-        then = m.settings.mean_given = true
+        then = m.mean_given = true
     ),
     real_output!(
         FRICTION_FORCE,
