@@ -214,10 +214,12 @@ pub struct NeuralFriction {
     /// The size (s) of the last communication step of nonzero size, the master's h:
     /// the step the step-consistent pair looks ahead over; 0 before the first step.
     step_size: f64,
-    /// `mean_sliding_velocity` was set since the last step, so it is the coming step's
-    /// (a master that links it sets it before every step; one that does not, never).
-    /// Not a setting: no variable sets it to false (`check_as_set`).
-    mean_given: bool,
+    /// `mean_sliding_velocity` has been set: a master links it (one that does not never
+    /// sets it, and its steps commit at `sliding_velocity`, as before the input
+    /// existed). Not "set since the last step": Ecos sets an input only when its value
+    /// changes (tested: in stick the mean repeats). Not a setting, since no variable
+    /// sets it back to false (`check_as_set`); reset by fmi2Reset.
+    mean_linked: bool,
 }
 
 /// Why initialisation refuses the parameters (fmi2ExitInitializationMode), and a saved

@@ -152,10 +152,11 @@ impl StickSlipBeam {
     /// fmi2DoStep / fmi3DoStep: advances the simulation to `to` (s, FMU clock), or,
     /// with `stop_at_switch`, until the end of the internal step in which the contact
     /// switched, returning that time (see `Simulator::advance_until_switch`). Every
-    /// transition made is listed in `events`.
+    /// transition made is listed in `events`. `size` (s) is the master's step.
     fn advance(
         &mut self,
         to: f64,
+        size: f64,
         stop_at_switch: bool,
         events: &mut Vec<String>,
     ) -> Result<Option<f64>, String> {
@@ -199,8 +200,16 @@ impl StickSlipBeam {
         }
         let switched = result.map_err(|e| e.to_string())?;
         let after = running.simulator.sample();
-        let advanced = after.time - t_before;
-        if advanced > 0.0 {
+        // Divided by the master's step, not by the simulation's clock difference: the
+        // simulation lands on `to` as each master computes it, so its clock differs in
+        // the last bits between masters (k h or a running sum, libcosim's nanoseconds;
+        // Ecos's bits differed), where the steps, and so the distance slid, are the
+        // same. A step that ended early at a switch is divided by the time it advanced.
+        let advanced = match switched {
+            Some(at) if at < target => at - t_before,
+            _ => size,
+        };
+        if advanced > 0.0 && after.time > t_before {
             running.mean_relative_velocity =
                 self.settings.inputs.belt_speed - (after.tip_deflection - tip_before) / advanced;
         }

@@ -39,7 +39,7 @@ impl Model for NeuralFriction {
             law_state: Vec::new(),
             time: 0.0,
             step_size: 0.0,
-            mean_given: false,
+            mean_linked: false,
         }
     }
 
@@ -55,7 +55,7 @@ impl Model for NeuralFriction {
         self.law_state.clear();
         self.time = 0.0;
         self.step_size = 0.0;
-        self.mean_given = false;
+        self.mean_linked = false;
     }
 
     fn refresh_outputs(&mut self, _start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
@@ -74,12 +74,9 @@ impl Model for NeuralFriction {
 
     fn do_step(&mut self, to: f64, size: f64, _events: &mut Vec<String>) -> Result<(), String> {
         self.advance_state(to, size).map_err(|e| e.to_string())?;
-        // An event iteration's step of size 0 keeps the master's h (and commits
-        // nothing, so a mean set for the step stays for the one that slides).
+        // An event iteration's step of size 0 keeps the master's h.
         if size > 0.0 {
             self.step_size = size;
-            // The mean was this step's; the next step's must be set again.
-            self.mean_given = false;
         }
         self.outputs = self.evaluate().map_err(|e| e.to_string())?;
         Ok(())

@@ -61,10 +61,10 @@ struct Saved {
     /// in version 5 without a bump): `step_size_of`.
     #[serde(default)]
     step_size: Option<f64>,
-    /// `mean_sliding_velocity` was set for the coming step (from version 7 on; absent:
-    /// not, as no earlier FMU had the input).
+    /// `mean_sliding_velocity` has been set (`NeuralFriction::mean_linked`; from
+    /// version 7 on; absent: not, as no earlier FMU had the input).
     #[serde(default)]
-    mean_given: bool,
+    mean_linked: bool,
 }
 
 /// The step size of a saved state of `version`: required from version 6 on; before,
@@ -124,7 +124,7 @@ struct Adopted {
     settings: Settings,
     law_state: Vec<f64>,
     step_size: f64,
-    mean_given: bool,
+    mean_linked: bool,
     outputs: Outputs,
 }
 
@@ -291,7 +291,7 @@ impl NeuralFriction {
             settings: self.settings.clone(),
             law_state: self.law_state.clone(),
             step_size: Some(self.step_size),
-            mean_given: self.mean_given,
+            mean_linked: self.mean_linked,
         })
         .unwrap_or(serde_json::Value::Null)
     }
@@ -304,12 +304,17 @@ impl NeuralFriction {
         let parsed = if at.version >= LAW_STATE_VERSION {
             parse_saved::<Saved>(saved).and_then(|saved| {
                 let step_size = step_size_of(&saved, at.version)?;
-                Ok((saved.settings, saved.law_state, step_size, saved.mean_given))
+                Ok((
+                    saved.settings,
+                    saved.law_state,
+                    step_size,
+                    saved.mean_linked,
+                ))
             })
         } else {
             parse_saved::<Settings>(saved).map(|settings| (settings, Vec::new(), 0.0, false))
         };
-        let (settings, law_state, step_size, mean_given) =
+        let (settings, law_state, step_size, mean_linked) =
             parsed.map_err(|e| format!("saved {WHAT} state: {e}"))?;
         let mut candidate = NeuralFriction::with_defaults();
         candidate.settings = settings;
@@ -319,7 +324,7 @@ impl NeuralFriction {
             settings: std::mem::replace(&mut self.settings, candidate.settings),
             law_state: std::mem::replace(&mut self.law_state, law_state),
             step_size: std::mem::replace(&mut self.step_size, step_size),
-            mean_given: std::mem::replace(&mut self.mean_given, mean_given),
+            mean_linked: std::mem::replace(&mut self.mean_linked, mean_linked),
             outputs: self.outputs,
         };
         let checked = if at.initialized {
@@ -388,7 +393,7 @@ impl NeuralFriction {
         self.settings = previous.settings;
         self.law_state = previous.law_state;
         self.step_size = previous.step_size;
-        self.mean_given = previous.mean_given;
+        self.mean_linked = previous.mean_linked;
         self.outputs = previous.outputs;
     }
 

@@ -28,19 +28,18 @@ stickslip::choice! {
         Auto = "auto": "mean for lugre and rate-and-state with the slip law, end for the aging law and the learned law (by the coupling error at h = 1e-3 s)",
         /// `sliding_velocity`, held over the step.
         End = "end": "sliding_velocity as set before the step (Gauss-Seidel: the beam's v_rel at the step's end)",
-        /// `mean_sliding_velocity` where set for this step, else `sliding_velocity`.
-        Mean = "mean": "mean_sliding_velocity, the beam's distance slid over the step / h, where the master set it since the last step; else sliding_velocity",
+        /// `mean_sliding_velocity` once a master has set it, else `sliding_velocity`.
+        Mean = "mean": "mean_sliding_velocity, the beam's distance slid over the step / h, once a master has set it (linked); else sliding_velocity",
     }
 }
 
 impl NeuralFriction {
     /// The velocity (m/s) the coming step commits the law's state with: the step's
-    /// mean where the settings choose it and the master set `mean_sliding_velocity`
-    /// since the last step (a master without that link gets `sliding_velocity`, as
-    /// before the input existed).
+    /// mean where the settings choose it and a master has set `mean_sliding_velocity`
+    /// (one without that link gets `sliding_velocity`, as before the input existed).
     pub(super) fn state_commit_velocity(&self) -> f64 {
         let s = &self.settings;
-        if self.mean_given && self.commits_at_mean() {
+        if self.mean_linked && self.commits_at_mean() {
             s.mean_sliding_velocity
         } else {
             s.sliding_velocity

@@ -149,7 +149,7 @@ pub(super) static VARIABLES: LazyLock<Vec<Variable<NeuralFriction>>> = LazyLock:
             STATE_VELOCITY,
             "state_velocity",
             StateVelocity,
-            "The velocity a law with state is committed with over a step: auto, end (sliding_velocity) or mean (mean_sliding_velocity where set for the step)",
+            "The velocity a law with state is committed with over a step: auto, end (sliding_velocity) or mean (mean_sliding_velocity once a master sets it)",
             |m: NeuralFriction| m.settings.state_velocity
         ),
     ];
@@ -201,9 +201,9 @@ pub(super) static VARIABLES: LazyLock<Vec<Variable<NeuralFriction>>> = LazyLock:
         MEAN_SLIDING_VELOCITY,
         "mean_sliding_velocity",
         Some("m/s"),
-        "Mean sliding velocity over the coming step (StickSlipBeam's mean_relative_velocity, Gauss-Seidel): commits a law's state where state_velocity chooses it; unused unless set since the last step",
+        "Mean sliding velocity over the coming step (StickSlipBeam's mean_relative_velocity, Gauss-Seidel): commits a law's state where state_velocity chooses it; unused until a master sets it",
         |m: NeuralFriction| m.settings.mean_sliding_velocity,
-        then = m.mean_given = true
+        then = m.mean_linked = true
     ),
     real_output!(
         FRICTION_FORCE,

@@ -53,7 +53,7 @@ pub const STATE_FORMAT: &str = "stickslip-fmu-state";
 ///   sliding velocity over the last step (an output, issue 36); an older state after a
 ///   step lacks it and is refused (`beam::saved`). NeuralFriction's settings gain
 ///   `state_velocity` (absent: `end`, as those states committed) and the input
-///   `mean_sliding_velocity` with whether it was set for the coming step (absent: not).
+///   `mean_sliding_velocity` with whether a master has set it (absent: not).
 pub const STATE_VERSION: u32 = 7;
 /// The first version whose bytes end in a checksum: the JSON text, then
 /// [`CHECKSUM_MARK`] and the CRC-32 (IEEE) of the JSON text's bytes in 8 lowercase hex
