@@ -519,7 +519,7 @@ fn measure_step_consistent_coupling() {
 /// | law | state committed at | step | signed |
 /// | --- | --- | --- | --- |
 /// | LuGre | the step's mean | 0.0069 mm, +0.19 % | 3.21 mm, +6.7 % |
-/// | rate-and-state, slip | the step's mean | 0.065 mm, -0.18 % | 0.055 mm, +0.18 % |
+/// | rate-and-state, slip | the step's mean | 0.066 mm, -0.18 % | 0.055 mm, +0.18 % |
 /// | rate-and-state, aging | the step's end | 0.138 mm, +3.4 % | 0.311 mm, +4.5 % |
 /// | learned law with memory | the step's end | 0.168 mm, +2.7 % | 0.286 mm, +4.7 % |
 ///
@@ -592,12 +592,10 @@ fn the_step_coupling_meets_the_bounds_at_a_smaller_step() {
 ///
 /// | law | mean | end |
 /// | --- | --- | --- |
-/// | rate-and-state, aging | 0.205 mm, +3.86 % | 0.138 mm, +3.36 % |
-/// | learned law with memory | 0.194 mm, +3.86 % | 0.168 mm, +2.68 % |
+/// | rate-and-state, aging | 0.197 mm, +3.69 % | 0.138 mm, +3.36 % |
+/// | learned law with memory | 0.230 mm, +4.03 % | 0.168 mm, +2.68 % |
 ///
-/// (The test loop's mean from the tip, before the FMUs had the link, gave 0.197 mm,
-/// +3.69 % and 0.230 mm, +4.03 %: the beam's mean divides by the time it advanced, the
-/// loop's by h, and the difference grows in these runs; not traced further.) (LuGre and the slip law gain: `the_step_coupling_at_the_systems_step`.) Asserted:
+/// (LuGre and the slip law gain: `the_step_coupling_at_the_systems_step`.) Asserted:
 /// the measured, within 1.25 times the deviation and 1 percentage point of period (as
 /// `the_step_coupling_at_the_systems_step`), and that the mean stays worse than the end
 /// velocity (so that `auto`'s choice holds).
@@ -605,8 +603,8 @@ fn the_step_coupling_meets_the_bounds_at_a_smaller_step() {
 fn the_state_committed_at_the_steps_mean_velocity() {
     let h = 1e-3;
     let worse = [
-        ("rate-and-state aging", 0.205e-3, 0.0386_f64),
-        ("learned", 0.194e-3, 0.0386),
+        ("rate-and-state aging", 0.197e-3, 0.0369_f64),
+        ("learned", 0.230e-3, 0.0403),
     ];
     for (name, law, setup) in state_law_setups(ExternalCoupling::Step) {
         let Some((_, deviation, period)) = worse.iter().find(|m| m.0 == name) else {
