@@ -33,10 +33,14 @@
 //!   last communication step's size (`step_size`); a version-4 or -5 state of a law
 //!   with state after a step that lacks it is refused (`step_size_of`).
 
+use super::laws::NeuralFrictionLaw;
+use super::state_velocity::StateVelocity;
 use super::{EvaluateError, InitialiseError, NeuralFriction, Outputs, Settings};
 use crate::instance::{check_as_set, parse_saved};
 use crate::model::{Model, Restoring};
 use serde::{Deserialize, Serialize};
+use stickslip::choice::Choice;
+use stickslip::friction::rate_and_state::{StateEvolution, STATE_EVOLUTION};
 use stickslip::friction::state::{LawStep, StatefulLaw, STATE_VARIABLES};
 use stickslip::friction::FrictionLaw;
 use stickslip::jacobian::LawJacobian;
@@ -418,5 +422,36 @@ impl NeuralFriction {
         self.adopt_saved(saved, at)?;
         self.time = at.time;
         Ok(())
+    }
+}
+
+/// The velocity a law's state is committed with (`state_velocity`, module notes of
+/// `super::state_velocity`).
+impl NeuralFriction {
+    /// The velocity (m/s) the coming step commits the law's state with: the step's
+    /// mean where the settings choose it and a master has set `mean_sliding_velocity`
+    /// (one without that link gets `sliding_velocity`, as before the input existed).
+    pub(super) fn state_commit_velocity(&self) -> f64 {
+        let s = &self.settings;
+        if self.mean_linked && self.commits_at_mean() {
+            s.mean_sliding_velocity
+        } else {
+            s.sliding_velocity
+        }
+    }
+
+    /// Whether `state_velocity` chooses the mean for the current law.
+    fn commits_at_mean(&self) -> bool {
+        let s = &self.settings;
+        match s.state_velocity {
+            StateVelocity::End => false,
+            StateVelocity::Mean => true,
+            StateVelocity::Auto => {
+                s.law == NeuralFrictionLaw::LUGRE
+                    || (s.law == NeuralFrictionLaw::RATE_AND_STATE
+                        && StateEvolution::from_code(s.laws.get(&STATE_EVOLUTION) as i32)
+                            == Some(StateEvolution::Slip))
+            }
+        }
     }
 }

@@ -12,11 +12,8 @@
 //! to 1.2 s), end -> mean: LuGre 0.244 -> 0.0069 mm, +4.66 -> +0.19 %; rate-and-state
 //! with the slip law 0.092 -> 0.066 mm, -0.53 -> -0.18 %; with the aging law 0.138 ->
 //! 0.197 mm; the learned law with memory 0.168 -> 0.230 mm. Hence `auto`: the mean for
-//! LuGre and the slip law, the end velocity for the aging law and the learned law.
-
-use super::{NeuralFriction, NeuralFrictionLaw};
-use stickslip::choice::Choice;
-use stickslip::friction::rate_and_state::{StateEvolution, STATE_EVOLUTION};
+//! LuGre and the slip law, the end velocity for the aging law and the learned law
+//! (`NeuralFriction::state_commit_velocity`, in `state_laws`).
 
 stickslip::choice! {
     /// Which velocity commits NeuralFriction's law state over a step (`state_velocity`).
@@ -30,34 +27,5 @@ stickslip::choice! {
         End = "end": "sliding_velocity as set before the step (Gauss-Seidel: the beam's v_rel at the step's end)",
         /// `mean_sliding_velocity` once a master has set it, else `sliding_velocity`.
         Mean = "mean": "mean_sliding_velocity, the beam's distance slid over the step / h, once a master has set it (linked); else sliding_velocity",
-    }
-}
-
-impl NeuralFriction {
-    /// The velocity (m/s) the coming step commits the law's state with: the step's
-    /// mean where the settings choose it and a master has set `mean_sliding_velocity`
-    /// (one without that link gets `sliding_velocity`, as before the input existed).
-    pub(super) fn state_commit_velocity(&self) -> f64 {
-        let s = &self.settings;
-        if self.mean_linked && self.commits_at_mean() {
-            s.mean_sliding_velocity
-        } else {
-            s.sliding_velocity
-        }
-    }
-
-    /// Whether `state_velocity` chooses the mean for the current law.
-    fn commits_at_mean(&self) -> bool {
-        let s = &self.settings;
-        match s.state_velocity {
-            StateVelocity::End => false,
-            StateVelocity::Mean => true,
-            StateVelocity::Auto => {
-                s.law == NeuralFrictionLaw::LUGRE
-                    || (s.law == NeuralFrictionLaw::RATE_AND_STATE
-                        && StateEvolution::from_code(s.laws.get(&STATE_EVOLUTION) as i32)
-                            == Some(StateEvolution::Slip))
-            }
-        }
     }
 }
