@@ -626,3 +626,44 @@ fn the_state_committed_at_the_steps_mean_velocity() {
         assert!(d > d_end, "{name}: mean {d} m, end {d_end} m");
     }
 }
+
+/// `mean_relative_velocity` is part of the beam's FMU state (version 7). A version-6
+/// state (which lacks it) after a step with `friction.law = external` is refused with
+/// the reason, since a coupled law with state commits with it; with a law inside the
+/// beam it restores, the mean read as v_rel at the restored point until the next step.
+/// A version-7 state restores it bit for bit.
+#[test]
+fn the_steps_mean_velocity_is_in_the_beams_state() {
+    for (law, refused) in [
+        (FrictionLawKind::External, true),
+        (FrictionLawKind::Lugre, false),
+    ] {
+        let mut b = beam_with(&Setup::modal(law, ExternalCoupling::Step));
+        for k in 0..450 {
+            b.do_step(k as f64 * 1e-3, 1e-3).unwrap();
+        }
+        let mean = beam_real(&mut b, "mean_relative_velocity");
+        assert!(mean.is_finite());
+        let saved = b.get_state().unwrap();
+        let bytes = saved.to_bytes();
+        let restored = b.deserialize_state(&bytes).unwrap();
+        b.set_state(&restored).unwrap();
+        assert_eq!(
+            beam_real(&mut b, "mean_relative_velocity").to_bits(),
+            mean.to_bits()
+        );
+        let mut old = saved.clone();
+        old.version = 6;
+        old.model["running"]
+            .as_object_mut()
+            .unwrap()
+            .remove("mean_relative_velocity");
+        let old = b.deserialize_state(&old.to_bytes());
+        assert_eq!(old.is_err(), refused, "{law:?}");
+        if let Ok(old) = old {
+            b.set_state(&old).unwrap();
+            let v_rel = beam_real(&mut b, "relative_velocity");
+            assert_eq!(beam_real(&mut b, "mean_relative_velocity"), v_rel);
+        }
+    }
+}

@@ -17,7 +17,7 @@ use stickslip_fmi::model::Model;
 use stickslip_tests::vr;
 
 /// One fixture: a serialized state and what the instance gave after it was saved.
-#[derive(Clone, Serialize, Deserialize)]
+#[derive(Serialize, Deserialize)]
 pub(crate) struct Fixture {
     /// "StickSlipBeam" or "NeuralFriction".
     pub fmu: String,
@@ -125,14 +125,11 @@ pub(crate) fn restored_outputs(f: &Fixture) -> Vec<Vec<u64>> {
     }
 }
 
-/// Every version-4 fixture, each after steps, is refused with the reason.
-/// NeuralFriction's (each of a law with state after 30 steps) have no `step_size` (the
-/// master's h, which the step-consistent pair of issue 36 looks ahead over, required
-/// from version 6 on): restored with h = 0 their first outputs would be the
-/// instantaneous pair, not the run's. StickSlipBeam's have no
-/// `mean_relative_velocity` (the mean sliding velocity over the last step, an output
-/// from version 7 on, with which a coupled law with state commits its state): the
-/// restored run could not output it; with it added they still restore bit for bit.
+/// StickSlipBeam's version-4 states restore bit for bit. NeuralFriction's, each of a
+/// law with state after 30 steps, are refused with the reason: they have no
+/// `step_size` (the master's h, which the step-consistent pair of issue 36 looks ahead
+/// over, required from version 6 on), and restored with h = 0 their first outputs
+/// would be the instantaneous pair, not the run's.
 #[test]
 fn version_4_states_restore_bit_for_bit_or_are_refused_without_a_step_size() {
     let all = fixtures();
@@ -153,26 +150,10 @@ fn version_4_states_restore_bit_for_bit_or_are_refused_without_a_step_size() {
             );
             refused += 1;
         } else {
-            let reason = refusal::<StickSlipBeam>(fixture);
-            assert!(
-                reason.contains("has no running.mean_relative_velocity")
-                    && reason.contains("save it again"),
-                "{name}: {reason}"
-            );
-            refused += 1;
-            // The rest of the old layout still reads: given the mean (any finite
-            // value; the beam's own outputs do not depend on it), it restores and steps
-            // on bit for bit.
-            let mut state: serde_json::Value = serde_json::from_str(&fixture.state).unwrap();
-            state["model"]["running"]["mean_relative_velocity"] = serde_json::json!(0.0);
-            let with_mean = Fixture {
-                state: state.to_string(),
-                ..fixture.clone()
-            };
-            assert_eq!(restored_outputs(&with_mean), fixture.values, "{name}");
+            assert_eq!(restored_outputs(fixture), fixture.values, "{name}");
         }
     }
-    assert_eq!(refused, 10);
+    assert_eq!(refused, 6);
 }
 
 /// The reason the instance gives for refusing the fixture's state (logged at error).

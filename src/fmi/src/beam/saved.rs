@@ -35,10 +35,12 @@ struct SavedRun {
 const MEAN_VELOCITY_VERSION: u32 = 7;
 
 /// The mean sliding velocity over the last step of a saved run of state `version`:
-/// required from version 7 on. An older state before its first step reads as v_rel
-/// at the start (`None`: the restored simulation's); one after a step is refused,
-/// since the mean it would output is lost and a coupled law with state would commit
-/// its next state with a wrong velocity.
+/// required from version 7 on. An older state lacks it. Before its first step, or
+/// with a law inside the beam (no coupled law commits its state with the mean), it
+/// reads as v_rel at the restored point (`None`: the restored simulation's), which
+/// only a read before the next step sees. After a step with `friction.law =
+/// external` it is refused: the mean is lost, and a coupled law with state would
+/// commit its next state with a wrong velocity.
 fn mean_of(run: &SavedRun, version: u32) -> Result<Option<f64>, String> {
     match run.mean_relative_velocity {
         Some(v) if v.is_finite() => Ok(Some(v)),
@@ -48,9 +50,13 @@ fn mean_of(run: &SavedRun, version: u32) -> Result<Option<f64>, String> {
         None if version >= MEAN_VELOCITY_VERSION => Err(format!(
             "running.mean_relative_velocity is missing: states of version {MEAN_VELOCITY_VERSION} and later carry the mean sliding velocity over the last step (m/s)"
         )),
-        None if run.state.time > 0.0 => Err(format!(
-            "a state of version {version} after a step has no running.mean_relative_velocity (the mean sliding velocity over the last step, saved from version {MEAN_VELOCITY_VERSION} on); it cannot restore the run as it was: save it again with this FMU"
-        )),
+        None if run.state.time > 0.0
+            && run.built_from.scene.friction.law == FrictionLawKind::External =>
+        {
+            Err(format!(
+                "a state of version {version} after a step with friction.law = external has no running.mean_relative_velocity (the mean sliding velocity over the last step, which a coupled law with state commits with, saved from version {MEAN_VELOCITY_VERSION} on); it cannot restore the run as it was: save it again with this FMU"
+            ))
+        }
         None => Ok(None),
     }
 }

@@ -51,7 +51,7 @@ pub const STATE_FORMAT: &str = "stickslip-fmu-state";
 ///   first outputs would be the instantaneous pair, not the run's.
 /// - 7: StickSlipBeam's running simulation carries `mean_relative_velocity`, the mean
 ///   sliding velocity over the last step (an output, issue 36); an older state after a
-///   step lacks it and is refused (`beam::saved`). NeuralFriction's settings gain
+///   step with `friction.law = external` lacks it and is refused (`beam::saved`). NeuralFriction's settings gain
 ///   `state_velocity` (absent: `end`, as those states committed) and the input
 ///   `mean_sliding_velocity` with whether a master has set it (absent: not).
 pub const STATE_VERSION: u32 = 7;
