@@ -294,6 +294,13 @@ pub fn coupled() -> System {
                 from: ("friction", "step_friction_slope"),
                 to: ("beam", "external.step_slope"),
             },
+            // The step's mean sliding velocity, with which NeuralFriction commits a law
+            // with state where its `state_velocity` says so (`auto`: LuGre and the slip
+            // law); a memoryless law has no state to commit and leaves it unread.
+            Connection {
+                from: ("beam", "mean_relative_velocity"),
+                to: ("friction", "mean_sliding_velocity"),
+            },
         ],
     }
 }

@@ -71,6 +71,10 @@ BEAM_FRICTION_STEP_LINKS = (
     *BEAM_FRICTION_SIGNED_LINKS,
     Link(FRICTION, "step_friction_force", BEAM, "external.step_force"),
     Link(FRICTION, "step_friction_slope", BEAM, "external.step_slope"),
+    # The step's mean sliding velocity, which commits LuGre's and the slip law's state
+    # (NeuralFriction's state_velocity = auto); Gauss-Seidel hands over the step's own,
+    # Jacobi the previous step's.
+    Link(BEAM, "mean_relative_velocity", FRICTION, "mean_sliding_velocity"),
 )
 # StickSlipBeam's external.coupling -> the links it reads. `magnitude` suits laws
 # sign(v) g(|v|) (the exponential law, the signed network); `signed` smooth signed laws

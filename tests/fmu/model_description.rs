@@ -14,6 +14,7 @@ use stickslip::simulation::ExternalCoupling;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::friction::NeuralFrictionLaw;
+use stickslip_fmi::friction::StateVelocity;
 use stickslip_fmi::model::Model;
 use stickslip_fmi::model_description::CHOICES_TOOL;
 use stickslip_fmi::variables::{
@@ -282,6 +283,7 @@ fn the_annotated_choices_are_the_scenes_choices() {
         annotated_choices(&checked_in(FmuKind::NeuralFriction)),
         vec![
             declared::<NeuralFrictionLaw>("law"),
+            declared::<StateVelocity>("state_velocity"),
             declared::<StateEvolution>("friction.rate_and_state.state_evolution"),
         ]
     );

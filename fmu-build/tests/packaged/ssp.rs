@@ -150,10 +150,10 @@ fn parameters_are_the_defaults_except_what_the_system_sets() {
             })
             .collect::<Vec<_>>()
     };
-    // NeuralFriction: law, three coefficients, weights, and every law's parameters
-    // (the registry's: LuGre's 3, rate-and-state's 6, Stribeck's 2, ...).
+    // NeuralFriction: law, three coefficients, weights, state_velocity, and every law's
+    // parameters (the registry's: LuGre's 3, rate-and-state's 6, Stribeck's 2, ...).
     let law_parameters = stickslip::friction::registry::parameters().count();
-    assert!(beam_starts.len() > 20 && friction_starts.len() == 5 + law_parameters);
+    assert!(beam_starts.len() > 20 && friction_starts.len() == 6 + law_parameters);
     assert_eq!(
         ssd_parameters(&coupled, "beam"),
         with(
@@ -261,6 +261,12 @@ fn the_coupled_system_is_wired_beam_to_friction_and_back() {
             "step_friction_slope",
             "beam",
             "external.step_slope",
+        ),
+        (
+            "beam",
+            "mean_relative_velocity",
+            "friction",
+            "mean_sliding_velocity",
         ),
     ];
     assert_eq!(ssd.matches("<ssd:Connection ").count(), links.len());

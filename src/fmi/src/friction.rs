@@ -34,9 +34,11 @@ mod derivatives;
 mod laws;
 mod model;
 mod state_laws;
+mod state_velocity;
 mod variables;
 
 pub use laws::NeuralFrictionLaw;
+pub use state_velocity::StateVelocity;
 
 /// How many features beyond velocity and normal force a network may have.
 pub const EXTRA_FEATURES: usize = 4;
@@ -58,6 +60,17 @@ struct Settings {
     sliding_velocity: f64,
     normal_force: f64,
     extra_features: [f64; EXTRA_FEATURES],
+    /// Which velocity commits a law's state (`state_velocity`); absent from states
+    /// saved before it existed, which committed at `sliding_velocity`: read as `end`.
+    #[serde(default = "end_velocity")]
+    state_velocity: StateVelocity,
+    /// The input `mean_sliding_velocity` (m/s): the beam's mean v_rel over the step.
+    #[serde(default)]
+    mean_sliding_velocity: f64,
+}
+
+fn end_velocity() -> StateVelocity {
+    StateVelocity::End
 }
 
 impl Settings {
@@ -125,6 +138,8 @@ impl Default for Settings {
             sliding_velocity: 0.0,
             normal_force: scene.loading.normal_force,
             extra_features: [0.0; EXTRA_FEATURES],
+            state_velocity: StateVelocity::default(),
+            mean_sliding_velocity: 0.0,
         }
     }
 }
@@ -199,6 +214,12 @@ pub struct NeuralFriction {
     /// The size (s) of the last communication step of nonzero size, the master's h:
     /// the step the step-consistent pair looks ahead over; 0 before the first step.
     step_size: f64,
+    /// `mean_sliding_velocity` has been set: a master links it (one that does not never
+    /// sets it, and its steps commit at `sliding_velocity`, as before the input
+    /// existed). Not "set since the last step": Ecos sets an input only when its value
+    /// changes (tested: in stick the mean repeats). Not a setting, since no variable
+    /// sets it back to false (`check_as_set`); reset by fmi2Reset.
+    mean_linked: bool,
 }
 
 /// Why initialisation refuses the parameters (fmi2ExitInitializationMode), and a saved
@@ -312,6 +333,8 @@ const SLIDING_VELOCITY: u32 = 10;
 const NORMAL_FORCE: u32 = 11;
 /// extra_feature[1] ... extra_feature[4].
 const EXTRA_FEATURE: [u32; EXTRA_FEATURES] = [12, 13, 14, 15];
+const MEAN_SLIDING_VELOCITY: u32 = 17;
+const STATE_VELOCITY: u32 = 6;
 const FRICTION_FORCE: u32 = 20;
 const FRICTION_FORCE_MAGNITUDE: u32 = 21;
 const FRICTION_COEFFICIENT: u32 = 22;

@@ -168,10 +168,12 @@ impl StickSlipBeam {
         if law.is_external() {
             simulator.set_external_friction(Some(self.external_friction()));
         }
+        let at_start = simulator.sample().relative_velocity;
         self.running = Some(Running {
             built_from: self.settings.clone(),
             simulator,
             start_time,
+            mean_relative_velocity: at_start,
         });
         Ok(())
     }

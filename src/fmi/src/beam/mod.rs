@@ -120,6 +120,14 @@ struct Running {
     simulator: Simulator,
     /// Time (s) at which the simulation's t = 0 lies.
     start_time: f64,
+    /// The mean sliding velocity (m/s) over the last step that advanced time (output
+    /// `mean_relative_velocity`): v_b - (u(t_k+1) - u(t_k)) / (t_k+1 - t_k) with u
+    /// the tip deflection, the distance slid over the step divided by its length,
+    /// exact for any motion within it (the belt speed is an input, held over the
+    /// step). Before the first step, v_rel at the start. A law with state in a
+    /// coupled friction model commits its state with it (issue 36,
+    /// `friction::state_velocity`).
+    mean_relative_velocity: f64,
 }
 
 pub struct StickSlipBeam {
@@ -147,10 +155,11 @@ impl StickSlipBeam {
     /// fmi2DoStep / fmi3DoStep: advances the simulation to `to` (s, FMU clock), or,
     /// with `stop_at_switch`, until the end of the internal step in which the contact
     /// switched, returning that time (see `Simulator::advance_until_switch`). Every
-    /// transition made is listed in `events`.
+    /// transition made is listed in `events`. `size` (s) is the master's step.
     fn advance(
         &mut self,
         to: f64,
+        size: f64,
         stop_at_switch: bool,
         events: &mut Vec<String>,
     ) -> Result<Option<f64>, String> {
@@ -158,6 +167,10 @@ impl StickSlipBeam {
             return Err("the simulation was not initialised".into());
         };
         let before = running.simulator.state().transition_count;
+        let (t_before, tip_before) = {
+            let s = running.simulator.sample();
+            (s.time, s.tip_deflection)
+        };
         let target = to - running.start_time;
         let result = if stop_at_switch {
             running.simulator.advance_until_switch(target)
@@ -189,6 +202,20 @@ impl StickSlipBeam {
             ));
         }
         let switched = result.map_err(|e| e.to_string())?;
+        let after = running.simulator.sample();
+        // Divided by the master's step, not by the simulation's clock difference: the
+        // simulation lands on `to` as each master computes it, so its clock differs in
+        // the last bits between masters (k h or a running sum, libcosim's nanoseconds;
+        // Ecos's bits differed), where the steps, and so the distance slid, are the
+        // same. A step that ended early at a switch is divided by the time it advanced.
+        let advanced = match switched {
+            Some(at) if at < target => at - t_before,
+            _ => size,
+        };
+        if advanced > 0.0 && after.time > t_before {
+            running.mean_relative_velocity =
+                self.settings.inputs.belt_speed - (after.tip_deflection - tip_before) / advanced;
+        }
         // The switch time on the FMU's clock; a switch in the step landing on `to` ends
         // there exactly, as a step without one does.
         Ok(switched.map(|at| {

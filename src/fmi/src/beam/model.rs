@@ -74,18 +74,19 @@ impl Model for StickSlipBeam {
         Ok(())
     }
 
-    // The beam steps on its own time grid to `to`; the step size is not needed.
-    fn do_step(&mut self, to: f64, _size: f64, events: &mut Vec<String>) -> Result<(), String> {
-        self.advance(to, false, events).map(|_| ())
+    // The beam steps on its own time grid to `to`; the step size divides the distance
+    // slid over it (`mean_relative_velocity`).
+    fn do_step(&mut self, to: f64, size: f64, events: &mut Vec<String>) -> Result<(), String> {
+        self.advance(to, size, false, events).map(|_| ())
     }
 
     fn do_step_until_event(
         &mut self,
         to: f64,
-        _size: f64,
+        size: f64,
         events: &mut Vec<String>,
     ) -> Result<Option<f64>, String> {
-        self.advance(to, true, events)
+        self.advance(to, size, true, events)
     }
 
     fn take_notes(&mut self) -> Vec<String> {

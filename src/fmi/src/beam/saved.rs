@@ -26,6 +26,39 @@ struct SavedRun {
     built_from: Settings,
     start_time: f64,
     state: SimulationState,
+    /// `Running::mean_relative_velocity`; from state version 7 on (`mean_of`).
+    #[serde(default)]
+    mean_relative_velocity: Option<f64>,
+}
+
+/// The first state version whose running beam carries `mean_relative_velocity`.
+const MEAN_VELOCITY_VERSION: u32 = 7;
+
+/// The mean sliding velocity over the last step of a saved run of state `version`:
+/// required from version 7 on. An older state lacks it. Before its first step, or
+/// with a law inside the beam (no coupled law commits its state with the mean), it
+/// reads as v_rel at the restored point (`None`: the restored simulation's), which
+/// only a read before the next step sees. After a step with `friction.law =
+/// external` it is refused: the mean is lost, and a coupled law with state would
+/// commit its next state with a wrong velocity.
+fn mean_of(run: &SavedRun, version: u32) -> Result<Option<f64>, String> {
+    match run.mean_relative_velocity {
+        Some(v) if v.is_finite() => Ok(Some(v)),
+        Some(v) => Err(format!(
+            "running.mean_relative_velocity = {v}: it must be finite (m/s)"
+        )),
+        None if version >= MEAN_VELOCITY_VERSION => Err(format!(
+            "running.mean_relative_velocity is missing: states of version {MEAN_VELOCITY_VERSION} and later carry the mean sliding velocity over the last step (m/s)"
+        )),
+        None if run.state.time > 0.0
+            && run.built_from.scene.friction.law == FrictionLawKind::External =>
+        {
+            Err(format!(
+                "a state of version {version} after a step with friction.law = external has no running.mean_relative_velocity (the mean sliding velocity over the last step, which a coupled law with state commits with, saved from version {MEAN_VELOCITY_VERSION} on); it cannot restore the run as it was: save it again with this FMU"
+            ))
+        }
+        None => Ok(None),
+    }
 }
 
 /// The transitions that state versions 1 and 2 listed beside the simulation state: every
@@ -75,6 +108,7 @@ impl TryFrom<SavedV2> for Saved {
                     built_from: run.built_from,
                     start_time: run.start_time,
                     state: run.state,
+                    mean_relative_velocity: None,
                 })
             }
             None => None,
@@ -169,6 +203,7 @@ impl StickSlipBeam {
                 built_from: r.built_from.clone(),
                 start_time: r.start_time,
                 state: r.simulator.state().clone(),
+                mean_relative_velocity: Some(r.mean_relative_velocity),
             }),
         };
         serde_json::to_value(saved).unwrap_or(serde_json::Value::Null)
@@ -226,6 +261,7 @@ impl StickSlipBeam {
         let Some(run) = &saved.running else {
             return Ok(());
         };
+        mean_of(run, at.version)?;
         // fmi2DoStep lands the simulation exactly on each communication point, so the
         // two clocks agree to rounding; half a time step separates rounding from a
         // crafted gap that the next step would have to integrate through.
@@ -278,6 +314,8 @@ impl StickSlipBeam {
             self.initialized = false;
             return Ok(());
         };
+        let mean =
+            mean_of(&run, at.version).map_err(|e| format!("saved StickSlipBeam state: {e}"))?;
         // Build (or keep) the simulation of the saved settings, then load its state; on
         // failure the model is left as it was.
         let previous_settings = std::mem::replace(&mut self.settings, run.built_from.clone());
@@ -301,6 +339,8 @@ impl StickSlipBeam {
                 .restore(run.state)
                 .map_err(|e| e.to_string())?;
             running.start_time = run.start_time;
+            running.mean_relative_velocity =
+                mean.unwrap_or_else(|| running.simulator.sample().relative_velocity);
             Ok::<(), String>(())
         });
         match restored {

@@ -431,6 +431,14 @@ pub(super) static VARIABLES: LazyLock<Vec<Variable<StickSlipBeam>>> = LazyLock::
         BEAM_OUTPUT,
         |m: StickSlipBeam| m.output(|s| s.holding_force)
     ),
+    real_output!(
+        207,
+        "mean_relative_velocity",
+        Some("m/s"),
+        "Mean of relative_velocity over the last communication step: the distance slid over it / its length (relative_velocity before the first step); NeuralFriction's mean_sliding_velocity",
+        BEAM_OUTPUT,
+        |m: StickSlipBeam| m.running.as_ref().map_or(0.0, |r| r.mean_relative_velocity)
+    ),
     Variable {
         name: "stick",
         value_reference: 205,

@@ -39,6 +39,7 @@ impl Model for NeuralFriction {
             law_state: Vec::new(),
             time: 0.0,
             step_size: 0.0,
+            mean_linked: false,
         }
     }
 
@@ -54,6 +55,7 @@ impl Model for NeuralFriction {
         self.law_state.clear();
         self.time = 0.0;
         self.step_size = 0.0;
+        self.mean_linked = false;
     }
 
     fn refresh_outputs(&mut self, _start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {

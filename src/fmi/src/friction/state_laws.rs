@@ -33,10 +33,14 @@
 //!   last communication step's size (`step_size`); a version-4 or -5 state of a law
 //!   with state after a step that lacks it is refused (`step_size_of`).
 
+use super::laws::NeuralFrictionLaw;
+use super::state_velocity::StateVelocity;
 use super::{EvaluateError, InitialiseError, NeuralFriction, Outputs, Settings};
 use crate::instance::{check_as_set, parse_saved};
 use crate::model::{Model, Restoring};
 use serde::{Deserialize, Serialize};
+use stickslip::choice::Choice;
+use stickslip::friction::rate_and_state::{StateEvolution, STATE_EVOLUTION};
 use stickslip::friction::state::{LawStep, StatefulLaw, STATE_VARIABLES};
 use stickslip::friction::FrictionLaw;
 use stickslip::jacobian::LawJacobian;
@@ -61,6 +65,10 @@ struct Saved {
     /// in version 5 without a bump): `step_size_of`.
     #[serde(default)]
     step_size: Option<f64>,
+    /// `mean_sliding_velocity` has been set (`NeuralFriction::mean_linked`; from
+    /// version 7 on; absent: not, as no earlier FMU had the input).
+    #[serde(default)]
+    mean_linked: bool,
 }
 
 /// The step size of a saved state of `version`: required from version 6 on; before,
@@ -120,6 +128,7 @@ struct Adopted {
     settings: Settings,
     law_state: Vec<f64>,
     step_size: f64,
+    mean_linked: bool,
     outputs: Outputs,
 }
 
@@ -252,7 +261,7 @@ impl NeuralFriction {
         self.time = to;
         let step = LawStep {
             dt: size,
-            sliding_velocity: self.settings.sliding_velocity,
+            sliding_velocity: self.state_commit_velocity(),
             normal_force: self.settings.normal_force,
         };
         let Some(law) = self.memory_law()? else {
@@ -286,6 +295,7 @@ impl NeuralFriction {
             settings: self.settings.clone(),
             law_state: self.law_state.clone(),
             step_size: Some(self.step_size),
+            mean_linked: self.mean_linked,
         })
         .unwrap_or(serde_json::Value::Null)
     }
@@ -298,12 +308,17 @@ impl NeuralFriction {
         let parsed = if at.version >= LAW_STATE_VERSION {
             parse_saved::<Saved>(saved).and_then(|saved| {
                 let step_size = step_size_of(&saved, at.version)?;
-                Ok((saved.settings, saved.law_state, step_size))
+                Ok((
+                    saved.settings,
+                    saved.law_state,
+                    step_size,
+                    saved.mean_linked,
+                ))
             })
         } else {
-            parse_saved::<Settings>(saved).map(|settings| (settings, Vec::new(), 0.0))
+            parse_saved::<Settings>(saved).map(|settings| (settings, Vec::new(), 0.0, false))
         };
-        let (settings, law_state, step_size) =
+        let (settings, law_state, step_size, mean_linked) =
             parsed.map_err(|e| format!("saved {WHAT} state: {e}"))?;
         let mut candidate = NeuralFriction::with_defaults();
         candidate.settings = settings;
@@ -313,6 +328,7 @@ impl NeuralFriction {
             settings: std::mem::replace(&mut self.settings, candidate.settings),
             law_state: std::mem::replace(&mut self.law_state, law_state),
             step_size: std::mem::replace(&mut self.step_size, step_size),
+            mean_linked: std::mem::replace(&mut self.mean_linked, mean_linked),
             outputs: self.outputs,
         };
         let checked = if at.initialized {
@@ -381,6 +397,7 @@ impl NeuralFriction {
         self.settings = previous.settings;
         self.law_state = previous.law_state;
         self.step_size = previous.step_size;
+        self.mean_linked = previous.mean_linked;
         self.outputs = previous.outputs;
     }
 
@@ -405,5 +422,36 @@ impl NeuralFriction {
         self.adopt_saved(saved, at)?;
         self.time = at.time;
         Ok(())
+    }
+}
+
+/// The velocity a law's state is committed with (`state_velocity`, module notes of
+/// `super::state_velocity`).
+impl NeuralFriction {
+    /// The velocity (m/s) the coming step commits the law's state with: the step's
+    /// mean where the settings choose it and a master has set `mean_sliding_velocity`
+    /// (one without that link gets `sliding_velocity`, as before the input existed).
+    pub(super) fn state_commit_velocity(&self) -> f64 {
+        let s = &self.settings;
+        if self.mean_linked && self.commits_at_mean() {
+            s.mean_sliding_velocity
+        } else {
+            s.sliding_velocity
+        }
+    }
+
+    /// Whether `state_velocity` chooses the mean for the current law.
+    fn commits_at_mean(&self) -> bool {
+        let s = &self.settings;
+        match s.state_velocity {
+            StateVelocity::End => false,
+            StateVelocity::Mean => true,
+            StateVelocity::Auto => {
+                s.law == NeuralFrictionLaw::LUGRE
+                    || (s.law == NeuralFrictionLaw::RATE_AND_STATE
+                        && StateEvolution::from_code(s.laws.get(&STATE_EVOLUTION) as i32)
+                            == Some(StateEvolution::Slip))
+            }
+        }
     }
 }

@@ -145,6 +145,13 @@ pub(super) static VARIABLES: LazyLock<Vec<Variable<NeuralFriction>>> = LazyLock:
             "Network weights: a file in resources/ or an absolute path",
             |m: NeuralFriction| m.settings.weights
         ),
+        choice_parameter!(
+            STATE_VELOCITY,
+            "state_velocity",
+            StateVelocity,
+            "The velocity a law with state is committed with over a step: auto, end (sliding_velocity) or mean (mean_sliding_velocity once a master sets it)",
+            |m: NeuralFriction| m.settings.state_velocity
+        ),
     ];
     let tail = [
     real_input!(
@@ -189,6 +196,14 @@ pub(super) static VARIABLES: LazyLock<Vec<Variable<NeuralFriction>>> = LazyLock:
         None,
         "Fourth further network feature, if any",
         |m: NeuralFriction| m.settings.extra_features[3]
+    ),
+    real_input!(
+        MEAN_SLIDING_VELOCITY,
+        "mean_sliding_velocity",
+        Some("m/s"),
+        "Mean sliding velocity over the coming step (StickSlipBeam's mean_relative_velocity, Gauss-Seidel): commits a law's state where state_velocity chooses it; unused until a master sets it",
+        |m: NeuralFriction| m.settings.mean_sliding_velocity,
+        then = m.mean_linked = true
     ),
     real_output!(
         FRICTION_FORCE,

@@ -49,7 +49,12 @@ pub const STATE_FORMAT: &str = "stickslip-fmu-state";
 ///   with and without it (it came without a bump); one without it, of a law with state
 ///   after a step, is refused (`friction::state_laws`), because restored with h = 0 its
 ///   first outputs would be the instantaneous pair, not the run's.
-pub const STATE_VERSION: u32 = 6;
+/// - 7: StickSlipBeam's running simulation carries `mean_relative_velocity`, the mean
+///   sliding velocity over the last step (an output, issue 36); an older state after a
+///   step with `friction.law = external` lacks it and is refused (`beam::saved`). NeuralFriction's settings gain
+///   `state_velocity` (absent: `end`, as those states committed) and the input
+///   `mean_sliding_velocity` with whether a master has set it (absent: not).
+pub const STATE_VERSION: u32 = 7;
 /// The first version whose bytes end in a checksum: the JSON text, then
 /// [`CHECKSUM_MARK`] and the CRC-32 (IEEE) of the JSON text's bytes in 8 lowercase hex
 /// digits. Older versions are the JSON text alone.
