@@ -559,3 +559,42 @@ fn a_scene_with_a_structure_runs_on_it() {
         "{stderr}"
     );
 }
+
+/// A sensor whose output would repeat a column of the CSV (`stick`, or `t` through its
+/// velocity column's base) is refused before the run, naming the output; without
+/// `--out` there is no CSV and the same scene runs.
+#[test]
+fn simulate_refuses_a_sensor_named_like_a_csv_column() {
+    let dir = std::env::temp_dir().join(format!("stickslip-cli-sensor-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let job =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/calculix-beam/beam");
+    let scene = dir.join("scene.toml");
+    let csv = dir.join("run.csv");
+    for (sensor, clash) in [("stick", "stick"), ("tip", "tip_velocity")] {
+        std::fs::write(
+            &scene,
+            format!(
+                "[time]\nend = 0.001\n[structure]\nformat = \"calculix\"\njob = {:?}\ncontact = {{ node = 502, direction = 2 }}\nsensors = [{{ name = \"{sensor}\", node = 252, direction = 2 }}]\n",
+                job.to_str().unwrap()
+            ),
+        )
+        .unwrap();
+        let (ok, _, stderr) = stickslip(&[
+            "simulate",
+            "--scene",
+            scene.to_str().unwrap(),
+            "--out",
+            csv.to_str().unwrap(),
+        ]);
+        assert!(!ok);
+        assert!(
+            stderr.contains(&format!("the sensor output {clash} is also a column")),
+            "{stderr}"
+        );
+        assert!(!csv.exists(), "a refused run wrote {}", csv.display());
+    }
+    let (ok, _, stderr) = stickslip(&["simulate", "--scene", scene.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    std::fs::remove_dir_all(&dir).ok();
+}

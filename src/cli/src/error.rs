@@ -41,6 +41,9 @@ pub enum CliError {
     DataWithoutTarget,
     #[error("--data needs --features A,B,... (the input columns)")]
     DataWithoutFeatures,
+    /// A `[structure]` sensor whose CSV column would repeat one `simulate --out` writes.
+    #[error("structure.sensors: the sensor output {0} is also a column of the CSV that --out writes (t, tip_deflection, tip_velocity, friction_force, stick and the law's state); rename the sensor")]
+    SensorNamesAColumn(String),
 
     /// An output file: nothing was put in its place (`stickslip::files`). Checked before
     /// training too, so that minutes of training are not lost at the end.

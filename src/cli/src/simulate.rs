@@ -47,6 +47,27 @@ pub struct SimulateArgs {
     pub summary_json: Option<PathBuf>,
 }
 
+/// The columns every CSV of `simulate --out` starts with.
+pub const FIXED_COLUMNS: [&str; 5] = [
+    "t",
+    "tip_deflection",
+    "tip_velocity",
+    "friction_force",
+    "stick",
+];
+
+/// The first sensor output (`NAME` or `NAME_velocity`) that would repeat a column of the
+/// CSV: a file with two columns of one name is read by most tools as one of them only.
+pub fn sensor_column_clash(sensors: &[Sensor]) -> Option<String> {
+    let taken = |name: &str| {
+        FIXED_COLUMNS.contains(&name) || STATE_VARIABLES.iter().any(|v| v.name == name)
+    };
+    sensors
+        .iter()
+        .flat_map(|s| [s.name.clone(), s.velocity_name()])
+        .find(|name| taken(name))
+}
+
 /// Writes samples as the contract's CSV, with a column for each of the law's state
 /// variables `law_state` (indices in `STATE_VARIABLES` and `Sample::law_state`, as
 /// `run::Run::law_state_slots` gives them; none for a memoryless law, whose file is
@@ -58,7 +79,7 @@ pub fn write_csv(
     law_state: &[usize],
     (sensors, readings): (&[Sensor], &[Vec<SensorReading>]),
 ) -> std::io::Result<()> {
-    write!(w, "t,tip_deflection,tip_velocity,friction_force,stick")?;
+    write!(w, "{}", FIXED_COLUMNS.join(","))?;
     for &k in law_state {
         write!(w, ",{}", STATE_VARIABLES[k].name)?;
     }
@@ -92,6 +113,12 @@ pub fn simulate(args: &SimulateArgs) -> Result<(), CliError> {
         .as_ref()
         .map(|s| s.sensors.clone())
         .unwrap_or_default();
+    // Before the run, so that a long run is not lost to a file it cannot write.
+    if args.out.is_some() {
+        if let Some(name) = sensor_column_clash(&sensors) {
+            return Err(CliError::SensorNamesAColumn(name));
+        }
+    }
     // The summary is computed on every step; decimation applies to the CSV only.
     let run = run_scene(scene, &law, 1)?;
     // Both files or neither: a summary without its samples would be taken for a run.
