@@ -101,10 +101,18 @@ fn an_unmet_tolerance_is_refused_with_the_best_achievable_number() {
     // 1e-11 m: below what the front's finest pair resolves (their runs differ by
     // 6e-10 m over 0.6 s on the paper scene).
     let error = choose(&scene, &law, 1e-11, &front, &mut |_| {}).unwrap_err();
-    let AutoError::Unmet { best, ref over, .. } = error else {
+    let AutoError::Unmet {
+        best,
+        ref over,
+        ref among,
+        ..
+    } = error
+    else {
         panic!("{error}");
     };
     assert!(best.is_finite() && best > 1e-11, "{best}");
+    // The paper front is the shipped one of the exponential law: the message names its file.
+    assert_eq!(among, "of the front data/pareto_front.json");
     assert!(over.contains("the whole run, 0 to 0.600 s"), "{over}");
     assert!(
         error.to_string().contains(&format!("{best:.3e}")),

@@ -189,10 +189,11 @@ fn an_unmet_tolerance_says_what_would_be_needed() {
         tolerance: 1e-12,
         best: 1.0389e-8,
         over: stickslip::auto::span(stickslip::auto::Reach::Whole, 1.2),
+        among: "of the front data/pareto_front.json".to_string(),
     };
     assert_eq!(
         e.to_string(),
-        "fidelity = auto: no configuration of the front is verified to meet the tolerance 1e-12 m on this scene over the whole run, 0 to 1.200 s; the best achievable estimated largest tip deviation is 1.039e-8 m. Choose a tolerance of at least that, a shorter run, or a fidelity by hand."
+        "fidelity = auto: no configuration of the front data/pareto_front.json is verified to meet the tolerance 1e-12 m on this scene over the whole run, 0 to 1.200 s; the best achievable estimated largest tip deviation is 1.039e-8 m. Choose a tolerance of at least that, a shorter run, or a fidelity by hand."
     );
     let front = paper_front().unwrap();
     let e = stickslip::auto::check_front(&[front[1], front[0]]).unwrap_err();

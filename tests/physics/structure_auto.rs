@@ -69,10 +69,14 @@ fn an_unreachable_tolerance_is_refused_with_the_best_achievable() {
     let front = paper_front().unwrap();
     let error = choose(&scene, &law, 1e-12, &front, &mut |_| {}).unwrap_err();
     println!("{error}");
-    let AutoError::Unmet { best, .. } = error else {
+    let AutoError::Unmet {
+        best, ref among, ..
+    } = error
+    else {
         panic!("{error:?}");
     };
     assert!(best > 1e-12 && best.is_finite(), "{best}");
+    assert!(among.contains("structure's modal reductions"), "{among}");
 }
 
 /// A law with state on a user's structure is refused by auto with the reason: the

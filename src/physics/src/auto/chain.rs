@@ -103,6 +103,7 @@ pub fn choose_over(
         return super::structure::choose(scene, law, tolerance, horizon, progress);
     }
     check_front(front)?;
+    let given = front;
     let started = Instant::now();
     // The front as this scene takes it: mode counts by its spectrum (`transfer`), only
     // the configurations its rules admit.
@@ -153,10 +154,16 @@ pub fn choose_over(
         .iter()
         .map(|c| c.estimated_error)
         .fold(f64::INFINITY, f64::min);
+    let shipped = super::front::ShippedFront::of(scene, law);
+    let among = match shipped.front() {
+        Ok(points) if points.as_slice() == given => format!("of the front {}", shipped.file()),
+        _ => "of the given front".to_string(),
+    };
     Err(AutoError::Unmet {
         tolerance,
         best,
         over: super::resolve::span(reach, window),
+        among,
     })
 }
 

@@ -240,12 +240,14 @@ pub enum AutoError {
     #[error("fidelity = auto, running {0}")]
     Calibration(#[source] Failed),
     /// No point with a partner meets `tolerance` (m) over `over` ([`span`]); `best` is
-    /// the smallest estimated largest deviation (m), the best achievable.
-    #[error("fidelity = auto: no configuration of the front is verified to meet the tolerance {tolerance:e} m on this scene over {over}; the best achievable estimated largest tip deviation is {best:.3e} m. Choose a tolerance of at least that, a shorter run, or a fidelity by hand.")]
+    /// the smallest estimated largest deviation (m), the best achievable; `among` names
+    /// what was searched (a front and its file, or a structure's candidates).
+    #[error("fidelity = auto: no configuration {among} is verified to meet the tolerance {tolerance:e} m on this scene over {over}; the best achievable estimated largest tip deviation is {best:.3e} m. Choose a tolerance of at least that, a shorter run, or a fidelity by hand.")]
     Unmet {
         tolerance: f64,
         best: f64,
         over: String,
+        among: String,
     },
     /// `fidelity = auto` on a user's `[structure]` with a law with state (`law`, the
     /// scene's `friction.law`): the structure's ladder was verified with the memoryless

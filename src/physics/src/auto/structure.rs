@@ -190,6 +190,7 @@ pub fn choose(
             tolerance,
             best,
             over: super::resolve::span(reach, window),
+            among: "of the structure's modal reductions and full model".to_string(),
         });
     };
     let choice = tried.last().expect("the choice was tried").clone();
