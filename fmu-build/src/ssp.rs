@@ -301,13 +301,6 @@ pub fn coupled() -> System {
                 from: ("beam", "mean_relative_velocity"),
                 to: ("friction", "mean_sliding_velocity"),
             },
-            // When that mean's step ended: NeuralFriction tells by it whether the master
-            // steps it after the beam (Gauss-Seidel, commit as it comes) or from the same
-            // point (Jacobi: re-commit the step before, predict one).
-            Connection {
-                from: ("beam", "mean_relative_velocity_time"),
-                to: ("friction", "mean_sliding_velocity_time"),
-            },
         ],
     }
 }

@@ -75,10 +75,6 @@ BEAM_FRICTION_STEP_LINKS = (
     # (NeuralFriction's state_velocity = auto); Gauss-Seidel hands over the step's own,
     # Jacobi the previous step's.
     Link(BEAM, "mean_relative_velocity", FRICTION, "mean_sliding_velocity"),
-    # When that step ended: at the friction step's start in Jacobi, where NeuralFriction
-    # re-commits the step before with it and predicts one step; at its end in
-    # Gauss-Seidel, where it commits as the mean comes.
-    Link(BEAM, "mean_relative_velocity_time", FRICTION, "mean_sliding_velocity_time"),
 )
 # StickSlipBeam's external.coupling -> the links it reads. `magnitude` suits laws
 # sign(v) g(|v|) (the exponential law, the signed network); `signed` smooth signed laws

@@ -110,9 +110,6 @@ fn coupled(law: NeuralFrictionLaw, h: f64) -> Vec<f64> {
 enum Scheme {
     GaussSeidel,
     Jacobi,
-    /// Jacobi without the link of the mean's time (`mean_relative_velocity_time` ->
-    /// `mean_sliding_velocity_time`): the systems before it.
-    JacobiUntimed,
     /// Jacobi, NeuralFriction re-committing (emulated in the loop with its FMU state):
     /// at t_k it restores its state at t_k-1, commits [t_k-1, t_k] as Gauss-Seidel does
     /// (v_rel(t_k), the mean over [t_k-1, t_k]), saves that, and predicts one step with
@@ -235,19 +232,10 @@ fn coupled_holding(
     let sliding = [vr::<NeuralFriction>("sliding_velocity")];
     // The link of the step's mean (not made with `End`: a master without it).
     let mean_link = held != StateVelocity::End;
-    // The link of the mean's time, which the systems carry with the mean's (not made
-    // by the emulated re-commit, which keeps NeuralFriction's Jacobi behaviour of
-    // before and does the re-commit itself).
-    let time_link = mean_link && matches!(scheme, Scheme::GaussSeidel | Scheme::Jacobi);
     let mean = |b: &mut Instance<StickSlipBeam>, f: &mut Instance<NeuralFriction>| {
         let m = beam_real(b, "mean_relative_velocity");
         f.set_real(&[vr::<NeuralFriction>("mean_sliding_velocity")], &[m])
             .unwrap();
-        if time_link {
-            let t = beam_real(b, "mean_relative_velocity_time");
-            f.set_real(&[vr::<NeuralFriction>("mean_sliding_velocity_time")], &[t])
-                .unwrap();
-        }
     };
     f.set_real(&sliding, &[v_rel(&mut b)]).unwrap();
     let mean_vr = [vr::<NeuralFriction>("mean_sliding_velocity")];
@@ -277,7 +265,7 @@ fn coupled_holding(
                     f.set_real(&mean_vr, &[held]).unwrap();
                 }
             }
-            if matches!(scheme, Scheme::Jacobi | Scheme::JacobiUntimed) {
+            if scheme == Scheme::Jacobi {
                 f.set_real(&sliding, &[v_rel(&mut b)]).unwrap();
                 if mean_link {
                     mean(&mut b, &mut f);
@@ -607,7 +595,6 @@ fn measure_jacobi_recommit() {
             for scheme in [
                 Scheme::GaussSeidel,
                 Scheme::Jacobi,
-                Scheme::JacobiUntimed,
                 Scheme::JacobiRecommit(Predict::End),
                 Scheme::JacobiRecommit(Predict::Rule),
             ] {
@@ -773,151 +760,6 @@ fn the_steps_mean_velocity_is_in_the_beams_state() {
             b.set_state(&old).unwrap();
             let v_rel = beam_real(&mut b, "relative_velocity");
             assert_eq!(beam_real(&mut b, "mean_relative_velocity"), v_rel);
-        }
-    }
-}
-
-/// NeuralFriction told when the mean it gets ended (`mean_sliding_velocity_time`):
-/// at the step's end (Gauss-Seidel) it commits as without the input, bit for bit; at
-/// the step's start (Jacobi) it re-commits the step before from the exact state saved
-/// at its start, so that its exact state is the one Gauss-Seidel commits from the same
-/// inputs, and predicts one step from there. The exact state is in the FMU state
-/// (`recommit`): a run restored from it goes on bit for bit; a version-7 state (without
-/// it) restores. LuGre (committed at the mean) and the learned law (at the end), both
-/// FMI versions.
-#[test]
-fn neural_friction_re_commits_under_a_jacobi_master() {
-    use stickslip_fmi::instance::SavedState;
-    let h = 1e-3;
-    // A velocity history with a slip and a reversal: (v_rel at t_k, mean over the
-    // step to t_k).
-    let history: Vec<(f64, f64)> = (0..40)
-        .map(|k| {
-            let t = k as f64 * h;
-            let v = 2e-2 * stickslip::elementary::sin(90.0 * t) - 4e-3;
-            (v, v + 1e-3 * stickslip::elementary::sin(400.0 * t))
-        })
-        .collect();
-    let vrs = [
-        "sliding_velocity",
-        "mean_sliding_velocity",
-        "mean_sliding_velocity_time",
-    ]
-    .map(vr::<NeuralFriction>);
-    for version in [FmiVersion::V2, FmiVersion::V3] {
-        for learned in [false, true] {
-            let make = || -> Instance<NeuralFriction> {
-                if !learned {
-                    return initialised(version, NeuralFrictionLaw::LUGRE, &[], &[])
-                        .0
-                        .unwrap();
-                }
-                let logger = Box::new(|_, _: &str, _: &str| {});
-                let dir = stickslip_tests::weights_dir();
-                let mut f = Instance::<NeuralFriction>::instantiate(
-                    version,
-                    "f",
-                    Some(&dir),
-                    false,
-                    logger,
-                )
-                .unwrap();
-                f.set_string(&[vr::<NeuralFriction>("weights")], &[LEARNED])
-                    .unwrap();
-                f.setup_experiment(0.0, None).unwrap();
-                f.enter_initialization_mode().unwrap();
-                f.exit_initialization_mode().unwrap();
-                f
-            };
-            let step = |f: &mut Instance<NeuralFriction>, t: f64| match version {
-                FmiVersion::V2 => f.do_step(t, h).unwrap(),
-                FmiVersion::V3 => {
-                    f.do_step3(t, h).unwrap();
-                }
-            };
-            let state = |f: &mut Instance<NeuralFriction>, key: &str| -> Vec<u64> {
-                let saved = f.get_state().unwrap();
-                let value = if key == "recommit" {
-                    &saved.model["recommit"]["state"]
-                } else {
-                    &saved.model[key]
-                };
-                value
-                    .as_array()
-                    .unwrap()
-                    .iter()
-                    .map(|x| x.as_f64().unwrap().to_bits())
-                    .collect()
-            };
-            let forces = |f: &mut Instance<NeuralFriction>| -> [u64; 3] {
-                let names = [
-                    "friction_force",
-                    "step_friction_force",
-                    "step_friction_slope",
-                ];
-                let mut out = [0.0; 3];
-                f.get_real(&names.map(vr::<NeuralFriction>), &mut out)
-                    .unwrap();
-                out.map(f64::to_bits)
-            };
-            // Gauss-Seidel: the inputs of the step to t_k+1 are set before it, stamped
-            // t_k+1; without the stamp (a master without the link) the same bits.
-            let mut gs = make();
-            let mut plain = make();
-            // Jacobi: the inputs at t_k, stamped t_k, then the step to t_k+1.
-            let mut jacobi = make();
-            let mut gs_states = Vec::new();
-            for k in 0..history.len() - 1 {
-                let t = k as f64 * h;
-                let (v, m) = history[k + 1];
-                gs.set_real(&vrs, &[v, m, t + h]).unwrap();
-                plain.set_real(&vrs[..2], &[v, m]).unwrap();
-                step(&mut gs, t);
-                step(&mut plain, t);
-                assert_eq!(forces(&mut gs), forces(&mut plain), "{version:?} {learned}");
-                gs_states.push(state(&mut gs, "law_state"));
-                let (v, m) = history[k];
-                jacobi.set_real(&vrs, &[v, m, t]).unwrap();
-                step(&mut jacobi, t);
-                // The exact state at t_k: Gauss-Seidel's after its step to t_k (the
-                // first step has none before it: the initial state).
-                if k > 0 {
-                    assert_eq!(
-                        state(&mut jacobi, "recommit"),
-                        gs_states[k - 1],
-                        "{version:?} learned {learned} step {k}"
-                    );
-                    assert_ne!(state(&mut jacobi, "law_state"), gs_states[k - 1]);
-                }
-            }
-            // Restored from its state (and from bytes), a Jacobi run goes on bit for bit.
-            let saved = jacobi.get_state().unwrap();
-            assert_eq!(saved.version, 8);
-            let mut other = make();
-            let restored = other
-                .deserialize_state(&jacobi.serialize_state(&saved).unwrap())
-                .unwrap();
-            other.set_state(&restored).unwrap();
-            let t0 = (history.len() - 1) as f64 * h;
-            for (j, &(v, m)) in history.iter().rev().take(10).enumerate() {
-                let t = t0 + j as f64 * h;
-                for f in [&mut jacobi, &mut other] {
-                    f.set_real(&vrs, &[v, m, t]).unwrap();
-                    step(f, t);
-                }
-                assert_eq!(forces(&mut jacobi), forces(&mut other));
-            }
-            // A version-7 state has neither the input nor the exact state: it restores.
-            let mut old: SavedState = saved.clone();
-            old.version = 7;
-            let model = old.model.as_object_mut().unwrap();
-            model.remove("recommit");
-            model.remove("mean_time_linked");
-            model["settings"]
-                .as_object_mut()
-                .unwrap()
-                .remove("mean_sliding_velocity_time");
-            other.set_state(&old).unwrap();
         }
     }
 }

@@ -268,12 +268,6 @@ fn the_coupled_system_is_wired_beam_to_friction_and_back() {
             "friction",
             "mean_sliding_velocity",
         ),
-        (
-            "beam",
-            "mean_relative_velocity_time",
-            "friction",
-            "mean_sliding_velocity_time",
-        ),
     ];
     assert_eq!(ssd.matches("<ssd:Connection ").count(), links.len());
     for (a, x, b, y) in links {

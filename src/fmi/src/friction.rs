@@ -67,10 +67,6 @@ struct Settings {
     /// The input `mean_sliding_velocity` (m/s): the beam's mean v_rel over the step.
     #[serde(default)]
     mean_sliding_velocity: f64,
-    /// The input `mean_sliding_velocity_time` (s): when the beam's step of
-    /// `mean_sliding_velocity` ended (absent from states saved before it existed).
-    #[serde(default)]
-    mean_sliding_velocity_time: f64,
 }
 
 fn end_velocity() -> StateVelocity {
@@ -144,7 +140,6 @@ impl Default for Settings {
             extra_features: [0.0; EXTRA_FEATURES],
             state_velocity: StateVelocity::default(),
             mean_sliding_velocity: 0.0,
-            mean_sliding_velocity_time: 0.0,
         }
     }
 }
@@ -225,24 +220,6 @@ pub struct NeuralFriction {
     /// changes (tested: in stick the mean repeats). Not a setting, since no variable
     /// sets it back to false (`check_as_set`); reset by fmi2Reset.
     mean_linked: bool,
-    /// `mean_sliding_velocity_time` has been set: a master links it, so a step can tell
-    /// which interval the mean belongs to (`state_laws`, Jacobi re-commit). Reset by
-    /// fmi2Reset, like `mean_linked`.
-    mean_time_linked: bool,
-    /// Under a Jacobi master (`state_laws`): the law state committed exactly at the
-    /// start of the last step, and that step's size, which the next step re-commits
-    /// once the mean over it is known; `law_state` is then that state advanced by one
-    /// predicted step. `None` otherwise.
-    recommit: Option<Recommit>,
-}
-
-/// The exact law state one step back and the size of the step predicted from it
-/// (`NeuralFriction::recommit`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct Recommit {
-    state: Vec<f64>,
-    step_size: f64,
 }
 
 /// Why initialisation refuses the parameters (fmi2ExitInitializationMode), and a saved
@@ -307,11 +284,6 @@ impl NeuralFriction {
             })?
         };
         let (step_force, step_slope) = self.step_pair()?.unwrap_or((force, slope));
-        let (slope, step_slope) = if std::env::var_os("STICKSLIP_JACOBI_SLOPE").is_some() {
-            self.jacobi_slopes()?.unwrap_or((slope, step_slope))
-        } else {
-            (slope, step_slope)
-        };
         let outputs = Outputs {
             force,
             slope,
@@ -362,7 +334,6 @@ const NORMAL_FORCE: u32 = 11;
 /// extra_feature[1] ... extra_feature[4].
 const EXTRA_FEATURE: [u32; EXTRA_FEATURES] = [12, 13, 14, 15];
 const MEAN_SLIDING_VELOCITY: u32 = 17;
-const MEAN_SLIDING_VELOCITY_TIME: u32 = 18;
 const STATE_VELOCITY: u32 = 6;
 const FRICTION_FORCE: u32 = 20;
 const FRICTION_FORCE_MAGNITUDE: u32 = 21;

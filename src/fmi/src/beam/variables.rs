@@ -439,14 +439,6 @@ pub(super) static VARIABLES: LazyLock<Vec<Variable<StickSlipBeam>>> = LazyLock::
         BEAM_OUTPUT,
         |m: StickSlipBeam| m.running.as_ref().map_or(0.0, |r| r.mean_relative_velocity)
     ),
-    real_output!(
-        208,
-        "mean_relative_velocity_time",
-        Some("s"),
-        "When the step of mean_relative_velocity ended: the time the beam has advanced to (the start time before the first step); NeuralFriction's mean_sliding_velocity_time, which tells it whether a master steps it after the beam (Gauss-Seidel) or from the same point (Jacobi)",
-        BEAM_OUTPUT,
-        |m: StickSlipBeam| m.running.as_ref().map_or(0.0, |r| r.simulator.sample().time + r.start_time)
-    ),
     Variable {
         name: "stick",
         value_reference: 205,

@@ -40,8 +40,6 @@ impl Model for NeuralFriction {
             time: 0.0,
             step_size: 0.0,
             mean_linked: false,
-            mean_time_linked: false,
-            recommit: None,
         }
     }
 
@@ -58,8 +56,6 @@ impl Model for NeuralFriction {
         self.time = 0.0;
         self.step_size = 0.0;
         self.mean_linked = false;
-        self.mean_time_linked = false;
-        self.recommit = None;
     }
 
     fn refresh_outputs(&mut self, _start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
@@ -71,7 +67,6 @@ impl Model for NeuralFriction {
         // A law with state starts at its initial state.
         self.law_state.clear();
         self.step_size = 0.0;
-        self.recommit = None;
         self.initialise_outputs().map_err(|e| e.to_string())?;
         self.time = start_time;
         Ok(())

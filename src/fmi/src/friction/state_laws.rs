@@ -35,7 +35,7 @@
 
 use super::laws::NeuralFrictionLaw;
 use super::state_velocity::StateVelocity;
-use super::{EvaluateError, InitialiseError, NeuralFriction, Outputs, Recommit, Settings};
+use super::{EvaluateError, InitialiseError, NeuralFriction, Outputs, Settings};
 use crate::instance::{check_as_set, parse_saved};
 use crate::model::{Model, Restoring};
 use serde::{Deserialize, Serialize};
@@ -69,14 +69,6 @@ struct Saved {
     /// version 7 on; absent: not, as no earlier FMU had the input).
     #[serde(default)]
     mean_linked: bool,
-    /// `mean_sliding_velocity_time` has been set (`NeuralFriction::mean_time_linked`;
-    /// from version 8 on; absent: not, as no earlier FMU had the input).
-    #[serde(default)]
-    mean_time_linked: bool,
-    /// The exact state one step back under a Jacobi master (`NeuralFriction::recommit`;
-    /// from version 8 on; absent: none, as no earlier FMU re-committed).
-    #[serde(default)]
-    recommit: Option<Recommit>,
 }
 
 /// The step size of a saved state of `version`: required from version 6 on; before,
@@ -137,8 +129,6 @@ struct Adopted {
     law_state: Vec<f64>,
     step_size: f64,
     mean_linked: bool,
-    mean_time_linked: bool,
-    recommit: Option<Recommit>,
     outputs: Outputs,
 }
 
@@ -264,78 +254,23 @@ impl NeuralFriction {
         Ok(Some(law.step_force_and_slope(step)))
     }
 
-    /// EXPERIMENT: under Jacobi, the slopes with the state's response over the
-    /// predicted step (start) and over it and the coming step (end).
-    pub(super) fn jacobi_slopes(&mut self) -> Result<Option<(f64, f64)>, EvaluateError> {
-        let Some(rc) = self.recommit.clone() else {
-            return Ok(None);
-        };
-        let h = self.step_size;
-        let (v, normal_force) = (self.settings.sliding_velocity, self.settings.normal_force);
-        if h <= 0.0 {
-            return Ok(None);
-        }
-        let Some(law) = self.memory_law()? else {
-            return Ok(None);
-        };
-        law.set_state(&rc.state)
-            .map_err(|e| EvaluateError::Parameter(e.to_string()))?;
-        let (_, s0) = law.step_force_and_slope(LawStep {
-            dt: rc.step_size,
-            sliding_velocity: v,
-            normal_force,
-        });
-        let (_, sh) = law.step_force_and_slope(LawStep {
-            dt: rc.step_size + h,
-            sliding_velocity: v,
-            normal_force,
-        });
-        Ok(Some((s0, sh)))
-    }
-
     /// Commits one law step over `size` (s) to `to` (s) with the inputs held. The step
     /// is `size`, the importer's communication step size, so that every master that
-    /// gives the same sizes gets the same bits (`Model::do_step`). Under a Jacobi
-    /// master (`mean_lags`) the step first re-commits the step before from the exact
-    /// state saved at its start, with the velocity the step's mean and end now give,
-    /// then commits one predicted step from there (`recommit`).
+    /// gives the same sizes gets the same bits (`Model::do_step`).
     pub(super) fn advance_state(&mut self, to: f64, size: f64) -> Result<(), EvaluateError> {
-        let from = self.time;
         self.time = to;
-        let normal_force = self.settings.normal_force;
-        let commit_velocity = self.state_commit_velocity();
-        let lagging = size > 0.0 && self.mean_lags(from, size);
-        let before = if lagging { self.recommit.take() } else { None };
-        let predicted_velocity = self.predicted_velocity();
+        let step = LawStep {
+            dt: size,
+            sliding_velocity: self.state_commit_velocity(),
+            normal_force: self.settings.normal_force,
+        };
         let Some(law) = self.memory_law()? else {
             self.law_state.clear();
-            self.recommit = None;
             return Ok(());
         };
-        let mut exact = None;
         // dt = 0 (an event iteration's step): nothing slides, the state stays.
-        if lagging {
-            if let Some(before) = before {
-                law.set_state(&before.state)
-                    .map_err(|e| EvaluateError::Parameter(e.to_string()))?;
-                law.commit(LawStep {
-                    dt: before.step_size,
-                    sliding_velocity: commit_velocity,
-                    normal_force,
-                });
-            }
-            exact = Some(law.state().to_vec());
-            law.commit(LawStep {
-                dt: size,
-                sliding_velocity: predicted_velocity,
-                normal_force,
-            });
-        } else if size > 0.0 {
-            law.commit(LawStep {
-                dt: size,
-                sliding_velocity: commit_velocity,
-                normal_force,
-            });
+        if size > 0.0 {
+            law.commit(step);
         }
         // The law just used (disjoint from `law_state`, so both borrows may live).
         let state = self
@@ -343,24 +278,14 @@ impl NeuralFriction {
             .as_ref()
             .and_then(|(_, law)| law.as_stateful())
             .map_or(&[][..], |law| law.state());
-        if let Some(&value) = state
-            .iter()
-            .chain(exact.iter().flatten())
-            .find(|x| !x.is_finite())
-        {
+        if let Some(&value) = state.iter().find(|x| !x.is_finite()) {
             return Err(EvaluateError::NonFiniteState {
-                sliding_velocity: commit_velocity,
+                sliding_velocity: step.sliding_velocity,
                 state: value,
             });
         }
         self.law_state.clear();
         self.law_state.extend_from_slice(state);
-        if size > 0.0 {
-            self.recommit = exact.map(|state| Recommit {
-                state,
-                step_size: size,
-            });
-        }
         Ok(())
     }
 
@@ -371,8 +296,6 @@ impl NeuralFriction {
             law_state: self.law_state.clone(),
             step_size: Some(self.step_size),
             mean_linked: self.mean_linked,
-            mean_time_linked: self.mean_time_linked,
-            recommit: self.recommit.clone(),
         })
         .unwrap_or(serde_json::Value::Null)
     }
@@ -385,20 +308,17 @@ impl NeuralFriction {
         let parsed = if at.version >= LAW_STATE_VERSION {
             parse_saved::<Saved>(saved).and_then(|saved| {
                 let step_size = step_size_of(&saved, at.version)?;
-                let links = (saved.mean_linked, saved.mean_time_linked);
                 Ok((
                     saved.settings,
                     saved.law_state,
                     step_size,
-                    links,
-                    saved.recommit,
+                    saved.mean_linked,
                 ))
             })
         } else {
-            parse_saved::<Settings>(saved)
-                .map(|settings| (settings, Vec::new(), 0.0, (false, false), None))
+            parse_saved::<Settings>(saved).map(|settings| (settings, Vec::new(), 0.0, false))
         };
-        let (settings, law_state, step_size, (mean_linked, mean_time_linked), recommit) =
+        let (settings, law_state, step_size, mean_linked) =
             parsed.map_err(|e| format!("saved {WHAT} state: {e}"))?;
         let mut candidate = NeuralFriction::with_defaults();
         candidate.settings = settings;
@@ -409,8 +329,6 @@ impl NeuralFriction {
             law_state: std::mem::replace(&mut self.law_state, law_state),
             step_size: std::mem::replace(&mut self.step_size, step_size),
             mean_linked: std::mem::replace(&mut self.mean_linked, mean_linked),
-            mean_time_linked: std::mem::replace(&mut self.mean_time_linked, mean_time_linked),
-            recommit: std::mem::replace(&mut self.recommit, recommit),
             outputs: self.outputs,
         };
         let checked = if at.initialized {
@@ -480,8 +398,6 @@ impl NeuralFriction {
         self.law_state = previous.law_state;
         self.step_size = previous.step_size;
         self.mean_linked = previous.mean_linked;
-        self.mean_time_linked = previous.mean_time_linked;
-        self.recommit = previous.recommit;
         self.outputs = previous.outputs;
     }
 
@@ -537,21 +453,5 @@ impl NeuralFriction {
                             == Some(StateEvolution::Slip))
             }
         }
-    }
-
-    /// Whether the mean handed over belongs to the step before this one, which starts
-    /// at `from` (s) and lasts `size` (s): a master links `mean_sliding_velocity_time`
-    /// and the beam's step ended at this step's start (a Jacobi master: both FMUs are
-    /// stepped from the same point), not at its end (Gauss-Seidel: the beam stepped
-    /// first). Half a step apart, so that clocks that differ in their last bits
-    /// (libcosim's nanoseconds, Ecos) decide alike.
-    fn mean_lags(&self, from: f64, size: f64) -> bool {
-        self.mean_time_linked && self.settings.mean_sliding_velocity_time < from + 0.5 * size
-    }
-
-    /// The velocity (m/s) a Jacobi master's predicted step holds: `sliding_velocity`,
-    /// the beam's v_rel at this step's start.
-    fn predicted_velocity(&self) -> f64 {
-        self.settings.sliding_velocity
     }
 }

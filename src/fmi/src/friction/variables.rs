@@ -205,14 +205,6 @@ pub(super) static VARIABLES: LazyLock<Vec<Variable<NeuralFriction>>> = LazyLock:
         |m: NeuralFriction| m.settings.mean_sliding_velocity,
         then = m.mean_linked = true
     ),
-    real_input!(
-        MEAN_SLIDING_VELOCITY_TIME,
-        "mean_sliding_velocity_time",
-        Some("s"),
-        "When the step of mean_sliding_velocity ended (StickSlipBeam's mean_relative_velocity_time): at this step's start (a Jacobi master) the law's state is re-committed over the step before with it and one step predicted; unused until a master sets it",
-        |m: NeuralFriction| m.settings.mean_sliding_velocity_time,
-        then = m.mean_time_linked = true
-    ),
     real_output!(
         FRICTION_FORCE,
         "friction_force",

@@ -54,11 +54,7 @@ pub const STATE_FORMAT: &str = "stickslip-fmu-state";
 ///   step with `friction.law = external` lacks it and is refused (`beam::saved`). NeuralFriction's settings gain
 ///   `state_velocity` (absent: `end`, as those states committed) and the input
 ///   `mean_sliding_velocity` with whether a master has set it (absent: not).
-/// - 8: NeuralFriction's settings gain the input `mean_sliding_velocity_time`, and its
-///   state whether a master has set it and, under a Jacobi master, the exact law state
-///   one step back with the size of the step predicted from it (`recommit`, issue 36);
-///   absent they read as not set and none, which is what every older FMU did.
-pub const STATE_VERSION: u32 = 8;
+pub const STATE_VERSION: u32 = 7;
 /// The first version whose bytes end in a checksum: the JSON text, then
 /// [`CHECKSUM_MARK`] and the CRC-32 (IEEE) of the JSON text's bytes in 8 lowercase hex
 /// digits. Older versions are the JSON text alone.
