@@ -125,6 +125,10 @@ enum Predict {
     /// The law's own commit velocity (`state_velocity`): the mean over [t_k-1, t_k]
     /// where it chooses the mean, else v_rel(t_k).
     Rule,
+    /// `End`, and then a diagnosis no master can run: NeuralFriction's outputs are
+    /// evaluated at v_rel(t_k+1), the beam's velocity after its step, as in
+    /// Gauss-Seidel, so that only the predicted state differs from Gauss-Seidel.
+    Oracle,
 }
 
 /// The velocity NeuralFriction commits its law's state with over its step
@@ -261,7 +265,7 @@ fn coupled_holding(
                 committed = Some(f.get_state().unwrap());
                 f.set_real(&sliding, &[v]).unwrap();
                 if mean_link {
-                    let held = if predict == Predict::End { v } else { m };
+                    let held = if predict == Predict::Rule { m } else { v };
                     f.set_real(&mean_vr, &[held]).unwrap();
                 }
             }
@@ -279,6 +283,9 @@ fn coupled_holding(
                 }
             }
             f.do_step(t, h).unwrap();
+            if scheme == Scheme::JacobiRecommit(Predict::Oracle) {
+                f.set_real(&sliding, &[v_rel(&mut b)]).unwrap();
+            }
             beam_real(&mut b, "tip_deflection")
         })
         .collect()
@@ -597,6 +604,7 @@ fn measure_jacobi_recommit() {
                 Scheme::Jacobi,
                 Scheme::JacobiRecommit(Predict::End),
                 Scheme::JacobiRecommit(Predict::Rule),
+                Scheme::JacobiRecommit(Predict::Oracle),
             ] {
                 let run = coupled_as_shipped(law, &setup, h, scheme);
                 report(h, name, format!("{scheme:?}"), &reference, &run);
