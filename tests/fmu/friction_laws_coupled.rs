@@ -125,6 +125,9 @@ enum Predict {
     /// The law's own commit velocity (`state_velocity`): the mean over [t_k-1, t_k]
     /// where it chooses the mean, else v_rel(t_k).
     Rule,
+    /// Predicted and evaluated at v_rel extrapolated linearly to t_k+1,
+    /// 2 v_rel(t_k) - v_rel(t_k-1) (NeuralFriction could keep the previous input).
+    Extrapolated,
     /// `End`, and then a diagnosis no master can run: NeuralFriction's outputs are
     /// evaluated at v_rel(t_k+1), the beam's velocity after its step, as in
     /// Gauss-Seidel, so that only the predicted state differs from Gauss-Seidel.
@@ -245,6 +248,7 @@ fn coupled_holding(
     let mean_vr = [vr::<NeuralFriction>("mean_sliding_velocity")];
     // Jacobi re-commit: NeuralFriction's committed state at t_k-1.
     let mut committed = None;
+    let mut previous: Option<f64> = None;
     (0..n)
         .map(|k| {
             let t = k as f64 * h;
@@ -263,6 +267,12 @@ fn coupled_holding(
                     f.do_step((k - 1) as f64 * h, h).unwrap();
                 }
                 committed = Some(f.get_state().unwrap());
+                let v_prev = previous.replace(v).unwrap_or(v);
+                let v = if predict == Predict::Extrapolated {
+                    2.0 * v - v_prev
+                } else {
+                    v
+                };
                 f.set_real(&sliding, &[v]).unwrap();
                 if mean_link {
                     let held = if predict == Predict::Rule { m } else { v };
@@ -605,6 +615,7 @@ fn measure_jacobi_recommit() {
                 Scheme::JacobiRecommit(Predict::End),
                 Scheme::JacobiRecommit(Predict::Rule),
                 Scheme::JacobiRecommit(Predict::Oracle),
+                Scheme::JacobiRecommit(Predict::Extrapolated),
             ] {
                 let run = coupled_as_shipped(law, &setup, h, scheme);
                 report(h, name, format!("{scheme:?}"), &reference, &run);
