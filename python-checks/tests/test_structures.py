@@ -21,6 +21,16 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "examples" / "calculix-beam"
 
 
+# How closely scipy's eigsh reproduces the constants the Rust tests hold for the paper
+# beam's frequencies, on any CPU. Its K has a condition number near 7e10, so a
+# backward-stable factorisation perturbs omega_1^2 by up to eps cond(K) ~ 1e-5; SuperLU and
+# BLAS sum in an order that depends on the CPU's vector units. Measured: ARPACK's random
+# start moves f1 by 4e-10 on one CPU, an AVX-512 machine gives f1 2.0e-7 away from the
+# constants (computed on an AVX2 one). 1e-6 is the Rust tests' own tolerance against the
+# constants: within it, they stay scipy's to what those tests resolve.
+SCIPY_ON_THIS_K = 1e-6
+
+
 def calculix_matrix(path, rows):
     """A ccx .sti/.mas file (1-based `i j value`, upper triangle) as a full CSC matrix."""
     data = np.loadtxt(path)
@@ -42,13 +52,13 @@ def test_the_rust_tests_scipy_frequencies_are_scipys():
     assert held, "tests/physics/calculix_beam.rs no longer holds `let eigsh = [...]`"
     constants = [float(x) for x in held.group(1).split(",")]
     print("scipy eigsh f1..f3 (Hz):", [f"{f:.10e}" for f in frequencies])
-    np.testing.assert_allclose(frequencies, constants, rtol=1e-8)
+    np.testing.assert_allclose(frequencies, constants, rtol=SCIPY_ON_THIS_K)
 
 
 def test_the_reduced_structures_scipy_frequencies_are_scipys():
     """tests/physics/structure_modal.rs holds scipy's 20 lowest frequencies of the same
     files and checks the modal fidelity's reduced model against them (1e-6); they must
-    stay scipy's, to 1e-8 (the spread of ARPACK's random start over three runs: 4e-10)."""
+    stay scipy's, to SCIPY_ON_THIS_K."""
     rows = len((EXAMPLE / "beam.dof").read_text().split())
     k = calculix_matrix(EXAMPLE / "beam.sti", rows)
     m = calculix_matrix(EXAMPLE / "beam.mas", rows)
@@ -59,7 +69,7 @@ def test_the_reduced_structures_scipy_frequencies_are_scipys():
     assert held, "tests/physics/structure_modal.rs no longer holds `let eigsh_20 = [...]`"
     constants = [float(x) for x in held.group(1).split(",") if x.strip()]
     assert len(constants) == 20
-    np.testing.assert_allclose(frequencies, constants, rtol=1e-8)
+    np.testing.assert_allclose(frequencies, constants, rtol=SCIPY_ON_THIS_K)
 
 
 BLOCK = ROOT / "examples" / "calculix-block"
