@@ -185,6 +185,40 @@ def run_libcosim(
     return Series(index, values)
 
 
+def ssp_with_beam(system: str, beam: Path, out: Path, keep: tuple[str, ...]) -> Path:
+    """The SSP system `system` (fmu-build's) with its StickSlipBeam replaced by `beam`,
+    an exported FMU of a user's scene (`stickslip export-fmu`: StickSlipBeam's variables,
+    its own start values), written to `out`. The beam component keeps only the parameter
+    values named in `keep` (the coupling's: `friction.law`, `external.coupling`); the
+    others, which fmu-build wrote at StickSlipBeam's defaults, are dropped so that the
+    export's own start values (its scene's) apply. The connections, NeuralFriction's
+    parameter set and the step are the system's."""
+    import re
+    import zipfile
+
+    source = f"resources/{BEAM}.fmu"
+    with zipfile.ZipFile(ssp_path(system)) as archive:
+        entries = {name: archive.read(name) for name in archive.namelist()}
+    if source not in entries:
+        raise ValueError(f"{system}.ssp has no {source}")
+    ssd = entries["SystemStructure.ssd"].decode()
+    start = ssd.index(f'<ssd:Component name="{INSTANCES[BEAM]}"')
+    end = ssd.index("</ssd:Component>", start)
+    parameter = re.compile(r'^\s*<ssv:Parameter name="([^"]+)">.*</ssv:Parameter>\n', re.M)
+    component = parameter.sub(
+        lambda m: m.group(0) if m.group(1) in keep else "", ssd[start:end]
+    )
+    kept = parameter.findall(component)
+    if sorted(kept) != sorted(keep):
+        raise ValueError(f"{system}.ssp: the beam's parameters {kept}, expected {list(keep)}")
+    entries["SystemStructure.ssd"] = (ssd[:start] + component + ssd[end:]).encode()
+    entries[source] = Path(beam).read_bytes()
+    with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as archive:
+        for name, data in entries.items():
+            archive.writestr(name, data)
+    return out
+
+
 def libcosim_variables(ssp: Path) -> dict[str, dict[str, int]]:
     """{instance: {variable: libcosim type}} of every slave of `ssp` as libcosim sees it
     (variables of a type it does not support are left out)."""

@@ -598,3 +598,40 @@ fn simulate_refuses_a_sensor_named_like_a_csv_column() {
     assert!(ok, "{stderr}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `static` and `estimates` of a scene with a `[structure]` report the structure's own
+/// numbers (tests/physics/structure_statics.rs checks them against the cantilever), and
+/// `static --convergence`, the built-in beam's mesh study, is refused saying what to run.
+#[test]
+fn static_and_estimates_of_a_structure_are_the_structures() {
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/calculix-beam/scene.toml");
+    let scene = scene.to_str().unwrap();
+    let (ok, stdout, stderr) = stickslip(&["static", "--scene", scene, "--load", "1"]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("structure, 1002 DOFs (calculix beam), contact node 502 direction 2"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("contact compliance      1.600153"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("Euler-Bernoulli"), "{stdout}");
+    let (ok, stdout, stderr) = stickslip(&["estimates", "--scene", scene]);
+    assert!(ok, "{stderr}");
+    let json: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(json["omega"].as_array().unwrap().len(), 4);
+    assert!(json["structure"]
+        .as_str()
+        .unwrap()
+        .starts_with("structure, 1002 DOFs"));
+    let compliance = json["contact_compliance"].as_f64().unwrap();
+    assert!((compliance - 1.600154e-4).abs() < 1e-9, "{compliance}");
+    let (ok, _, stderr) = stickslip(&["static", "--scene", scene, "--convergence"]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("static --convergence (and its --out) is the built-in beam's mesh study"),
+        "{stderr}"
+    );
+}

@@ -24,12 +24,12 @@ use stickslip::linear_structure::LinearStructure;
 use stickslip::mesh::StripMesh;
 use stickslip::metrics::Summary;
 use stickslip::modal::lanczos_modes;
-use stickslip::plane_mesh::read_gmsh;
+use stickslip::plane_mesh::{point_node, read_gmsh};
 use stickslip::run::run_scene;
 use stickslip::scene::{CheckedScene, Clamp, Scene};
 use stickslip::simulation::Simulator;
 use stickslip::structure::StructuralModel;
-use stickslip::user_structure::{GroupClamp, SceneDof, StructureSection};
+use stickslip::user_structure::{GroupClamp, PointDof, SceneDof, Sensor, StructureSection};
 use stickslip_formats::gmsh::Mesh;
 use stickslip_formats::structure_file::DofLabel;
 
@@ -272,9 +272,11 @@ fn beam_geo_regenerates_the_committed_mesh() {
     );
     let mut section = gmsh_scene().structure.clone().unwrap();
     let reference = tip_and_frequencies(&StructuralModel::from_section(&section).unwrap());
-    // The contact node by position, whatever this gmsh numbered it.
+    // The contact is the group "tip", whatever this gmsh numbered its node: the
+    // group's node is the corner (2, 0.01).
+    let tip = |mesh: &Mesh| point_node(mesh, "beam.msh", "structure.contact", "tip").unwrap();
+    assert_eq!(tip(&fresh), tag_at(&fresh, 2.0, 0.01));
     section.mesh = Some(out);
-    section.contact.node = tag_at(&fresh, 2.0, 0.01);
     let again = tip_and_frequencies(&StructuralModel::from_section(&section).unwrap());
     // The same mesh written as MSH 2.2 reads to the same model.
     let legacy = dir.join("beam22.msh");
@@ -286,7 +288,8 @@ fn beam_geo_regenerates_the_committed_mesh() {
         .output()
         .unwrap();
     assert!(output.status.success(), "{output:?}");
-    section.contact.node = tag_at(&read_gmsh(&legacy).unwrap(), 2.0, 0.01);
+    let legacy_mesh = read_gmsh(&legacy).unwrap();
+    assert_eq!(tip(&legacy_mesh), tag_at(&legacy_mesh, 2.0, 0.01));
     section.mesh = Some(legacy);
     let old_format = tip_and_frequencies(&StructuralModel::from_section(&section).unwrap());
     std::fs::remove_dir_all(&dir).unwrap();
@@ -429,6 +432,37 @@ fn refusal(name: &str, edit: impl Fn(&str) -> String) -> String {
     error.replace(&dir.display().to_string(), "DIR")
 }
 
+/// The example's contact by its group "tip" is node 3 of the committed mesh: the model
+/// (matrices, tip, label) is the one `contact = { node = 3, direction = 2 }` gives, bit
+/// for bit, so the example's run did not move when it switched to the group. A sensor
+/// by the same group observes the tip's DOF.
+#[test]
+fn a_contact_by_group_is_the_contact_by_its_node() {
+    let mut section = gmsh_scene().structure.clone().unwrap();
+    assert_eq!(section.contact, PointDof::in_group("tip", 2));
+    section.sensors = vec![Sensor {
+        name: "corner_y".into(),
+        node: None,
+        group: Some("tip".into()),
+        direction: 2,
+    }];
+    let by_group = StructuralModel::from_section(&section).unwrap();
+    section.contact = PointDof::at_node(3, 2);
+    section.sensors = vec![Sensor::at_node("corner_y", 3, 2)];
+    let by_node = StructuralModel::from_section(&section).unwrap();
+    assert_eq!(by_group.tip, by_node.tip);
+    assert_eq!(by_group.sensors, by_node.sensors);
+    assert_eq!(by_group.sensors, vec![by_group.tip.clone()]);
+    assert_eq!(by_group.label, by_node.label);
+    assert!(
+        by_group.label.ends_with("contact node 3 direction 2"),
+        "{}",
+        by_group.label
+    );
+    assert_eq!(by_group.stiffness, by_node.stiffness);
+    assert_eq!(by_group.mass, by_node.mass);
+}
+
 /// A gmsh `[structure]`'s refusals (docs/structures.md's table).
 #[test]
 fn a_gmsh_section_out_of_its_rules_is_refused_naming_the_field() {
@@ -460,8 +494,30 @@ fn a_gmsh_section_out_of_its_rules_is_refused_naming_the_field() {
             "[structure]: DIR/beam.msh: structure.clamped_groups: no physical group is named 'fixed' (the mesh names 'tip', 'clamp', 'beam')",
         ),
         (
-            refusal("contact-clamped", |t| t.replace("node = 3,", "node = 4,")),
+            refusal("contact-clamped", |t| t.replace("group = \"tip\",", "node = 4,")),
             "[structure]: structure.contact = node 4 direction 2 is not a free DOF of the structure (1000 free DOFs",
+        ),
+        (
+            refusal("unknown-point", |t| t.replace("group = \"tip\"", "group = \"top\"")),
+            "[structure]: DIR/beam.msh: structure.contact: no physical group is named 'top' (the mesh names 'tip', 'clamp', 'beam')",
+        ),
+        (
+            refusal("line-point", |t| t.replace("group = \"tip\"", "group = \"clamp\"")),
+            "[structure]: DIR/beam.msh: structure.contact: the physical group 'clamp' holds 3 nodes (1, 4, 404), where a contact or a sensor by group needs exactly one (a physical point, e.g. Physical Point(\"clamp\") = {3}; in the .geo), or name the node: { node = TAG, direction = D }",
+        ),
+        (
+            refusal("sensor-surface", |t| {
+                format!("{t}sensors = [{{ name = \"s\", group = \"beam\", direction = 1 }}]\n")
+            }),
+            "[structure]: DIR/beam.msh: structure.sensors: the physical group 'beam' holds 503 nodes (1, 2, 3, 4, 5, 6, ...), where",
+        ),
+        (
+            refusal("node-and-group", |t| t.replace("group = \"tip\",", "group = \"tip\", node = 3,")),
+            "invalid scene: structure.contact = group 'tip' direction 2; it must be one of node (the file's number) or group (a Gmsh physical point group), not both and not neither",
+        ),
+        (
+            refusal("neither", |t| t.replace("group = \"tip\",", "")),
+            "invalid scene: structure.contact = (no node or group) direction 2; it must be one of node",
         ),
         (
             refusal("unclamped", |t| t.replace(clamp, "")),

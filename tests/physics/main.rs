@@ -31,4 +31,5 @@ mod structure_auto;
 mod structure_modal;
 mod structure_run;
 mod structure_sensors;
+mod structure_statics;
 mod switch_stop;

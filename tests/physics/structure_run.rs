@@ -149,6 +149,18 @@ fn a_contact_dof_not_in_the_files_is_refused_naming_it() {
 }
 
 #[test]
+fn a_contact_by_group_is_refused_outside_a_gmsh_mesh() {
+    refused(
+        "group",
+        |t| t.replace("node = 502", "group = \"tip\""),
+        &[
+            "invalid scene: structure.contact = group 'tip' direction 2",
+            "a node number with structure.format = calculix: only a Gmsh mesh has physical groups",
+        ],
+    );
+}
+
+#[test]
 fn an_unknown_clamped_dof_is_refused_naming_it() {
     refused(
         "unknown-clamped",

@@ -15,18 +15,14 @@ use stickslip::run::{run_scene, Run};
 use stickslip::scene::{FidelityLevel, Scene};
 use stickslip::simulation::{SensorReading, Simulator};
 use stickslip::structure::StructuralModel;
-use stickslip::user_structure::Sensor;
+use stickslip::user_structure::{SceneDof, Sensor};
 
 fn example() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/calculix-beam")
 }
 
 fn sensor(name: &str, node: u64, direction: u8) -> Sensor {
-    Sensor {
-        name: name.into(),
-        node,
-        direction,
-    }
+    Sensor::at_node(name, node, direction)
 }
 
 /// The example scene at `level` (10 modes) to `end` s with `sensors`.
@@ -205,7 +201,10 @@ fn bad_sensors_are_refused_by_name() {
         0.01,
         vec![sensor("mid", 252, 2)],
     );
-    scene.structure.as_mut().unwrap().clamped = vec![sensor("x", 252, 2).dof()];
+    scene.structure.as_mut().unwrap().clamped = vec![SceneDof {
+        node: 252,
+        direction: 2,
+    }];
     assert_eq!(
         scene.check().err().unwrap().to_string(),
         "invalid scene: structure.sensors = 'mid' at node 252 direction 2; it must be a free DOF: structure.clamped fixes it, so it would read 0"

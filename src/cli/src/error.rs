@@ -29,6 +29,9 @@ pub enum CliError {
     /// `--rayleigh-ratio` is negative or not finite.
     #[error("--rayleigh-ratio = {0}; it must be finite and >= 0")]
     RayleighRatio(f64),
+    /// `static --convergence` (or `--out`) of a scene with a `[structure]`.
+    #[error("static --convergence (and its --out) is the built-in beam's mesh study; a [structure] has its own mesh: run `stickslip static --scene FILE` for its contact deflection and sensors, or `stickslip estimates --scene FILE` for its modes and contact compliance")]
+    ConvergenceWithStructure,
     /// `--load` (N) is zero or not finite.
     #[error("--load = {0}; it must be finite and non-zero")]
     Load(f64),

@@ -10,7 +10,10 @@
 //! `stickslip::friction::state::STATE_VARIABLES`), then, for a scene whose
 //! `[structure]` names sensors, two columns per sensor: `NAME` (m) and `NAME_velocity`
 //! (m/s), in the section's order; and prints a summary.
-//! `stickslip static [--fidelity LEVEL] [--element-size M] [--convergence]`.
+//! `stickslip static [--fidelity LEVEL] [--element-size M] [--convergence]`; with a
+//! `[structure]`, the structure's static response to `--load` at its contact DOF: the
+//! contact's deflection and compliance and each sensor's reading
+//! (`stickslip::linear_structure::estimates::static_response`).
 //!
 //! LEVEL, LAW and SCHEME are the words of the scene's `fidelity.level`, `friction.law`
 //! and `integrator.scheme` (`stickslip simulate --help` lists them); `--friction` also
@@ -23,6 +26,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use stickslip::files::{write_atomically, Outputs};
 use stickslip::friction::state::STATE_VARIABLES;
+use stickslip::linear_structure::estimates::static_response;
 use stickslip::run::run_scene;
 use stickslip::simulation::{Sample, SensorReading};
 use stickslip::statics::convergence_study;
@@ -171,6 +175,24 @@ pub fn static_check(args: &StaticArgs) -> Result<(), CliError> {
     let scene = args.scene.scene()?;
     if !(args.load.is_finite() && args.load != 0.0) {
         return Err(CliError::Load(args.load));
+    }
+    if let Some(section) = &scene.structure {
+        if args.convergence || args.out.is_some() {
+            return Err(CliError::ConvergenceWithStructure);
+        }
+        let r = static_response(section, args.load)?;
+        println!("{}", r.label);
+        println!(
+            "contact load            {} (N at the contact DOF, in its direction)",
+            r.load
+        );
+        // SI units throughout: a DOF may be a rotation (rad, N m).
+        println!("contact deflection      {:.9e} m", r.contact);
+        println!("contact compliance      {:.9e} m/N", r.contact / r.load);
+        for (name, value) in &r.sensors {
+            println!("sensor {name:<16} {value:.9e} m");
+        }
+        return Ok(());
     }
     let eb = euler_bernoulli_tip_deflection(&scene, args.load);
     if args.convergence {

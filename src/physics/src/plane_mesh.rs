@@ -22,7 +22,7 @@
 use crate::element::{q8_plane_stress, q8_shape, GAUSS3};
 use crate::files::{InputFileError, STRUCTURE_FILE};
 use crate::short::Short;
-use crate::user_structure::{GroupClamp, PlaneStressMaterial, StructureSection};
+use crate::user_structure::{GroupClamp, PlaneStressMaterial, PointLabels, StructureSection};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::Path;
 use stickslip_formats::gmsh::{self, GroupError, Mesh};
@@ -72,22 +72,80 @@ pub enum PlaneMeshError {
     NoMaterial,
     #[error("{file}: structure.clamped_groups: {source}")]
     Group { file: String, source: GroupError },
+    #[error("{file}: {field}: {source}")]
+    PointGroup {
+        file: String,
+        field: &'static str,
+        source: GroupError,
+    },
+    #[error("{file}: {field}: the physical group '{group}' holds {count} nodes ({nodes}), where a contact or a sensor by group needs exactly one (a physical point, e.g. Physical Point(\"{group}\") = {{3}}; in the .geo), or name the node: {{ node = TAG, direction = D }}")]
+    PointGroupSize {
+        file: String,
+        field: &'static str,
+        group: String,
+        count: usize,
+        nodes: String,
+    },
 }
 
-/// A `format = "gmsh"` section's mesh assembled with its material, and the DOFs its
-/// `clamped_groups` fix (the section's fields checked by `StructureSection::check_fields`:
-/// the mesh and the material are given).
+/// A `format = "gmsh"` section's mesh assembled with its material, the DOFs its
+/// `clamped_groups` fix, and its contact's and sensors' labels, a group's node found in
+/// the mesh ([`point_node`]) (the section's fields checked by
+/// `StructureSection::check_fields`: the mesh and the material are given).
 pub fn read_section(
     section: &StructureSection,
-) -> Result<(StructureMatrices, Vec<DofLabel>), PlaneMeshError> {
+) -> Result<(StructureMatrices, Vec<DofLabel>, PointLabels), PlaneMeshError> {
     let path = section.mesh.clone().unwrap_or_default();
     let material = section.material.ok_or(PlaneMeshError::NoMaterial)?;
     let mesh = read_gmsh(&path)?;
     let file = path.display().to_string();
+    let points = section.point_labels(|field, group| point_node(&mesh, &file, field, group))?;
     Ok((
         assemble(&mesh, &file, &material)?,
         group_dofs(&mesh, &file, &section.clamped_groups)?,
+        points,
     ))
+}
+
+/// The one node of physical group `group`, which the scene's `field` names: a group of
+/// no node (no elements in the file) or of several is refused with its count and
+/// nodes, an unknown one with the mesh's group names.
+pub fn point_node(
+    mesh: &Mesh,
+    file: &str,
+    field: &'static str,
+    group: &str,
+) -> Result<u64, PlaneMeshError> {
+    let nodes = match mesh.group_nodes(group) {
+        Ok(nodes) => nodes,
+        Err(GroupError::Empty { .. }) => Vec::new(),
+        Err(source) => {
+            return Err(PlaneMeshError::PointGroup {
+                file: file.to_string(),
+                field,
+                source,
+            })
+        }
+    };
+    match nodes[..] {
+        [node] => Ok(node),
+        _ => {
+            const SHOWN: usize = 6;
+            let mut list: Vec<String> = nodes.iter().take(SHOWN).map(u64::to_string).collect();
+            if nodes.is_empty() {
+                list.push("no elements in the file".to_string());
+            } else if nodes.len() > SHOWN {
+                list.push("...".to_string());
+            }
+            Err(PlaneMeshError::PointGroupSize {
+                file: file.to_string(),
+                field,
+                group: group.to_string(),
+                count: nodes.len(),
+                nodes: list.join(", "),
+            })
+        }
+    }
 }
 
 /// The mesh in the file at `path`: opened by `files` (missing, special, oversized files

@@ -50,18 +50,32 @@ pub fn rayleigh_at_modes_1_and_3(scene: &CheckedScene, ratio: f64) -> Damping {
 /// and the coupling through the static correction are left out. Returns 0 when the law
 /// has no falling branch and infinity when the beam has no damping.
 pub fn sliding_stability_speed(scene: &CheckedScene) -> Option<f64> {
+    let omega_1 = cantilever_omega(scene, 1)?;
+    let mass = scene.mass_per_length() * scene.geometry.length;
+    sliding_stability_speed_in_mode(scene, omega_1, 4.0 / mass)
+}
+
+/// [`sliding_stability_speed`] for a mode of angular frequency `omega` (rad/s) whose
+/// M-normalised shape has phi(tip)^2 = `participation` (1/kg) at the friction's DOF:
+/// stable when participation alpha (mu_s - mu_k) F_n exp(-alpha v_b) < a + b omega^2.
+/// The beam's mode 1 has participation 4 / M; a `[structure]`'s comes from its own
+/// modes (`linear_structure::estimates`). The scene's Rayleigh damping only: a
+/// structure's damping file C0 is left out.
+pub fn sliding_stability_speed_in_mode(
+    scene: &CheckedScene,
+    omega: f64,
+    participation: f64,
+) -> Option<f64> {
     if scene.friction.law != FrictionLawKind::Exponential
         || scene.contact.sliding_velocity != SlidingVelocity::Relative
     {
         return None;
     }
-    let omega_1 = cantilever_omega(scene, 1)?;
-    let mass = scene.mass_per_length() * scene.geometry.length;
     let damping =
-        scene.damping.mass_proportional + scene.damping.stiffness_proportional * omega_1.powi(2);
+        scene.damping.mass_proportional + scene.damping.stiffness_proportional * omega.powi(2);
     let friction = &scene.friction;
     let alpha = friction.decay;
-    let gain = 4.0 / mass
+    let gain = participation
         * alpha
         * (friction.static_coefficient - friction.kinetic_coefficient)
         * scene.loading.normal_force;

@@ -21,8 +21,13 @@
 //! mesh = "beam.msh"            # MSH 4.1 ASCII, 8-node quadrangles in the plane z = 0
 //! material = { thickness = 1.0, youngs_modulus = 200e9, poisson_ratio = 0.3, density = 1000.0 }
 //! clamped_groups = [{ group = "clamp", directions = [1, 2] }]   # physical groups fixed
-//! contact = { node = 3, direction = 2 }        # Gmsh node tag; direction 1 = x, 2 = y
+//! contact = { group = "tip", direction = 2 }   # a physical point; direction 1 = x, 2 = y
+//! sensors = [{ name = "corner_x", group = "tip", direction = 1 }]   # by group or node
 //! ```
+//!
+//! The contact and the sensors name their node by number (`node`, any format) or, in a
+//! Gmsh mesh, by a physical group holding exactly that node (`group`: a physical point,
+//! whose name survives a mesh written again with other numbers), [`PointDof`].
 //!
 //! Paths are relative to the scene file ([`crate::scene::Scene::load`] makes them
 //! absolute) or absolute; a scene given as text takes them relative to the working
@@ -81,6 +86,76 @@ impl SceneDof {
     }
 }
 
+/// Where the contact or a sensor is: one node, named by its number in the files
+/// (`node`) or, with `format = "gmsh"`, by a physical group that holds exactly that node
+/// (`group`, a Gmsh physical point: its number may change when the mesh is written again,
+/// its name does not); exactly one of the two. `direction` as in [`SceneDof`].
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointDof {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub node: Option<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub group: Option<String>,
+    pub direction: u8,
+}
+
+impl PointDof {
+    /// The DOF at node `node`.
+    pub fn at_node(node: u64, direction: u8) -> Self {
+        Self {
+            node: Some(node),
+            group: None,
+            direction,
+        }
+    }
+
+    /// The DOF at the one node of physical group `group`.
+    pub fn in_group(group: &str, direction: u8) -> Self {
+        Self {
+            node: None,
+            group: Some(group.to_string()),
+            direction,
+        }
+    }
+
+    /// Its label, the group's node given by `group_node` (called only for a group: the
+    /// mesh resolves it). A DOF with neither node nor group (refused by
+    /// [`StructureSection::check_fields`]) reads as node 0, which no file has.
+    pub fn label_with<E>(
+        &self,
+        group_node: impl FnOnce(&str) -> Result<u64, E>,
+    ) -> Result<DofLabel, E> {
+        let node = match (&self.group, self.node) {
+            (Some(group), _) => group_node(group)?,
+            (None, node) => node.unwrap_or(0),
+        };
+        Ok(DofLabel {
+            node,
+            direction: self.direction,
+        })
+    }
+}
+
+impl std::fmt::Display for PointDof {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match (&self.group, self.node) {
+            (Some(group), _) => write!(f, "group '{group}' direction {}", self.direction),
+            (None, Some(node)) => write!(f, "node {node} direction {}", self.direction),
+            (None, None) => write!(f, "(no node or group) direction {}", self.direction),
+        }
+    }
+}
+
+/// A place's DOFs resolved to labels: the contact's and each sensor's, in the section's
+/// order (`crate::linear_structure::scene_model::read_section` resolves them, a group
+/// by the mesh).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PointLabels {
+    pub contact: DofLabel,
+    pub sensors: Vec<DofLabel>,
+}
+
 /// The `[structure]` section.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -105,8 +180,9 @@ pub struct StructureSection {
     /// matrix-market: the DOF map file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dofs: Option<PathBuf>,
-    /// The DOF where friction acts and the belt moves.
-    pub contact: SceneDof,
+    /// The DOF where friction acts and the belt moves: a node, or (gmsh) a physical
+    /// point group.
+    pub contact: PointDof,
     /// DOFs to fix that the files did not remove.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub clamped: Vec<SceneDof>,
@@ -131,11 +207,17 @@ pub struct StructureSection {
 /// basis, u = sum_j T_j[dof] q_j, as it recovers the contact DOF (the static
 /// correction included: under the contact force alone the static shape makes it exact
 /// in statics at any DOF).
+///
+/// The DOF is named as the contact's ([`PointDof`]): `node`, or `group` with
+/// `format = "gmsh"`.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Sensor {
     pub name: String,
-    pub node: u64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub node: Option<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub group: Option<String>,
     pub direction: u8,
 }
 
@@ -143,9 +225,20 @@ impl Sensor {
     /// What the velocity's name adds to the sensor's name.
     pub const VELOCITY_SUFFIX: &'static str = "_velocity";
 
-    pub fn dof(&self) -> SceneDof {
-        SceneDof {
+    /// The sensor `name` at node `node`.
+    pub fn at_node(name: &str, node: u64, direction: u8) -> Self {
+        Self {
+            name: name.to_string(),
+            node: Some(node),
+            group: None,
+            direction,
+        }
+    }
+
+    pub fn dof(&self) -> PointDof {
+        PointDof {
             node: self.node,
+            group: self.group.clone(),
             direction: self.direction,
         }
     }
@@ -226,6 +319,51 @@ fn check_dof(field: &'static str, dof: SceneDof) -> Result<(), FieldProblem> {
     Ok(())
 }
 
+/// A contact's or sensor's DOF: exactly one of node and group, a group only in a Gmsh
+/// mesh (the other formats have no groups), then the node and direction as [`check_dof`].
+fn check_point(
+    field: &'static str,
+    format: StructureFormat,
+    dof: &PointDof,
+) -> Result<(), FieldProblem> {
+    match (&dof.group, dof.node) {
+        (Some(_), Some(_)) | (None, None) => Err(refused(
+            field,
+            dof,
+            "one of node (the file's number) or group (a Gmsh physical point group), not both and not neither",
+        )),
+        (Some(_), None) if format != StructureFormat::Gmsh => Err(refused(
+            field,
+            dof,
+            format!(
+                "a node number with structure.format = {}: only a Gmsh mesh has physical groups",
+                format.word()
+            ),
+        )),
+        (Some(group), None) if group.is_empty() => {
+            Err(refused(field, dof, "a group name that is not empty"))
+        }
+        (Some(_), None) => check_dof(
+            field,
+            SceneDof {
+                node: 1,
+                direction: dof.direction,
+            },
+        )
+        .map_err(|p| FieldProblem {
+            value: dof.to_string(),
+            ..p
+        }),
+        (None, Some(node)) => check_dof(
+            field,
+            SceneDof {
+                node,
+                direction: dof.direction,
+            },
+        ),
+    }
+}
+
 impl StructureSection {
     /// The fields (no file opened): the format's paths present and the other format's
     /// absent, no damping file, the DOFs well formed, the contact not clamped. What the
@@ -291,7 +429,7 @@ impl StructureSection {
                 format!("absent with structure.format = {format}: a damping matrix is read from a Matrix Market file with the DOF map of K and M (ccx 2.20 writes none; a Gmsh mesh carries none); the scene's Rayleigh damping ([damping]: C = a M + b K) acts on the structure"),
             ));
         }
-        check_dof("structure.contact", self.contact)?;
+        check_point("structure.contact", self.format, &self.contact)?;
         for &dof in &self.clamped {
             check_dof("structure.clamped", dof)?;
         }
@@ -308,10 +446,10 @@ impl StructureSection {
                 ));
             }
         }
-        if self.clamped.contains(&self.contact) {
+        if self.is_clamped(&self.contact) {
             return Err(refused(
                 "structure.contact",
-                self.contact.label(),
+                &self.contact,
                 "a free DOF: structure.clamped fixes it, so friction could not move it",
             ));
         }
@@ -345,19 +483,53 @@ impl StructureSection {
                 }
                 names.push((output, &sensor.name));
             }
-            check_dof("structure.sensors", sensor.dof()).map_err(|p| FieldProblem {
-                value: value(&format!("at {}", p.value)),
-                ..p
+            check_point("structure.sensors", self.format, &sensor.dof()).map_err(|p| {
+                FieldProblem {
+                    value: value(&format!("at {}", p.value)),
+                    ..p
+                }
             })?;
-            if self.clamped.contains(&sensor.dof()) {
+            if self.is_clamped(&sensor.dof()) {
                 return Err(refused(
                     "structure.sensors",
-                    value(&format!("at {}", sensor.dof().label())),
+                    value(&format!("at {}", sensor.dof())),
                     "a free DOF: structure.clamped fixes it, so it would read 0",
                 ));
             }
         }
         Ok(())
+    }
+
+    /// Whether `dof`, named by its node, is one of `clamped`'s (a group's node is known
+    /// when the mesh is read: the model's free-DOF check refuses it then).
+    fn is_clamped(&self, dof: &PointDof) -> bool {
+        dof.group.is_none()
+            && dof.node.is_some_and(|node| {
+                self.clamped.contains(&SceneDof {
+                    node,
+                    direction: dof.direction,
+                })
+            })
+    }
+
+    /// The contact's and the sensors' labels, a group's node given by `group_node`
+    /// (field, group name) (only a Gmsh mesh has groups; the fields are checked).
+    pub fn point_labels<E>(
+        &self,
+        mut group_node: impl FnMut(&'static str, &str) -> Result<u64, E>,
+    ) -> Result<PointLabels, E> {
+        let contact = self
+            .contact
+            .label_with(|group| group_node("structure.contact", group))?;
+        let sensors = self
+            .sensors
+            .iter()
+            .map(|s| {
+                s.dof()
+                    .label_with(|group| group_node("structure.sensors", group))
+            })
+            .collect::<Result<_, E>>()?;
+        Ok(PointLabels { contact, sensors })
     }
 
     /// Makes relative paths relative to `dir` (the scene file's directory).

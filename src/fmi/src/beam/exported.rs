@@ -91,10 +91,7 @@ pub fn sensor_outputs(sensors: &[Sensor]) -> Vec<DynamicOutput> {
         .iter()
         .enumerate()
         .flat_map(|(k, s)| {
-            let at = format!(
-                "node {} direction {} (structure.sensors)",
-                s.node, s.direction
-            );
+            let at = format!("{} (structure.sensors)", s.dof());
             let vr = base + 2 * k as u32;
             [
                 DynamicOutput {

@@ -26,6 +26,7 @@
 //! natural frequencies by shift-invert Lanczos on the factor of K (`modal::lanczos`, the
 //! plane-stress mesh's solver).
 
+pub mod estimates;
 mod ordering;
 mod read;
 pub mod scene_model;

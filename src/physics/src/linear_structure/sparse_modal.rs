@@ -9,7 +9,7 @@
 //!
 //! [`SymSparseMatrix`]: super::sparse::SymSparseMatrix
 
-use super::scene_model::{read_section, sensor_indices};
+use super::scene_model::{not_free_contact, read_section, sensor_indices};
 use super::sparse::SparseStructure;
 use super::{LinearStructure, StructureError};
 use crate::modal;
@@ -79,18 +79,21 @@ pub fn reduce_section(
     modes: usize,
     static_correction: bool,
 ) -> Result<StructuralModel, ModelError> {
-    let (matrices, clamped) = read_section(section)?;
-    match LinearStructure::new(&matrices, &clamped) {
+    let files = read_section(section)?;
+    match LinearStructure::new(&files.matrices, &files.clamped) {
         Err(StructureError::BandTooWide { .. }) => {
-            let structure = SparseStructure::new(&matrices, &clamped)
+            let structure = SparseStructure::new(&files.matrices, &files.clamped)
                 .map_err(|e| ModelError::UserStructure(e.to_string()))?;
-            let contact = section.contact.label();
+            let contact = files.points.contact;
+            if structure.index_of(contact).is_err() {
+                return Err(not_free_contact(section, contact, structure.dofs()));
+            }
             let label = format!(
                 "structure, {} DOFs ({}), contact {contact}, sparse",
                 structure.dofs(),
                 section.source()
             );
-            let sensors = sensor_indices(section, structure.dofs(), |label| {
+            let sensors = sensor_indices(section, &files.points, structure.dofs(), |label| {
                 structure.index_of(label).ok()
             })?;
             reduce_observing(
@@ -104,7 +107,7 @@ pub fn reduce_section(
         }
         Err(e) => Err(ModelError::UserStructure(e.to_string())),
         Ok(structure) => modal::reduce(
-            &StructuralModel::from_structure(&structure, section)?,
+            &StructuralModel::from_structure(&structure, section, &files.points)?,
             modes,
             static_correction,
         ),
