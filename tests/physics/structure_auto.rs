@@ -4,10 +4,18 @@
 //! the tolerance, for tolerances that pick different points.
 
 use std::path::{Path, PathBuf};
-use stickslip::auto::{choose, describe, paper_front, window_deviation, AutoError};
+use stickslip::auto::structure::choose_reduced;
+use stickslip::auto::{choose, describe, paper_front, window_deviation, AutoError, Horizon};
 use stickslip::law_source::LawSource;
+use stickslip::linear_structure::sparse_modal::SparseSection;
 use stickslip::scene::{FidelityLevel, Scene};
-use stickslip::study::{measure, Configuration, Resolution};
+use stickslip::study::{measure, measure_on, Configuration, Resolution};
+
+/// The block's window (s): TODO
+const BLOCK_WINDOW: f64 = 0.05;
+
+/// TODO
+const BLOCK_TOLERANCES: [f64; 2] = [1e-6, 1e-7];
 
 fn example() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/calculix-beam")
@@ -89,4 +97,66 @@ fn auto_on_a_structure_refuses_a_law_with_state_with_the_reason() {
         "{error}"
     );
     assert!(error.to_string().contains("by hand"), "{error}");
+}
+
+fn block_scene(end: f64) -> Scene {
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/calculix-block");
+    let mut scene = Scene::load(&example.join("scene.toml"))
+        .unwrap()
+        .scene()
+        .clone();
+    scene.fidelity.level = FidelityLevel::Auto;
+    scene.time.end = end;
+    scene
+}
+
+/// The path of a structure too wide for the band (`auto::structure::choose_reduced`: the
+/// reference is the modal model converged in modes and step), forced on the committed
+/// 1,500-DOF block, which the band still holds: the choice's largest tip deviation from
+/// the full model (the band's, at half the reference's step: a run the calibration did
+/// not make, and a model it never ran) is within the tolerance. And the models the
+/// calibration reduces for its whole ladder at once are, bit for bit, those
+/// `fidelity.level = modal` builds count by count (so the chosen run is the one
+/// calibrated).
+#[test]
+fn the_wide_path_on_a_small_block_meets_the_tolerance_against_the_full_model() {
+    let scene = block_scene(BLOCK_WINDOW);
+    let law = LawSource::resolve(&scene.clone().check().unwrap()).unwrap();
+    let checked = scene.clone().check().unwrap();
+    let sparse = SparseSection::read(checked.structure.as_ref().unwrap()).unwrap();
+    let together = sparse.models(&[(5, true), (20, false), (20, true)]).unwrap();
+    for (model, (modes, correction)) in together.iter().zip([(5, true), (20, false), (20, true)]) {
+        let alone = sparse.model(modes, correction).unwrap();
+        assert_eq!(format!("{model:?}"), format!("{alone:?}"), "{modes} modes");
+    }
+    let mut chosen = Vec::new();
+    for tolerance in BLOCK_TOLERANCES {
+        let choice = choose_reduced(&scene, &law, tolerance, Horizon::Until(BLOCK_WINDOW), &mut |_| {}).unwrap();
+        println!("{}", describe(&choice, tolerance));
+        let reference = choice.tried.last().unwrap().partner;
+        let Resolution::StructureModal { modes } = choice.configuration.resolution else {
+            panic!("{}", choice.configuration)
+        };
+        let model = sparse.model(modes, scene.fidelity.static_correction).unwrap();
+        let run = measure_on(&scene, &law, choice.configuration, model).unwrap();
+        let truth = Configuration {
+            resolution: Resolution::Structure,
+            dt: reference.dt / 2.0,
+            ..reference
+        };
+        let truth = measure(&scene, &law, truth).unwrap();
+        let true_error = window_deviation(&run.tip, &truth.tip);
+        println!(
+            "tolerance {tolerance:e} m: chose {} (estimate {:.3e} m, reference {reference}), true {true_error:.3e} m against the full model at {:e} s; calibration {} runs, {:.2} s",
+            choice.configuration, choice.estimated_error, reference.dt / 2.0, choice.runs, choice.calibration_seconds
+        );
+        assert!(choice.estimated_error <= tolerance);
+        assert!(
+            true_error <= tolerance,
+            "tolerance {tolerance:e}: {} deviates {true_error:e} m from the full model",
+            choice.configuration
+        );
+        chosen.push(choice.configuration);
+    }
+    assert!(chosen.windows(2).any(|p| p[0] != p[1]), "{chosen:?}");
 }
