@@ -11,11 +11,15 @@ use stickslip::linear_structure::sparse_modal::SparseSection;
 use stickslip::scene::{FidelityLevel, Scene};
 use stickslip::study::{measure, measure_on, Configuration, Resolution};
 
-/// The block's window (s): TODO
-const BLOCK_WINDOW: f64 = 0.05;
+/// The block's window (s): breakaway at 0.41 ms and a little under two periods of its
+/// first mode (86 Hz) of stick-slip after it, so that the full model's check run (1,600
+/// steps of 1,500 DOFs) stays about a second.
+const BLOCK_WINDOW: f64 = 0.02;
 
-/// TODO
-const BLOCK_TOLERANCES: [f64; 2] = [1e-6, 1e-7];
+/// The block's tip moves over 6.95e-5 m in the window: 1e-5 to 1e-7 m are 14 % to
+/// 0.14 % of that, and pick steps of 5e-4, 2e-4 and 1e-4 s (2 modes and the static
+/// correction each).
+const BLOCK_TOLERANCES: [f64; 3] = [1e-5, 1e-6, 1e-7];
 
 fn example() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/calculix-beam")
@@ -130,6 +134,8 @@ fn the_wide_path_on_a_small_block_meets_the_tolerance_against_the_full_model() {
         assert_eq!(format!("{model:?}"), format!("{alone:?}"), "{modes} modes");
     }
     let mut chosen = Vec::new();
+    // The full model's runs, by configuration: the tolerances share their reference.
+    let mut truths = Vec::new();
     for tolerance in BLOCK_TOLERANCES {
         let choice = choose_reduced(&scene, &law, tolerance, Horizon::Until(BLOCK_WINDOW), &mut |_| {}).unwrap();
         println!("{}", describe(&choice, tolerance));
@@ -144,7 +150,10 @@ fn the_wide_path_on_a_small_block_meets_the_tolerance_against_the_full_model() {
             dt: reference.dt / 2.0,
             ..reference
         };
-        let truth = measure(&scene, &law, truth).unwrap();
+        if !truths.iter().any(|(c, _)| *c == truth) {
+            truths.push((truth, measure(&scene, &law, truth).unwrap()));
+        }
+        let (_, truth) = truths.iter().find(|(c, _)| *c == truth).unwrap();
         let true_error = window_deviation(&run.tip, &truth.tip);
         println!(
             "tolerance {tolerance:e} m: chose {} (estimate {:.3e} m, reference {reference}), true {true_error:.3e} m against the full model at {:e} s; calibration {} runs, {:.2} s",
