@@ -348,8 +348,22 @@ pub fn choose(
     let price = |c: &Configuration| cost(c.resolution, c.dt, window, dofs, band);
     candidates.sort_by(|a, b| price(a).total_cmp(&price(b)));
     let reference_run = runs.run(reference)?;
-    let tried = pick(&mut runs, candidates, (reference, &reference_run), e_ref, tolerance)?;
-    select(tried, horizon, window, tolerance, runs, &reference_run, started)
+    let tried = pick(
+        &mut runs,
+        candidates,
+        (reference, &reference_run),
+        e_ref,
+        tolerance,
+    )?;
+    select(
+        tried,
+        horizon,
+        window,
+        tolerance,
+        runs,
+        &reference_run,
+        started,
+    )
 }
 
 /// `auto` on a `[structure]` against its converged modal model (module doc, "A
@@ -411,7 +425,12 @@ fn choose_wide(
     let wanted: Vec<(usize, bool)> = first_rungs
         .iter()
         .map(|&k| (k, true))
-        .chain(modes.iter().filter(|&&k| k <= largest).map(|&k| (k, correction)))
+        .chain(
+            modes
+                .iter()
+                .filter(|&&k| k <= largest)
+                .map(|&k| (k, correction)),
+        )
         .collect();
     progress(&format!(
         "fidelity = auto: reducing the {dofs}-DOF structure to {largest} modes (and every count of the ladder below), {:.2} s so far",
@@ -445,7 +464,10 @@ fn choose_wide(
         reduced: Some(store),
     };
     let (reference, e_ref) = converged_modal_reference(&mut runs, &rungs, tolerance)?;
-    let Resolution::StructureModal { modes: reference_modes } = reference.resolution else {
+    let Resolution::StructureModal {
+        modes: reference_modes,
+    } = reference.resolution
+    else {
         unreachable!("the reference of the wide path is modal")
     };
     let candidate_modes: Vec<usize> = modes
@@ -457,8 +479,22 @@ fn choose_wide(
     let price = |c: &Configuration| cost(c.resolution, c.dt, window, dofs, 0);
     candidates.sort_by(|a, b| price(a).total_cmp(&price(b)));
     let reference_run = runs.run_corrected(reference, true)?;
-    let tried = pick(&mut runs, candidates, (reference, &reference_run), e_ref, tolerance)?;
-    select(tried, horizon, window, tolerance, runs, &reference_run, started)
+    let tried = pick(
+        &mut runs,
+        candidates,
+        (reference, &reference_run),
+        e_ref,
+        tolerance,
+    )?;
+    select(
+        tried,
+        horizon,
+        window,
+        tolerance,
+        runs,
+        &reference_run,
+        started,
+    )
 }
 
 /// The pilot of the calibration window: the cheapest candidate (the fewest modes) at the

@@ -80,7 +80,9 @@ fn reduce_at_counts(
     wanted
         .iter()
         .map(|&(modes, correction)| {
-            let at = counts.binary_search(&modes).expect("every count was reduced");
+            let at = counts
+                .binary_search(&modes)
+                .expect("every count was reduced");
             modal::reduced_model(
                 eigen[at].clone(),
                 static_shape.clone().filter(|_| correction),
@@ -182,7 +184,11 @@ impl SparseSection {
 
     /// The modal model with the lowest `modes` modes, plus the static correction at the
     /// contact with `static_correction`: what `fidelity.level = modal` runs.
-    pub fn model(&self, modes: usize, static_correction: bool) -> Result<StructuralModel, ModelError> {
+    pub fn model(
+        &self,
+        modes: usize,
+        static_correction: bool,
+    ) -> Result<StructuralModel, ModelError> {
         reduce_observing(
             &self.structure,
             self.contact,

@@ -4,8 +4,8 @@ use super::configuration::Configuration;
 use crate::law_source::LawSource;
 use crate::metrics::Summary;
 use crate::run::{run_scene, run_scene_on, RunError};
-use crate::structure::StructuralModel;
 use crate::scene::{CheckedScene, Scene, SceneError};
+use crate::structure::StructuralModel;
 
 /// The grid of the tip-deflection comparison (s): every time step of a study divides it.
 pub const COMPARISON_INTERVAL: f64 = 1e-3;
