@@ -764,6 +764,16 @@ mod tests {
     }
 
     #[test]
+    fn below_the_noise_floor_a_modal_tail_is_the_larger_deviation_whatever_the_contraction() {
+        // Budget 1e-7 m: the floor is 1e-9 m.
+        assert_eq!(modal_tail_bound(3.2e-11, 3.2e-11, 1e-7), 3.2e-11);
+        assert_eq!(modal_tail_bound(1.8e-14, 3.2e-11, 1e-7), 3.2e-11);
+        // Above it, the step refinement's bound: r = 4 gives d / 3, r = 1 none.
+        assert_eq!(modal_tail_bound(4e-8, 1e-8, 1e-7), 1e-8 / 3.0);
+        assert_eq!(modal_tail_bound(3.2e-11, 3.2e-11, 1e-9), f64::INFINITY);
+    }
+
+    #[test]
     fn a_modal_step_costs_less_than_a_full_one_and_halving_the_step_doubles_the_cost() {
         let modal = Resolution::StructureModal { modes: 10 };
         let a = cost(modal, 1e-4, 1.2, 1002, 15);
