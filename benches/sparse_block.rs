@@ -16,6 +16,15 @@
 //!    against the 1.2 s it simulates (the real-time factor);
 //! 6. the peak resident set of the process (VmHWM), after all of it.
 //!
+//! 7. with `SPARSE_BLOCK_AUTO` (tolerances in m, comma-separated, e.g. `1e-6,1e-7`):
+//!    `fidelity = auto` on the paper scene of that block (`auto::structure::choose`,
+//!    which takes a structure too wide for the band through its converged modal
+//!    reference), each tolerance calibrated from scratch: the choice, its estimate, the
+//!    calibration's runs and time; then the chosen scene as a user runs it: its model
+//!    built from the files (read, factorise, reduce: the reduction time a user waits)
+//!    and its run's wall time against the simulated time (the real-time factor), beside
+//!    the full model's time per step measured above (a ratio, not a timed assertion).
+//!
 //! Not criterion: each stage runs once on tens of MB of input, and one process per block
 //! is what makes the memory column mean something. Timing is printed, never asserted.
 //!
@@ -27,12 +36,16 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use stickslip::auto::structure::choose;
+use stickslip::auto::Horizon;
 use stickslip::law_source::LawSource;
 use stickslip::linear_structure::read_calculix;
 use stickslip::linear_structure::sparse::SparseStructure;
 use stickslip::linear_structure::sparse_modal::reduce;
-use stickslip::scene::Scene;
+use stickslip::scene::{FidelityLevel, Scene};
 use stickslip::simulation::Simulator;
+use stickslip::structure::StructuralModel;
+use stickslip::user_structure::PointDof;
 use stickslip_formats::structure_file::DofLabel;
 
 fn variable(name: &str, default: &str) -> String {
@@ -152,5 +165,65 @@ fn main() {
     println!("  bits of the reduced model and its run (FNV-1a): {bits:016x}");
     if let Some(bytes) = peak_rss() {
         println!("  peak resident set {:.2} GB", bytes / 1e9);
+    }
+    let tolerances = variable("SPARSE_BLOCK_AUTO", "");
+    let tolerances = tolerances
+        .split(',')
+        .filter(|t| !t.is_empty())
+        .map(|t| t.parse::<f64>().unwrap());
+    drop(structure);
+    for tolerance in tolerances {
+        auto_on_the_block(scene.scene(), &job, contact, tolerance, step);
+    }
+}
+
+/// `fidelity = auto` at `tolerance` (m) on `scene` with its structure the block `job`,
+/// friction at `contact`; `full_step` (s) is the full model's time per step measured in
+/// this process.
+fn auto_on_the_block(scene: &Scene, job: &Path, contact: DofLabel, tolerance: f64, full_step: f64) {
+    let mut scene = scene.clone();
+    let section = scene.structure.as_mut().unwrap();
+    section.job = Some(job.to_path_buf());
+    section.contact = PointDof::at_node(contact.node, contact.direction);
+    scene.fidelity.level = FidelityLevel::Auto;
+    let law = LawSource::resolve(&scene.clone().check().unwrap()).unwrap();
+    let horizon = Horizon::Until(scene.time.end);
+    let mut log = |line: &str| eprintln!("    {line}");
+    let choice = match choose(&scene, &law, tolerance, horizon, &mut log) {
+        Ok(choice) => choice,
+        Err(e) => {
+            println!("  auto, tolerance {tolerance:e} m: {e}");
+            return;
+        }
+    };
+    let reference = choice.tried.last().unwrap().partner;
+    println!(
+        "  auto, tolerance {tolerance:e} m: chose {} (estimate {:.3e} m, reference {reference}), calibration {} runs in {:.1} s",
+        choice.configuration, choice.estimated_error, choice.runs, choice.calibration_seconds
+    );
+    let chosen = choice.configuration.apply(&scene).check().unwrap();
+    let started = Instant::now();
+    let model = StructuralModel::build(&chosen).unwrap();
+    let reduction = started.elapsed().as_secs_f64();
+    // The run takes milliseconds: the fastest of five, so that another process's time
+    // slice does not count as the run's.
+    let (mut run, mut steps) = (f64::INFINITY, 0);
+    for _ in 0..5 {
+        let started = Instant::now();
+        let mut sim =
+            Simulator::with_model(chosen.clone(), model.clone(), law.law().unwrap()).unwrap();
+        steps = sim.run(1).unwrap().len() - 1;
+        run = run.min(started.elapsed().as_secs_f64());
+    }
+    println!(
+        "    the chosen run: model built from the files (read, factorise, reduce) in {reduction:.1} s; {steps} steps in {run:.4} s (fastest of 5) for {} s simulated: {:.0}x real time; the full model: {:.1} ms per step at dt = {} s, {:.4}x real time",
+        chosen.time.end,
+        chosen.time.end / run,
+        full_step * 1e3,
+        chosen.time.step,
+        chosen.time.step / full_step
+    );
+    if let Some(bytes) = peak_rss() {
+        println!("    peak resident set so far {:.2} GB", bytes / 1e9);
     }
 }

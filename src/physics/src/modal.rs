@@ -267,7 +267,23 @@ pub(crate) fn lanczos<M: SymmetricOperator, F: StiffnessSolve>(
     factor: &F,
     count: usize,
 ) -> Result<Modes, ModelError> {
+    lanczos_counts(mass, factor, &[count])
+        .pop()
+        .expect("one result per count")
+}
+
+/// [`lanczos`] for each of `counts` from one Lanczos recurrence: the Lanczos vectors do
+/// not depend on the count (it only decides when to stop), so the result for each count
+/// is the one `lanczos` gives for it alone, bit for bit, at the cost of the largest.
+/// (`auto::structure` reduces a structure too wide for the band at every mode count of
+/// its ladder this way.)
+pub(crate) fn lanczos_counts<M: SymmetricOperator, F: StiffnessSolve>(
+    mass: &M,
+    factor: &F,
+    counts: &[usize],
+) -> Vec<Result<Modes, ModelError>> {
     let n = mass.size();
+    let mut results: Vec<Option<Result<Modes, ModelError>>> = counts.iter().map(|_| None).collect();
     let mut scratch = vec![0.0; n];
     let mut q = start_vector(n);
     let norm = mass.bilinear(&q, &q, &mut scratch).sqrt();
@@ -291,20 +307,28 @@ pub(crate) fn lanczos<M: SymmetricOperator, F: StiffnessSolve>(
         let steps = basis.len();
         // A NaN b (a broken factor) counts as exhausted too.
         let exhausted = steps == n || b.is_nan() || b <= 1e-14 * alpha[0].abs();
-        if steps >= count {
-            let (eig, order) = ritz_values(&alpha, &beta);
-            let converged = order[..count].iter().all(|&i| {
-                b * eig.eigenvectors[(steps - 1, i)].abs()
-                    <= RITZ_TOLERANCE * eig.eigenvalues[i].abs()
-            });
-            if converged {
-                return ritz_modes(mass, &basis, &eig, &order[..count]);
+        let mut ritz = None;
+        for (result, &count) in results.iter_mut().zip(counts) {
+            if result.is_some() {
+                continue;
             }
-            if exhausted {
-                return Err(ModelError::NoConvergence { iterations: steps });
+            if steps >= count {
+                let (eig, order) = ritz.get_or_insert_with(|| ritz_values(&alpha, &beta));
+                let converged = order[..count].iter().all(|&i| {
+                    b * eig.eigenvectors[(steps - 1, i)].abs()
+                        <= RITZ_TOLERANCE * eig.eigenvalues[i].abs()
+                });
+                if converged {
+                    *result = Some(ritz_modes(mass, &basis, eig, &order[..count]));
+                } else if exhausted {
+                    *result = Some(Err(ModelError::NoConvergence { iterations: steps }));
+                }
+            } else if exhausted {
+                *result = Some(Err(ModelError::NoConvergence { iterations: steps }));
             }
-        } else if exhausted {
-            return Err(ModelError::NoConvergence { iterations: steps });
+        }
+        if results.iter().all(Option::is_some) {
+            return results.into_iter().flatten().collect();
         }
         beta.push(b);
         w.iter_mut().for_each(|e| *e /= b);

@@ -9,6 +9,7 @@ use crate::metrics::Summary;
 use crate::neural::SceneLawError;
 use crate::scene::CheckedScene;
 use crate::simulation::{Sample, SensorReading, SimulationError, Simulator};
+use crate::structure::StructuralModel;
 use std::time::Instant;
 
 /// Why a scene could not be run.
@@ -57,12 +58,36 @@ pub struct Run {
 /// shared with others of the same friction settings), keeping every `every`-th sample.
 /// `external` is refused: only the FMU has the inputs it reads.
 pub fn run_scene(scene: CheckedScene, law: &LawSource, every: usize) -> Result<Run, RunError> {
+    run_with(scene, None, law, every)
+}
+
+/// [`run_scene`] on a given structural model (the scene's fidelity is then ignored:
+/// `Simulator::with_model`); `auto` runs the modal models of a structure too wide for the
+/// band this way, each reduced once for its whole ladder.
+pub fn run_scene_on(
+    scene: CheckedScene,
+    model: StructuralModel,
+    law: &LawSource,
+    every: usize,
+) -> Result<Run, RunError> {
+    run_with(scene, Some(model), law, every)
+}
+
+fn run_with(
+    scene: CheckedScene,
+    model: Option<StructuralModel>,
+    law: &LawSource,
+    every: usize,
+) -> Result<Run, RunError> {
     if law.is_external() {
         return Err(RunError::External);
     }
     let law = law.law()?;
     let started = Instant::now();
-    let mut sim = Simulator::new(scene, law)?;
+    let mut sim = match model {
+        Some(model) => Simulator::with_model(scene, model, law)?,
+        None => Simulator::new(scene, law)?,
+    };
     // The summary's slip phases and major slips need every transition of the run.
     sim.keep_all_transitions();
     let (samples, sensors) = sim.run_observed(every)?;

@@ -202,7 +202,7 @@ fn calibration_window(
     horizon_counted(
         &pilot_scene,
         law,
-        front[0].configuration,
+        (front[0].configuration, None),
         cap,
         started,
         count,

@@ -507,6 +507,21 @@ impl SparseStructure {
         modal::lanczos(&self.mass, &self.factor, count).map_err(StructureError::Modes)
     }
 
+    /// [`Self::lowest_modes`] at each of `counts`, from one Lanczos recurrence
+    /// (`modal::lanczos_counts`): each the same bits as `lowest_modes` of its count.
+    pub fn lowest_modes_at(&self, counts: &[usize]) -> Result<Vec<Modes>, StructureError> {
+        if let Some(&count) = counts.iter().find(|&&c| c == 0 || c > self.dofs()) {
+            return Err(StructureError::Modes(ModelError::TooManyModes {
+                asked: count,
+                available: self.dofs(),
+            }));
+        }
+        modal::lanczos_counts(&self.mass, &self.factor, counts)
+            .into_iter()
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(StructureError::Modes)
+    }
+
     /// The lowest `count` natural frequencies f = omega / (2 pi) (Hz).
     pub fn natural_frequencies(&self, count: usize) -> Result<Vec<f64>, StructureError> {
         Ok(self

@@ -3,8 +3,9 @@
 use super::configuration::Configuration;
 use crate::law_source::LawSource;
 use crate::metrics::Summary;
-use crate::run::{run_scene, RunError};
+use crate::run::{run_scene, run_scene_on, RunError};
 use crate::scene::{CheckedScene, Scene, SceneError};
+use crate::structure::StructuralModel;
 
 /// The grid of the tip-deflection comparison (s): every time step of a study divides it.
 pub const COMPARISON_INTERVAL: f64 = 1e-3;
@@ -54,6 +55,28 @@ pub fn measure(
     law: &LawSource,
     configuration: Configuration,
 ) -> Result<Measured, Failed> {
+    measure_with(scene, law, configuration, None)
+}
+
+/// [`measure`] on a given structural model, which stands for the configuration's
+/// resolution (the time step, scheme and inference are the configuration's): how `auto`
+/// runs the modal models of a structure too wide for the band, reduced once for its
+/// whole ladder.
+pub fn measure_on(
+    scene: &Scene,
+    law: &LawSource,
+    configuration: Configuration,
+    model: StructuralModel,
+) -> Result<Measured, Failed> {
+    measure_with(scene, law, configuration, Some(model))
+}
+
+fn measure_with(
+    scene: &Scene,
+    law: &LawSource,
+    configuration: Configuration,
+    model: Option<StructuralModel>,
+) -> Result<Measured, Failed> {
     let failed = |reason: MeasureError| Failed {
         configuration: Box::new(configuration),
         reason,
@@ -72,7 +95,11 @@ pub fn measure(
     // Every step is kept so that the summary (corridor, slip detection) does not depend
     // on the time step through its sampling.
     let law = law.with_inference(checked.friction.inference);
-    let run = run_scene(checked, &law, 1).map_err(|e| failed(e.into()))?;
+    let run = match model {
+        Some(model) => run_scene_on(checked, model, &law, 1),
+        None => run_scene(checked, &law, 1),
+    }
+    .map_err(|e| failed(e.into()))?;
     let tip = run
         .samples
         .iter()

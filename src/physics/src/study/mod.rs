@@ -45,5 +45,5 @@ pub use errors::{rms_difference, Errors};
 pub use front::{front, front_of, front_points, mark_pareto_front, FrontPoint, Row};
 pub use grid::Grid;
 pub use law::{Law, LawError};
-pub use measure::{measure, Failed, MeasureError, Measured, COMPARISON_INTERVAL};
+pub use measure::{measure, measure_on, Failed, MeasureError, Measured, COMPARISON_INTERVAL};
 pub use run::{run, Progress, Reference, Study, StudyError};
