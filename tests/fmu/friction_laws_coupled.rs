@@ -252,7 +252,7 @@ fn coupled_holding(
 /// peaks from which the tip falls by more than `FALL` (0.5 mm, the measure)
 /// before it rises again by as much, so that neither a re-stick's stall of a few um
 /// within a fall nor a wiggle at the top counts as a fall of its own.
-fn major_falls(tip: &[f64], h: f64) -> Vec<f64> {
+pub(crate) fn major_falls(tip: &[f64], h: f64) -> Vec<f64> {
     const FALL: f64 = 5e-4;
     let mut starts = Vec::new();
     let (mut peak, mut peak_at) = (f64::MIN, 0);
@@ -290,7 +290,7 @@ fn fall_period(tip: &[f64], h: f64) -> f64 {
 
 /// The coupling error of `run` against `reference` (both every `h`): the largest tip
 /// difference (m) to 0.7 s and the relative period error by major falls to 1.2 s.
-fn coupling_error(reference: &[f64], run: &[f64], h: f64) -> (f64, f64) {
+pub(crate) fn coupling_error(reference: &[f64], run: &[f64], h: f64) -> (f64, f64) {
     let m = (0.7 / h).round() as usize;
     let deviation = largest_difference(&reference[..m], &run[..m]);
     let period = fall_period(reference, h);
