@@ -157,6 +157,10 @@ struct Variant {
     force: Force,
     commit: Commit,
     static_limit: f64,
+    /// Jacobi instead of Gauss-Seidel (beam first): NeuralFriction's outputs at t_k
+    /// are at the v_rel(t_k-1) it was given, and it commits with v_rel(t_k) or the
+    /// previous step's mean, as `friction_laws_coupled::coupled_holding` runs it.
+    jacobi: bool,
 }
 
 /// The law-level velocity x of the step just taken from v_rel `before`.
@@ -174,8 +178,8 @@ fn step_kinetic(force: f64, slope: f64, velocity: f64) -> ExternalKinetic {
     }
 }
 
-/// The coupled run, Gauss-Seidel, communication step `h`, the beam's internal steps
-/// taken one by one.
+/// The coupled run, Gauss-Seidel (or Jacobi: `Variant::jacobi`), communication step
+/// `h`, the beam's internal steps taken one by one.
 fn coupled(scene: &CheckedScene, h: f64, variant: Variant) -> Vec<f64> {
     let beam_scene = beam_scene_law(scene);
     let mut sim = Simulator::new(beam_scene.clone(), law_of(&beam_scene)).unwrap();
@@ -192,8 +196,17 @@ fn coupled(scene: &CheckedScene, h: f64, variant: Variant) -> Vec<f64> {
     let mut tips = Vec::with_capacity(steps);
     let fnormal = NORMAL_FORCE;
     let mut first = true;
+    // NeuralFriction's inputs sliding_velocity and mean_sliding_velocity, and the beam's
+    // output mean_relative_velocity (before the first step: v_rel at the start).
+    let mut f_v = sim.sample().relative_velocity;
+    let mut f_mean = f_v;
+    let mut beam_mean = f_v;
     for _ in 0..steps {
-        let v_k = sim.sample().relative_velocity;
+        let v_k = f_v;
+        if variant.jacobi {
+            f_v = sim.sample().relative_velocity;
+            f_mean = beam_mean;
+        }
         let s_k: Vec<f64> = stateful(&mut law_k).state().to_vec();
         let inst = stateful(&mut law_k).force_at_state(v_k, fnormal);
         let (f_h, s_h) = if first {
@@ -323,14 +336,17 @@ fn coupled(scene: &CheckedScene, h: f64, variant: Variant) -> Vec<f64> {
             });
             v_before = after;
         }
-        let v_end = sim.sample().relative_velocity;
-        let mean = scene.loading.belt_speed - (sim.sample().tip_deflection - u_k) / h;
+        beam_mean = scene.loading.belt_speed - (sim.sample().tip_deflection - u_k) / h;
+        if !variant.jacobi {
+            f_v = sim.sample().relative_velocity;
+            f_mean = beam_mean;
+        }
         match variant.commit {
             Commit::End | Commit::Mean => {
                 let v = if variant.commit == Commit::End {
-                    v_end
+                    f_v
                 } else {
-                    mean
+                    f_mean
                 };
                 stateful(&mut law_k).commit(LawStep {
                     dt: h,
@@ -410,20 +426,21 @@ fn exact(
     }
 }
 
-/// The oracle table, Gauss-Seidel, default fidelity, against each law embedded:
+/// The oracle table, Gauss-Seidel unless asked, default fidelity, against each law embedded:
 /// LAB_LAWS (lugre, aging, slip, learned; default aging), LAB_STEPS (communication
 /// steps, default 1e-3), LAB_VARIANTS (force/commit/static limit in N, e.g.
 /// "blend-tangent/end/50"; forces blend-tangent, blend-exact, relax-exact, step-exact,
 /// path, table-linear, table-hermite, step-table-hermite; commits end, mean, path),
-/// LAB_NODES (the table's offsets, m/s). As shipped: LuGre blend-tangent/mean/0, the
+/// LAB_NODES (the table's offsets, m/s); a fourth part "/jacobi" runs Jacobi. As shipped: LuGre blend-tangent/mean/0, the
 /// slip law blend-tangent/mean/50, aging and learned blend-tangent/end/50.
 #[test]
 #[ignore = "measurement"]
 fn measure_coupling_oracles() {
     let laws = std::env::var("LAB_LAWS").unwrap_or_else(|_| "aging".into());
     let steps = std::env::var("LAB_STEPS").unwrap_or_else(|_| "1e-3".into());
-    let variants = std::env::var("LAB_VARIANTS")
-        .unwrap_or_else(|_| "blend-tangent/end/50,blend-exact/end/50,relax-exact/end/50,blend-tangent/path/50,path/path/50,path/path/0".into());
+    let variants = std::env::var("LAB_VARIANTS").unwrap_or_else(|_| {
+        "blend-tangent/end/50,blend-exact/end/50,relax-exact/end/50,blend-tangent/path/50,path/path/50,path/path/0".into()
+    });
     for law in laws.split(',') {
         let evolution = match law {
             "aging" => Some(StateEvolution::Aging),
@@ -473,6 +490,7 @@ fn measure_coupling_oracles() {
                     force,
                     commit,
                     static_limit,
+                    jacobi: parts.get(3) == Some(&"jacobi"),
                 };
                 let run = coupled(&scene, h, variant);
                 let (d, p) = coupling_error(&reference, &run, h);
