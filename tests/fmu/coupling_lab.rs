@@ -87,7 +87,7 @@ enum Force {
     /// F_h(s_k, x) exact in x over the whole step.
     StepExact,
     /// The blend of `BlendExact` known only at nodes v_k and v_k +- d (d from
-    /// LAB_NODES), with its slopes there, interpolated piecewise linearly (`hermite`
+    /// LAB_NODES; with LAB_NODES_AT_ZERO at v_k, 0 and +- d), with its slopes there, interpolated piecewise linearly (`hermite`
     /// false) or by monotone cubic Hermite (Fritsch-Carlson) and extrapolated along the
     /// end nodes' tangents: what NeuralFriction could hand over as a table. With
     /// `step_only` the instantaneous curve is the tangent at v_k as now, and only F_h is
@@ -227,11 +227,19 @@ fn coupled(scene: &CheckedScene, h: f64, variant: Variant) -> Vec<f64> {
         } = variant.force
         {
             step_only = only;
+            // LAB_NODES_AT_ZERO: the nodes +-d around 0 (and 0) instead of around v_k.
+            let centre = if std::env::var("LAB_NODES_AT_ZERO").is_ok() {
+                xs.push(0.0);
+                0.0
+            } else {
+                v_k
+            };
             for d in node_offsets() {
-                xs.push(v_k - d);
-                xs.push(v_k + d);
+                xs.push(centre - d);
+                xs.push(centre + d);
             }
             xs.sort_by(f64::total_cmp);
+            xs.dedup();
         }
         let nodes: Vec<[f64; 4]> = xs
             .iter()
@@ -431,7 +439,9 @@ fn exact(
 /// steps, default 1e-3), LAB_VARIANTS (force/commit/static limit in N, e.g.
 /// "blend-tangent/end/50"; forces blend-tangent, blend-exact, relax-exact, step-exact,
 /// path, table-linear, table-hermite, step-table-hermite; commits end, mean, path),
-/// LAB_NODES (the table's offsets, m/s); a fourth part "/jacobi" runs Jacobi. As shipped: LuGre blend-tangent/mean/0, the
+/// LAB_NODES (the table's offsets, m/s), LAB_NODES_AT_ZERO (the table's nodes at 0 and
+/// +- the offsets, with v_k, instead of around v_k), LAB_DIFFERENCES (print the tip difference at
+/// a few times up to the first fall); a fourth part "/jacobi" runs Jacobi. As shipped: LuGre blend-tangent/mean/0, the
 /// slip law blend-tangent/mean/50, aging and learned blend-tangent/end/50.
 #[test]
 #[ignore = "measurement"]
@@ -494,6 +504,16 @@ fn measure_coupling_oracles() {
                 };
                 let run = coupled(&scene, h, variant);
                 let (d, p) = coupling_error(&reference, &run, h);
+                if std::env::var("LAB_DIFFERENCES").is_ok() {
+                    for t in [0.1, 0.2, 0.3, 0.35, 0.4, 0.43, 0.45] {
+                        let k = (t / h).round() as usize - 1;
+                        println!(
+                            "  t {t}: tip {:.6e} m, coupled - embedded {:.3e} m",
+                            reference[k],
+                            run[k] - reference[k]
+                        );
+                    }
+                }
                 println!(
                     "{law:8} h {h:e} {v:24}: {:.4} mm, period {:+.2} %, falls {:.4?} (embedded {:.4?})",
                     d * 1e3,
