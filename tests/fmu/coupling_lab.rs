@@ -37,8 +37,7 @@ fn scene_of(evolution: Option<StateEvolution>) -> CheckedScene {
 }
 
 fn raw_scene(evolution: Option<StateEvolution>) -> Scene {
-    let mut scene = Scene::default();
-    scene.time.end = END;
+    let mut scene = base_scene();
     match evolution {
         Some(e) => {
             scene.friction.law = FrictionLawKind::RateAndState;
@@ -49,6 +48,16 @@ fn raw_scene(evolution: Option<StateEvolution>) -> Scene {
             let path = stickslip_tests::weights_dir().join("rate-and-state-learned.json");
             scene.friction.weights = Some(path.to_string_lossy().into_owned());
         }
+    }
+    scene
+}
+
+/// The paper's scene to `END`, its belt speed from LAB_BELT_SPEED (m/s) if set.
+fn base_scene() -> Scene {
+    let mut scene = Scene::default();
+    scene.time.end = END;
+    if let Ok(v) = std::env::var("LAB_BELT_SPEED") {
+        scene.loading.belt_speed = v.parse().unwrap();
     }
     scene
 }
@@ -441,7 +450,7 @@ fn exact(
 /// path, table-linear, table-hermite, step-table-hermite; commits end, mean, path),
 /// LAB_NODES (the table's offsets, m/s), LAB_NODES_AT_ZERO (the table's nodes at 0 and
 /// +- the offsets, with v_k, instead of around v_k), LAB_DIFFERENCES (print the tip difference at
-/// a few times up to the first fall); a fourth part "/jacobi" runs Jacobi. As shipped: LuGre blend-tangent/mean/0, the
+/// a few times up to the first fall), LAB_BELT_SPEED (m/s); a fourth part "/jacobi" runs Jacobi. As shipped: LuGre blend-tangent/mean/0, the
 /// slip law blend-tangent/mean/50, aging and learned blend-tangent/end/50.
 #[test]
 #[ignore = "measurement"]
@@ -458,8 +467,7 @@ fn measure_coupling_oracles() {
             _ => None,
         };
         let scene = if law == "lugre" {
-            let mut raw = Scene::default();
-            raw.time.end = END;
+            let mut raw = base_scene();
             raw.friction.law = FrictionLawKind::Lugre;
             raw.check().unwrap()
         } else {
