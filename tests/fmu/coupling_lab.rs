@@ -20,6 +20,7 @@
 //! 0.9 um (slip law): the harness adds no error of its own.
 
 use crate::friction_laws_coupled::{coupling_error, major_falls};
+use std::sync::{Arc, Mutex};
 use stickslip::choice::Choice;
 use stickslip::friction::rate_and_state::{StateEvolution, STATE_EVOLUTION};
 use stickslip::friction::state::{LawStep, StatefulLaw};
@@ -101,7 +102,42 @@ enum Force {
     /// end nodes' tangents: what NeuralFriction could hand over as a table. With
     /// `step_only` the instantaneous curve is the tangent at v_k as now, and only F_h is
     /// tabulated (half the values).
-    Table { hermite: bool, step_only: bool },
+    Table {
+        hermite: bool,
+        step_only: bool,
+        /// The beam's own slip solve (`contact::newton`, with its bracket and the
+        /// jump rule) solves the interpolant, handed to it as a memoryless law, with
+        /// no static limit; not the lab's bisection.
+        beam_solves: bool,
+    },
+}
+
+/// The interpolant of `Force::Table` of the current internal step.
+#[derive(Clone, Default)]
+struct TableCurve {
+    xs: Vec<f64>,
+    ys: Vec<f64>,
+    ms: Vec<f64>,
+    hermite: bool,
+}
+
+/// The interpolant as a memoryless law for the beam's own solve (`beam_solves`).
+struct TableLaw(Arc<Mutex<TableCurve>>);
+
+impl FrictionLaw for TableLaw {
+    fn name(&self) -> &str {
+        "tabulated step curves"
+    }
+
+    fn sliding_force(&mut self, sliding_velocity: f64, normal_force: f64) -> f64 {
+        self.sliding_force_and_slope(sliding_velocity, normal_force)
+            .0
+    }
+
+    fn sliding_force_and_slope(&mut self, sliding_velocity: f64, _normal_force: f64) -> (f64, f64) {
+        let c = self.0.lock().unwrap();
+        interpolate(&c.xs, &c.ys, &c.ms, c.hermite, sliding_velocity)
+    }
 }
 
 /// The node offsets (m/s) of `Force::Table` around v_k.
@@ -190,8 +226,24 @@ fn step_kinetic(force: f64, slope: f64, velocity: f64) -> ExternalKinetic {
 /// The coupled run, Gauss-Seidel (or Jacobi: `Variant::jacobi`), communication step
 /// `h`, the beam's internal steps taken one by one.
 fn coupled(scene: &CheckedScene, h: f64, variant: Variant) -> Vec<f64> {
-    let beam_scene = beam_scene_law(scene);
-    let mut sim = Simulator::new(beam_scene.clone(), law_of(&beam_scene)).unwrap();
+    let beam_solves = matches!(
+        variant.force,
+        Force::Table {
+            beam_solves: true,
+            ..
+        }
+    );
+    let curve = Arc::new(Mutex::new(TableCurve::default()));
+    let mut sim = if beam_solves {
+        // The law the beam solves is the table; no set-valued stick (mu_s = 0).
+        let mut raw = beam_scene_law(scene).scene().clone();
+        raw.friction.static_coefficient = 0.0;
+        raw.friction.kinetic_coefficient = 0.0;
+        Simulator::new(raw.check().unwrap(), Box::new(TableLaw(curve.clone()))).unwrap()
+    } else {
+        let beam_scene = beam_scene_law(scene);
+        Simulator::new(beam_scene.clone(), law_of(&beam_scene)).unwrap()
+    };
     let rho = scene.integrator.rho_inf;
     let alpha_f = rho / (rho + 1.0);
     let dt = scene.time.step;
@@ -274,12 +326,27 @@ fn coupled(scene: &CheckedScene, h: f64, variant: Variant) -> Vec<f64> {
         let mut v_before = v_k;
         for j in 1..=n {
             let theta = j as f64 / n as f64;
-            let kinetic = if variant.force == Force::BlendTangent {
-                step_kinetic(
+            if beam_solves {
+                let mut c = curve.lock().unwrap();
+                c.xs.clone_from(&xs);
+                c.ys = nodes
+                    .iter()
+                    .map(|n| (1.0 - theta) * n[0] + theta * n[2])
+                    .collect();
+                c.ms = nodes
+                    .iter()
+                    .map(|n| (1.0 - theta) * n[1] + theta * n[3])
+                    .collect();
+                c.hermite = true;
+            }
+            let kinetic = if beam_solves {
+                None
+            } else if variant.force == Force::BlendTangent {
+                Some(step_kinetic(
                     (1.0 - theta) * inst.force + theta * f_h,
                     (1.0 - theta) * inst.slope + theta * s_h,
                     v_k,
-                )
+                ))
             } else {
                 // The slip branch's x(F) is affine: two probes with a constant force and
                 // no static limit give it; then F = F_model(x(F)) is solved here.
@@ -338,9 +405,9 @@ fn coupled(scene: &CheckedScene, h: f64, variant: Variant) -> Vec<f64> {
                 let force = 0.5 * (lo + hi);
                 let x = xa + dxdf * (force - fa);
                 let (_, slope) = model(x);
-                step_kinetic(force, slope, x)
+                Some(step_kinetic(force, slope, x))
             };
-            sim.set_external_friction(Some(ExternalFriction {
+            sim.set_external_friction(kinetic.map(|kinetic| ExternalFriction {
                 kinetic,
                 static_limit: variant.static_limit,
             }));
@@ -447,7 +514,7 @@ fn exact(
 /// LAB_LAWS (lugre, aging, slip, learned; default aging), LAB_STEPS (communication
 /// steps, default 1e-3), LAB_VARIANTS (force/commit/static limit in N, e.g.
 /// "blend-tangent/end/50"; forces blend-tangent, blend-exact, relax-exact, step-exact,
-/// path, table-linear, table-hermite, step-table-hermite; commits end, mean, path),
+/// path, table-linear, table-hermite, table-hermite-beam, step-table-hermite; commits end, mean, path),
 /// LAB_NODES (the table's offsets, m/s), LAB_NODES_AT_ZERO (the table's nodes at 0 and
 /// +- the offsets, with v_k, instead of around v_k), LAB_DIFFERENCES (print the tip difference at
 /// a few times up to the first fall), LAB_BELT_SPEED (m/s); a fourth part "/jacobi" runs Jacobi. As shipped: LuGre blend-tangent/mean/0, the
@@ -486,14 +553,22 @@ fn measure_coupling_oracles() {
                     "table-linear" => Force::Table {
                         hermite: false,
                         step_only: false,
+                        beam_solves: false,
                     },
                     "table-hermite" => Force::Table {
                         hermite: true,
                         step_only: false,
+                        beam_solves: false,
+                    },
+                    "table-hermite-beam" => Force::Table {
+                        hermite: true,
+                        step_only: false,
+                        beam_solves: true,
                     },
                     "step-table-hermite" => Force::Table {
                         hermite: true,
                         step_only: true,
+                        beam_solves: false,
                     },
                     other => panic!("{other}"),
                 };
