@@ -129,10 +129,9 @@ impl NeuralFriction {
                     row[j] += value;
                 }
             }
-            let step_n = match self.step_pair_gradients()? {
-                Some([_, force_n, _, _]) => Some(force_n),
-                None => None,
-            };
+            let step_n = self
+                .step_pair_gradients()?
+                .map(|[_, force_n, _, _]| force_n);
             self.settings.sliding_velocity = at;
             let output = FIRST_TABLE_OUTPUT + i as u32;
             for (j, &input) in INPUTS.iter().enumerate().skip(1) {
