@@ -543,44 +543,28 @@ fn measure_step_consistent_coupling() {
 /// 1.2 s) for all four laws, asserted: the largest deviation is 4.5x below the bound;
 /// the falls are timed to a sample, 1 ms, and the period is their mean over about
 /// 0.6 s, so timing costs at most about 0.25 %. The `step` coupling (kept for masters
-/// without the 22 links) meets them for LuGre and the slip law, asserted as well; for
-/// the aging and the learned law asserted is what it gives, with margins: the
-/// deviation within 1.25 times the measured (a change that makes it worse fails) and
-/// the period error's magnitude within the measured one's plus 1 percentage point.
+/// without the 22 links) meets them for LuGre and the slip law, asserted as well; its
+/// numbers for the aging and the learned law, which now commit at the mean as well,
+/// are those `the_state_committed_at_the_steps_mean_velocity` asserts (not run twice:
+/// this test stays near 4 s).
 #[test]
 fn the_step_coupling_at_the_systems_step() {
     let h = 1e-3;
-    let not_met = [
-        ("rate-and-state aging", 0.197e-3, 0.0369),
-        ("learned", 0.230e-3, 0.0403),
-    ];
     for (name, law, setup) in state_law_setups(ExternalCoupling::Table) {
         let reference = alone_with(&setup, h);
         let run = coupled_as_shipped(law, &setup, h, Scheme::GaussSeidel);
         let (d, p) = coupling_error(&reference, &run, h);
         assert!(d < 0.092e-3, "{name}, table: {d} m");
         assert!(p.abs() < 0.01, "{name}, table: period error {p}");
-        let step = Setup {
-            coupling: ExternalCoupling::Step,
-            ..setup
-        };
-        let run = coupled_as_shipped(law, &step, h, Scheme::GaussSeidel);
-        let (d, p) = coupling_error(&reference, &run, h);
-        match not_met.iter().find(|m| m.0 == name) {
-            None => {
-                assert!(d < 0.092e-3, "{name}, step: {d} m");
-                assert!(p.abs() < 0.01, "{name}, step: period error {p}");
-            }
-            Some((_, deviation, period)) => {
-                assert!(
-                    d < 1.25 * deviation,
-                    "{name}, step: {d} m, measured {deviation} m"
-                );
-                assert!(
-                    p.abs() < f64::abs(*period) + 0.01,
-                    "{name}, step: period error {p}, measured {period}"
-                );
-            }
+        if name == "lugre" || name == "rate-and-state slip" {
+            let step = Setup {
+                coupling: ExternalCoupling::Step,
+                ..setup
+            };
+            let run = coupled_as_shipped(law, &step, h, Scheme::GaussSeidel);
+            let (d, p) = coupling_error(&reference, &run, h);
+            assert!(d < 0.092e-3, "{name}, step: {d} m");
+            assert!(p.abs() < 0.01, "{name}, step: period error {p}");
         }
     }
 }
@@ -607,9 +591,10 @@ fn the_step_coupling_meets_the_bounds_at_a_smaller_step() {
     }
 }
 
-/// Why `state_velocity = auto` commits the aging and the learned law at the step's end:
-/// with the step's mean (`state_velocity = mean`, the beam's `mean_relative_velocity`
-/// linked) they get worse, h = 1e-3 s, Gauss-Seidel, step coupling, default fidelity.
+/// The `step` coupling of the aging and the learned law with the state committed at
+/// the step's mean (`state_velocity = mean`, or `auto` since the `table` coupling, the
+/// beam's `mean_relative_velocity` linked) is worse than at the step's end (which
+/// `state_velocity = end` still gives), h = 1e-3 s, Gauss-Seidel, default fidelity.
 /// Measured (`COUPLING_STATE_VELOCITY=mean`, docs/cosimulation.md), against the end
 /// velocity:
 ///
@@ -619,9 +604,9 @@ fn the_step_coupling_meets_the_bounds_at_a_smaller_step() {
 /// | learned law with memory | 0.230 mm, +4.03 % | 0.168 mm, +2.68 % |
 ///
 /// (LuGre and the slip law gain: `the_step_coupling_at_the_systems_step`.) Asserted:
-/// the measured, within 1.25 times the deviation and 1 percentage point of period (as
-/// `the_step_coupling_at_the_systems_step`), and that the mean stays worse than the end
-/// velocity (so that `auto`'s choice holds).
+/// the measured, within 1.25 times the deviation and 1 percentage point of period, and
+/// that the mean stays worse than the end velocity for `step` (the `table` coupling
+/// needs the mean: `the_step_coupling_at_the_systems_step`).
 #[test]
 fn the_state_committed_at_the_steps_mean_velocity() {
     let h = 1e-3;
