@@ -517,8 +517,11 @@ fn exact(
 /// path, table-linear, table-hermite, table-hermite-beam, step-table-hermite; commits end, mean, path),
 /// LAB_NODES (the table's offsets, m/s), LAB_NODES_AT_ZERO (the table's nodes at 0 and
 /// +- the offsets, with v_k, instead of around v_k), LAB_DIFFERENCES (print the tip difference at
-/// a few times up to the first fall), LAB_BELT_SPEED (m/s); a fourth part "/jacobi" runs Jacobi. As shipped: LuGre blend-tangent/mean/0, the
-/// slip law blend-tangent/mean/50, aging and learned blend-tangent/end/50.
+/// a few times up to the first fall), LAB_BELT_SPEED (m/s); a fourth part "/jacobi" runs Jacobi. The `step` coupling as
+/// it shipped before `table`: LuGre blend-tangent/mean/0, the slip law
+/// blend-tangent/mean/50, aging and learned blend-tangent/end/50. The shipped `table`
+/// coupling is table-linear beam-solved with LAB_NODES_AT_ZERO, mean, 0 (measured
+/// through the FMUs in `friction_laws_coupled`).
 #[test]
 #[ignore = "measurement"]
 fn measure_coupling_oracles() {
