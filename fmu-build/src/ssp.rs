@@ -35,6 +35,7 @@ use crate::{io, BuildError};
 use std::fmt::Write as _;
 use std::fs;
 use std::path::{Path, PathBuf};
+use stickslip::friction::tabulated::TABLE_VELOCITIES;
 use stickslip_fmi::beam::StickSlipBeam;
 use stickslip_fmi::friction::NeuralFriction;
 use stickslip_fmi::model::Model;
@@ -295,8 +296,8 @@ pub fn coupled() -> System {
                 to: ("beam", "external.step_slope"),
             },
             // The step's mean sliding velocity, with which NeuralFriction commits a law
-            // with state where its `state_velocity` says so (`auto`: LuGre and the slip
-            // law); a memoryless law has no state to commit and leaves it unread.
+            // with state where its `state_velocity` says so (`auto`: every law with
+            // state); a memoryless law has no state to commit and leaves it unread.
             Connection {
                 from: ("beam", "mean_relative_velocity"),
                 to: ("friction", "mean_sliding_velocity"),
@@ -312,7 +313,7 @@ pub fn coupled() -> System {
 pub fn coupled_with_memory() -> System {
     with_friction(
         "StickSlipCoupledMemory",
-        "StickSlipBeam (friction.law = external, external.coupling = step) coupled to NeuralFriction running the shipped learned law with memory (rate-and-state-learned.json)",
+        "StickSlipBeam (friction.law = external, external.coupling = table) coupled to NeuralFriction running the shipped learned law with memory (rate-and-state-learned.json)",
         ("weights", Setting::String("rate-and-state-learned.json")),
     )
 }
@@ -324,7 +325,7 @@ pub fn coupled_with_memory() -> System {
 pub fn coupled_rate_and_state() -> System {
     with_law(
         "StickSlipCoupledRateState",
-        "StickSlipBeam (friction.law = external, external.coupling = step) coupled to NeuralFriction running law = rate-and-state (default parameters)",
+        "StickSlipBeam (friction.law = external, external.coupling = table) coupled to NeuralFriction running law = rate-and-state (default parameters)",
         "rate-and-state",
     )
 }
@@ -334,7 +335,7 @@ pub fn coupled_rate_and_state() -> System {
 pub fn coupled_lugre() -> System {
     with_law(
         "StickSlipCoupledLuGre",
-        "StickSlipBeam (friction.law = external, external.coupling = step) coupled to NeuralFriction running law = lugre (default parameters)",
+        "StickSlipBeam (friction.law = external, external.coupling = table) coupled to NeuralFriction running law = lugre (default parameters)",
         "lugre",
     )
 }
@@ -361,7 +362,7 @@ fn with_friction(
         .find(|c| c.fmu == FmuKind::NeuralFriction)
         .expect("the coupled system has a NeuralFriction");
     friction.set = vec![setting];
-    // A law with state: the beam reads the step-consistent tangent (issue 36).
+    // A law with state: the beam reads both its force curves tabulated (issue 36).
     let beam = system
         .components
         .iter_mut()
@@ -369,10 +370,34 @@ fn with_friction(
         .expect("the coupled system has a StickSlipBeam");
     for (name, value) in &mut beam.set {
         if *name == "external.coupling" {
-            *value = Setting::Choice("step");
+            *value = Setting::Choice("table");
         }
     }
+    system.connections.extend(table_connections());
     system
+}
+
+/// The `table` coupling's links: NeuralFriction's `table_friction_force_i` and
+/// `table_step_friction_force_i` into StickSlipBeam's `external.table_force_i` and
+/// `external.table_step_force_i`, node by node
+/// (`stickslip::friction::tabulated::TABLE_VELOCITIES`).
+fn table_connections() -> Vec<Connection> {
+    // Names made once per system, as the FMUs' own tables make them.
+    let name = |text: String| -> &'static str { Box::leak(text.into_boxed_str()) };
+    (0..TABLE_VELOCITIES.len())
+        .flat_map(|i| {
+            [
+                Connection {
+                    from: ("friction", name(format!("table_friction_force_{i}"))),
+                    to: ("beam", name(format!("external.table_force_{i}"))),
+                },
+                Connection {
+                    from: ("friction", name(format!("table_step_friction_force_{i}"))),
+                    to: ("beam", name(format!("external.table_step_force_{i}"))),
+                },
+            ]
+        })
+        .collect()
 }
 
 /// StickSlipBeam alone with the shipped plain network as its embedded friction law:

@@ -71,19 +71,37 @@ BEAM_FRICTION_STEP_LINKS = (
     *BEAM_FRICTION_SIGNED_LINKS,
     Link(FRICTION, "step_friction_force", BEAM, "external.step_force"),
     Link(FRICTION, "step_friction_slope", BEAM, "external.step_slope"),
-    # The step's mean sliding velocity, which commits LuGre's and the slip law's state
-    # (NeuralFriction's state_velocity = auto); Gauss-Seidel hands over the step's own,
+    # The step's mean sliding velocity, which commits a law's state (NeuralFriction's
+    # state_velocity = auto); Gauss-Seidel hands over the step's own,
     # Jacobi the previous step's.
     Link(BEAM, "mean_relative_velocity", FRICTION, "mean_sliding_velocity"),
 )
+# How many fixed velocities the table coupling tabulates both curves at
+# (stickslip::friction::tabulated::TABLE_VELOCITIES; the FMUs' variables
+# table_friction_force_i and external.table_force_i, i = 0 .. TABLE_NODES - 1).
+TABLE_NODES = 11
+# The same with both force curves of a law with state tabulated (issue 36): the
+# instantaneous and the one-step curve at each node.
+BEAM_FRICTION_TABLE_LINKS = (
+    *BEAM_FRICTION_STEP_LINKS,
+    *(
+        link
+        for i in range(TABLE_NODES)
+        for link in (
+            Link(FRICTION, f"table_friction_force_{i}", BEAM, f"external.table_force_{i}"),
+            Link(FRICTION, f"table_step_friction_force_{i}", BEAM, f"external.table_step_force_{i}"),
+        )
+    ),
+)
 # StickSlipBeam's external.coupling -> the links it reads. `magnitude` suits laws
 # sign(v) g(|v|) (the exponential law, the signed network); `signed` smooth signed laws
-# (the paper's plain network); `step` laws with state (LuGre, rate-and-state, the
-# learned law with memory).
+# (the paper's plain network); `table` (the SSP systems') and `step` laws with state
+# (LuGre, rate-and-state, the learned law with memory).
 COUPLINGS = {
     "magnitude": BEAM_FRICTION_LINKS,
     "signed": BEAM_FRICTION_SIGNED_LINKS,
     "step": BEAM_FRICTION_STEP_LINKS,
+    "table": BEAM_FRICTION_TABLE_LINKS,
 }
 # Dependency order of the pair: the friction FMU's outputs follow the beam's.
 BEAM_FRICTION_ORDER = (BEAM, FRICTION)

@@ -57,9 +57,9 @@ FRICTION_SETTINGS = {
     COUPLED_RATE_STATE: {"law": "rate-and-state"},
     COUPLED_LUGRE: {"law": "lugre"},
 }
-# StickSlipBeam's external.coupling in each coupled system (the SSD's): the step-
-# consistent tangent for a law with state.
-COUPLING_OF = {COUPLED: "signed", COUPLED_MEMORY: "step", COUPLED_RATE_STATE: "step", COUPLED_LUGRE: "step"}
+# StickSlipBeam's external.coupling in each coupled system (the SSD's): both force
+# curves tabulated for a law with state (issue 36).
+COUPLING_OF = {COUPLED: "signed", COUPLED_MEMORY: "table", COUPLED_RATE_STATE: "table", COUPLED_LUGRE: "table"}
 # The law's state output each coupled system is compared on besides the tip deflection
 # (NeuralFriction's STATE_VARIABLES outputs; the others keep them at 0).
 STATE_OF = {COUPLED_RATE_STATE: ("friction", "state_theta"), COUPLED_LUGRE: ("friction", "bristle_deflection")}

@@ -142,8 +142,9 @@ fn fmi3_buffer_lengths_elements_and_time_are_checked() {
     };
     assert_eq!(status, ERROR);
     assert!(fmu.logged("nSensitivity"));
-    // The six law outputs, the step-consistent pair and the three state outputs.
-    assert_eq!(outputs().len(), 11);
+    // The six law outputs, the step-consistent pair, the three state outputs and the
+    // table coupling's 22.
+    assert_eq!(outputs().len(), 33);
 }
 
 /// StickSlipBeam declares no directional derivatives: both versions answer Error and

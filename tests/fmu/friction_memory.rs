@@ -89,7 +89,7 @@ fn the_law_state_round_trips_bit_for_bit_and_old_states_are_read() {
         let t = steps(&mut f, version, 0.0, 1e-3, 7);
         let saved = f.get_state().unwrap();
         assert_eq!(saved.version, STATE_VERSION);
-        assert_eq!(saved.version, 7);
+        assert_eq!(saved.version, 8);
         assert_eq!(saved.model["step_size"], serde_json::json!(1e-3));
         let law_state = saved.model["law_state"].as_array().unwrap();
         assert_eq!(law_state.len(), 1);

@@ -3,6 +3,7 @@
 mod allocations;
 mod authors_options;
 mod call_matrix;
+mod coupling_lab;
 mod dependencies;
 mod directional;
 mod directional_errors;

@@ -113,7 +113,7 @@ fn the_law_state_round_trips_through_the_fmu_state() {
         run(&mut b, 0.0, 0.45, 1e-2);
         let saved = b.get_state().unwrap();
         assert_eq!(saved.version, STATE_VERSION);
-        assert_eq!(STATE_VERSION, 7);
+        assert_eq!(STATE_VERSION, 8);
         let law_state = &saved.model["running"]["state"]["law_state"];
         assert_eq!(law_state.as_array().map(Vec::len), Some(1), "{law_state}");
         let bytes = b.serialize_state(&saved).unwrap();

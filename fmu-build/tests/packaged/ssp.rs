@@ -175,8 +175,8 @@ fn parameters_are_the_defaults_except_what_the_system_sets() {
     // plain network as the monolithic one embeds.
     assert!(friction_starts.contains(&("law".into(), NeuralFrictionLaw::NEURAL.code().to_string())));
     // The systems with a law with state differ from the coupled one in NeuralFriction's
-    // law and the beam's coupling (step, issue 36): same links, the law's code in the
-    // parameter set.
+    // law and the beam's coupling (table, issue 36): the same links and the table's 22,
+    // the law's code in the parameter set.
     for (system, law) in [
         (
             ssp::coupled_rate_and_state(),
@@ -191,7 +191,7 @@ fn parameters_are_the_defaults_except_what_the_system_sets() {
             with(
                 &ssd_parameters(&coupled, "beam"),
                 "external.coupling",
-                ExternalCoupling::Step.code()
+                ExternalCoupling::Table.code()
             )
         );
         assert_eq!(
@@ -200,7 +200,20 @@ fn parameters_are_the_defaults_except_what_the_system_sets() {
             "{}",
             system.name
         );
-        assert_eq!(system.connections, checked(ssp::coupled()).connections);
+        let connections = checked(ssp::coupled()).connections;
+        assert_eq!(system.connections[..connections.len()], connections[..]);
+        let table = &system.connections[connections.len()..];
+        assert_eq!(table.len(), 22);
+        for (k, c) in table.iter().enumerate() {
+            let (i, step) = (k / 2, k % 2 == 1);
+            let (from, to) = if step {
+                ("table_step_friction_force", "external.table_step_force")
+            } else {
+                ("table_friction_force", "external.table_force")
+            };
+            assert_eq!(c.from, ("friction", &*format!("{from}_{i}")));
+            assert_eq!(c.to, ("beam", &*format!("{to}_{i}")));
+        }
     }
     for ssd in [&coupled, &monolithic] {
         assert_eq!(

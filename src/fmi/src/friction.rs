@@ -25,6 +25,7 @@ use crate::networks::{NetworkError, Networks, DEFAULT_WEIGHTS};
 use serde::{Deserialize, Serialize};
 use stickslip::friction::registry::LawTables;
 use stickslip::friction::state::STATE_VARIABLES;
+use stickslip::friction::tabulated::TABLE_VELOCITIES;
 use stickslip::friction::FrictionLaw;
 use stickslip::neural::{FeatureRole, NeuralError, NeuralModel};
 use stickslip::scene::{Friction, Loading, Scene, SceneError};
@@ -161,7 +162,14 @@ struct Outputs {
     /// and `slope` for a memoryless law and before the first step.
     step_force: f64,
     step_slope: f64,
+    /// Both force curves at `TABLE_VELOCITIES` (N): F(s_k, v_i) and F_h(s_k, v_i)
+    /// (`NeuralFriction::table`).
+    table_force: [f64; TABLE_LEN],
+    table_step_force: [f64; TABLE_LEN],
 }
+
+/// How many fixed velocities the curves are tabulated at.
+const TABLE_LEN: usize = TABLE_VELOCITIES.len();
 
 /// Why the outputs could not be evaluated (the `Model` methods log the message).
 #[derive(Debug, thiserror::Error)]
@@ -258,6 +266,81 @@ impl NeuralFriction {
     fn evaluate(&mut self) -> Result<Outputs, EvaluateError> {
         let s = self.settings.clone();
         let static_limit = s.static_limit_coefficient() * s.normal_force;
+        let ((force, slope), state) = self.law_force()?;
+        let (step_force, step_slope) = self.step_pair()?.unwrap_or((force, slope));
+        let (table_force, table_step_force) = self.table()?;
+        let outputs = Outputs {
+            force,
+            slope,
+            step_force,
+            step_slope,
+            velocity: s.sliding_velocity,
+            coefficient: if s.normal_force > 0.0 {
+                force.abs() / s.normal_force
+            } else {
+                0.0
+            },
+            static_limit,
+            state,
+            table_force,
+            table_step_force,
+        };
+        if ![
+            outputs.force,
+            outputs.slope,
+            outputs.step_force,
+            outputs.step_slope,
+            outputs.velocity,
+            outputs.coefficient,
+            outputs.static_limit,
+        ]
+        .iter()
+        .chain(&outputs.state)
+        .chain(&outputs.table_force)
+        .chain(&outputs.table_step_force)
+        .all(|x| x.is_finite())
+        {
+            return Err(EvaluateError::NonFiniteOutputs {
+                sliding_velocity: s.sliding_velocity,
+                normal_force: s.normal_force,
+                force: outputs.force,
+                slope: outputs.slope,
+                coefficient: outputs.coefficient,
+                static_limit: outputs.static_limit,
+            });
+        }
+        Ok(outputs)
+    }
+
+    /// Both force curves at the fixed velocities `TABLE_VELOCITIES` (N), from the
+    /// committed state at the current normal force (and features): the instantaneous
+    /// F(s_k, v_i) and the one-step F_h(s_k, v_i) (`step_pair`; F itself for a
+    /// memoryless law and before the first step). The `table` coupling's inputs
+    /// (`stickslip::friction::tabulated`).
+    #[allow(clippy::type_complexity)]
+    fn table(&mut self) -> Result<([f64; TABLE_LEN], [f64; TABLE_LEN]), EvaluateError> {
+        let v = self.settings.sliding_velocity;
+        let mut force = [0.0; TABLE_LEN];
+        let mut step_force = [0.0; TABLE_LEN];
+        let mut fill = |m: &mut Self| -> Result<(), EvaluateError> {
+            for (i, &at) in TABLE_VELOCITIES.iter().enumerate() {
+                m.settings.sliding_velocity = at;
+                let ((f, _), _) = m.law_force()?;
+                force[i] = f;
+                step_force[i] = m.step_pair()?.map_or(f, |p| p.0);
+            }
+            Ok(())
+        };
+        let filled = fill(self);
+        self.settings.sliding_velocity = v;
+        filled.map(|()| (force, step_force))
+    }
+
+    /// The law's force and slope at the current inputs (at the committed state for a
+    /// law with state), and its state outputs.
+    #[allow(clippy::type_complexity)]
+    fn law_force(&mut self) -> Result<((f64, f64), [f64; STATE_VARIABLES.len()]), EvaluateError> {
+        let s = self.settings.clone();
         let mut state = [0.0; STATE_VARIABLES.len()];
         let (force, slope) = 'law: {
             if let Some((jacobian, values)) = self.state_jacobian()? {
@@ -283,44 +366,7 @@ impl NeuralFriction {
                 source,
             })?
         };
-        let (step_force, step_slope) = self.step_pair()?.unwrap_or((force, slope));
-        let outputs = Outputs {
-            force,
-            slope,
-            step_force,
-            step_slope,
-            velocity: s.sliding_velocity,
-            coefficient: if s.normal_force > 0.0 {
-                force.abs() / s.normal_force
-            } else {
-                0.0
-            },
-            static_limit,
-            state,
-        };
-        if ![
-            outputs.force,
-            outputs.slope,
-            outputs.step_force,
-            outputs.step_slope,
-            outputs.velocity,
-            outputs.coefficient,
-            outputs.static_limit,
-        ]
-        .iter()
-        .chain(&outputs.state)
-        .all(|x| x.is_finite())
-        {
-            return Err(EvaluateError::NonFiniteOutputs {
-                sliding_velocity: s.sliding_velocity,
-                normal_force: s.normal_force,
-                force: outputs.force,
-                slope: outputs.slope,
-                coefficient: outputs.coefficient,
-                static_limit: outputs.static_limit,
-            });
-        }
-        Ok(outputs)
+        Ok(((force, slope), state))
     }
 }
 
@@ -343,6 +389,10 @@ const FRICTION_FORCE_SLOPE: u32 = 24;
 const EVALUATED_VELOCITY_OUTPUT: u32 = 25;
 const STEP_FRICTION_FORCE: u32 = 26;
 const STEP_FRICTION_SLOPE: u32 = 27;
+/// The first of the `table` coupling's outputs: `table_friction_force_i` at
+/// 101 + i and `table_step_friction_force_i` at 101 + TABLE_LEN + i, i = 0..TABLE_LEN
+/// (`variables::table_outputs`).
+const FIRST_TABLE_OUTPUT: u32 = 101;
 /// The FMI 3.0 array `extra_feature` of those four: a value reference of its own (16,
 /// free in both descriptions), so that 12 means `extra_feature[1]` in FMI 2.0 and
 /// nothing in FMI 3.0, never the whole array.

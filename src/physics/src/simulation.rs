@@ -10,6 +10,7 @@ use crate::contact::{
     Transition,
 };
 use crate::friction::state::{StateVariable, STATE_VARIABLES};
+use crate::friction::tabulated::StepCurves;
 use crate::friction::FrictionLaw;
 use crate::integrator::{Coefficients, Integrator, Kinematics, TrialStep};
 use crate::modal_slip::{SlipBasis, SlipBasisError};
@@ -128,6 +129,10 @@ crate::choice! {
         /// [`ExternalKinetic::Step`] from `external.step_force`,
         /// `external.step_slope` and `external.sliding_velocity`.
         Step = "step": "the signed tangent blended over the communication step into the step-consistent one, external.step_force + external.step_slope (v - external.sliding_velocity): for laws with state (LuGre, rate-and-state, the learned law with memory)",
+        /// [`ExternalKinetic::Table`] from `external.table_force_i`,
+        /// `external.table_step_force_i`, `external.friction_force`,
+        /// `external.step_force` and `external.sliding_velocity`.
+        Table = "table": "both force curves of a law with state, the instantaneous and the one-step one, tabulated at fixed velocities (external.table_force_i, external.table_step_force_i) and at external.sliding_velocity, blended over the communication step and interpolated piecewise linearly: for laws with state (issue 36)",
     }
 }
 
@@ -172,6 +177,12 @@ pub enum ExternalKinetic {
         step_slope: f64,
         velocity: f64,
     },
+    /// A law with state by both its curves over the communication step, tabulated
+    /// ([`StepCurves`]): an internal step ending at the fraction theta of the
+    /// communication step (as for `Step`) solves the piecewise linear interpolant of
+    /// (1 - theta) F + theta F_h as the scene's law is solved
+    /// ([`crate::friction::tabulated::BlendedCurve`]), against the static limit given.
+    Table(StepCurves),
 }
 
 /// Where the step after `taken` of `planned` steps ends in its window, as a fraction
@@ -747,6 +758,7 @@ impl Simulator {
                 resolution
             }
             (external, _) => {
+                let mut table;
                 let kinetic = match external {
                     Some(ExternalFriction {
                         kinetic: ExternalKinetic::Magnitude(force),
@@ -783,6 +795,16 @@ impl Simulator {
                             slope: (1.0 - theta) * slope + theta * step_slope,
                             velocity,
                             direction: Direction::AcrossZero,
+                        }
+                    }
+                    Some(ExternalFriction {
+                        kinetic: ExternalKinetic::Table(curves),
+                        ..
+                    }) => {
+                        table = curves.blended(window_fraction(self.window));
+                        Kinetic::Law {
+                            law: &mut table,
+                            normal_force: self.normal_force,
                         }
                     }
                     None => Kinetic::Law {

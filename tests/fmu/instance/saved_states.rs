@@ -106,7 +106,7 @@ fn state_errors_are_typed_and_say_what_is_wrong() {
         ),
         (
             state("stickslip-fmu-state", 99, "step-complete", 0.5),
-            "serialized FMU state has version 99, this FMU reads versions 1 to 7",
+            "serialized FMU state has version 99, this FMU reads versions 1 to 8",
         ),
         (
             state("stickslip-fmu-state", 1, "step-complete", 2.0),

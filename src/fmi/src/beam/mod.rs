@@ -21,6 +21,15 @@
 //!   velocity, the state's response included (NeuralFriction's `step_friction_force`
 //!   and `step_friction_slope`), solved as `signed`, turned along v_rel only where v_rel
 //!   has crossed 0 since the evaluation.
+//! - `table`: both curves of a law with state over the communication step, the
+//!   instantaneous and the one-step one, as values at the fixed velocities
+//!   `stickslip::friction::tabulated::TABLE_VELOCITIES` (`external.table_force_i`,
+//!   `external.table_step_force_i`, NeuralFriction's `table_friction_force_i` and
+//!   `table_step_friction_force_i`) and at `external.sliding_velocity`
+//!   (`external.friction_force`, `external.step_force`), blended over the step and
+//!   interpolated piecewise linearly, solved as an embedded law is (issue 36), with no
+//!   set-valued stick (`external.static_limit` is not read: the curves at and around
+//!   v = 0 hold the tip, as the embedded law's force does).
 //!
 //! `fidelity.level = auto` is resolved by the `auto` module at
 //! fmi2ExitInitializationMode.
@@ -42,6 +51,7 @@ mod variables;
 use crate::networks::{Networks, DEFAULT_WEIGHTS};
 use serde::{Deserialize, Serialize};
 use stickslip::contact::ContactState;
+use stickslip::friction::tabulated::{StepCurves, TABLE_VELOCITIES};
 use stickslip::friction::FrictionLawKind;
 use stickslip::scene::Scene;
 use stickslip::simulation::{
@@ -70,6 +80,14 @@ pub struct BeamInputs {
     pub step_force: f64,
     #[serde(default)]
     pub step_slope: f64,
+    /// `external.table_force_i` and `external.table_step_force_i` (N): both force
+    /// curves at `stickslip::friction::tabulated::TABLE_VELOCITIES`
+    /// (`external.coupling = table`); absent from states saved before them (version 7
+    /// and earlier), where they read as 0.
+    #[serde(default)]
+    pub table_force: [f64; TABLE_VELOCITIES.len()],
+    #[serde(default)]
+    pub table_step_force: [f64; TABLE_VELOCITIES.len()],
 }
 
 /// Everything set from outside: parameters and inputs. The friction model and the
@@ -104,6 +122,8 @@ impl Default for Settings {
             sliding_velocity: 0.0,
             step_force: 0.0,
             step_slope: 0.0,
+            table_force: [0.0; TABLE_VELOCITIES.len()],
+            table_step_force: [0.0; TABLE_VELOCITIES.len()],
         };
         Self {
             scene,
@@ -244,8 +264,23 @@ impl StickSlipBeam {
                     step_slope: inputs.step_slope,
                     velocity: inputs.sliding_velocity,
                 },
+                ExternalCoupling::Table => ExternalKinetic::Table(StepCurves {
+                    force: inputs.table_force,
+                    step_force: inputs.table_step_force,
+                    velocity: inputs.sliding_velocity,
+                    force_at_velocity: inputs.friction_force,
+                    step_force_at_velocity: inputs.step_force,
+                }),
             },
-            static_limit: inputs.static_limit,
+            // No set-valued stick under `table`: the tabulated curves hold the law's
+            // force at and around v = 0, which holds the tip as the embedded law's does;
+            // a stick at mu_s F_n (`external.static_limit`, NeuralFriction's for the
+            // `step` coupling) ended the slip law's stick where the law's force holds
+            // on: 0.152 mm, -2.8 % of period at h = 1e-3 s (docs/cosimulation.md).
+            static_limit: match self.settings.coupling {
+                ExternalCoupling::Table => 0.0,
+                _ => inputs.static_limit,
+            },
         }
     }
 

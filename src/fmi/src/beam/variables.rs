@@ -13,6 +13,7 @@ use crate::variables::{
     Access, Causality, Dependencies, InitialDependencies, Variability, Variable,
 };
 use std::sync::LazyLock;
+use stickslip::friction::tabulated::TABLE_VELOCITIES;
 use stickslip::friction::FrictionLawKind;
 use stickslip::neural::inference::Inference;
 use stickslip::scene::{
@@ -487,5 +488,63 @@ pub(super) static VARIABLES: LazyLock<Vec<Variable<StickSlipBeam>>> = LazyLock::
         .chain(laws)
         .chain(tail)
         .chain(law_state)
+        .chain(table_inputs())
         .collect()
 });
+
+/// The first of the `table` coupling's inputs: `external.table_force_i` at 401 + i and
+/// `external.table_step_force_i` at 401 + TABLE_VELOCITIES.len() + i.
+const FIRST_TABLE_INPUT: u32 = 401;
+
+/// The `table` coupling's inputs (`external.coupling = table`): both force curves of a
+/// law with state at each of `TABLE_VELOCITIES` (NeuralFriction's
+/// `table_friction_force_i` and `table_step_friction_force_i`).
+fn table_inputs() -> Vec<Variable<StickSlipBeam>> {
+    let n = TABLE_VELOCITIES.len();
+    (0..2 * n)
+        .map(|k| {
+            let (i, step) = (k % n, k >= n);
+            let v = TABLE_VELOCITIES[i];
+            // Once per row, when the table is first built.
+            let (name, description) = if step {
+                (
+                    format!("external.table_step_force_{i}"),
+                    format!("The one-step force curve at sliding velocity {v:e} m/s: the force after one communication step at that velocity held (external.coupling = table, node {i})"),
+                )
+            } else {
+                (
+                    format!("external.table_force_{i}"),
+                    format!("The instantaneous force curve at sliding velocity {v:e} m/s, at the law's state at the step's start (external.coupling = table, node {i})"),
+                )
+            };
+            Variable {
+                name: Box::leak(name.into_boxed_str()),
+                value_reference: FIRST_TABLE_INPUT + k as u32,
+                causality: Causality::Input,
+                variability: Variability::Continuous,
+                description: Box::leak(description.into_boxed_str()),
+                access: Access::Real {
+                    unit: Some("N"),
+                    get: Box::new(move |m: &StickSlipBeam| {
+                        if step {
+                            m.settings.inputs.table_step_force[i]
+                        } else {
+                            m.settings.inputs.table_force[i]
+                        }
+                    }),
+                    set: Some(Box::new(move |m: &mut StickSlipBeam, x: f64| {
+                        let curve = if step {
+                            &mut m.settings.inputs.table_step_force
+                        } else {
+                            &mut m.settings.inputs.table_force
+                        };
+                        curve[i] = x;
+                        m.apply_inputs();
+                        Ok(())
+                    })),
+                },
+                depends_on: None,
+            }
+        })
+        .collect()
+}

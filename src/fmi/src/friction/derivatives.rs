@@ -99,6 +99,54 @@ impl NeuralFriction {
         ]))
     }
 
+    /// The tabulated curves' derivatives with respect to every input but the sliding
+    /// velocity (which they do not read): at each node v_i, the law's Jacobian there
+    /// (as friction_force's at v) for the instantaneous curve, and for the one-step
+    /// curve the same where it is that curve (a memoryless law, before the first step),
+    /// else the centred difference of the law's own step along F_n, as for
+    /// step_friction_force.
+    fn table_derivatives(
+        &mut self,
+        partials: &mut PartialDerivatives,
+    ) -> Result<(), EvaluateError> {
+        let v = self.settings.sliding_velocity;
+        let filled = self.table_derivatives_at_nodes(partials);
+        self.settings.sliding_velocity = v;
+        filled
+    }
+
+    fn table_derivatives_at_nodes(
+        &mut self,
+        partials: &mut PartialDerivatives,
+    ) -> Result<(), EvaluateError> {
+        let n = TABLE_LEN as u32;
+        for (i, &at) in TABLE_VELOCITIES.iter().enumerate() {
+            self.settings.sliding_velocity = at;
+            let (jacobian, law_inputs) = self.law_jacobian()?;
+            let mut row = [0.0; INPUTS.len()];
+            for (value, input) in jacobian.force_gradient.iter().zip(&law_inputs) {
+                if let Some(j) = INPUTS.iter().position(|x| x == input) {
+                    row[j] += value;
+                }
+            }
+            let step_n = self
+                .step_pair_gradients()?
+                .map(|[_, force_n, _, _]| force_n);
+            self.settings.sliding_velocity = at;
+            let output = FIRST_TABLE_OUTPUT + i as u32;
+            for (j, &input) in INPUTS.iter().enumerate().skip(1) {
+                partials.set(output, input, row[j]);
+                let step = match step_n {
+                    Some(force_n) if input == NORMAL_FORCE => force_n,
+                    Some(_) => 0.0,
+                    None => row[j],
+                };
+                partials.set(output + n, input, step);
+            }
+        }
+        Ok(())
+    }
+
     fn compute_derivatives(&mut self) -> Result<PartialDerivatives, EvaluateError> {
         let (jacobian, law_inputs) = self.law_jacobian()?;
         let s = &self.settings;
@@ -149,6 +197,7 @@ impl NeuralFriction {
                 }
             }
         }
+        self.table_derivatives(&mut partials)?;
         if let Some((output, input, value)) = partials.non_finite() {
             return Err(EvaluateError::NonFiniteDerivative {
                 output,

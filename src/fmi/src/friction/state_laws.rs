@@ -33,14 +33,11 @@
 //!   last communication step's size (`step_size`); a version-4 or -5 state of a law
 //!   with state after a step that lacks it is refused (`step_size_of`).
 
-use super::laws::NeuralFrictionLaw;
 use super::state_velocity::StateVelocity;
 use super::{EvaluateError, InitialiseError, NeuralFriction, Outputs, Settings};
 use crate::instance::{check_as_set, parse_saved};
 use crate::model::{Model, Restoring};
 use serde::{Deserialize, Serialize};
-use stickslip::choice::Choice;
-use stickslip::friction::rate_and_state::{StateEvolution, STATE_EVOLUTION};
 use stickslip::friction::state::{LawStep, StatefulLaw, STATE_VARIABLES};
 use stickslip::friction::FrictionLaw;
 use stickslip::jacobian::LawJacobian;
@@ -440,18 +437,14 @@ impl NeuralFriction {
         }
     }
 
-    /// Whether `state_velocity` chooses the mean for the current law.
+    /// Whether `state_velocity` chooses the mean for the current law (`auto`: for
+    /// every law, module notes of `super::state_velocity`).
     fn commits_at_mean(&self) -> bool {
         let s = &self.settings;
         match s.state_velocity {
             StateVelocity::End => false,
             StateVelocity::Mean => true,
-            StateVelocity::Auto => {
-                s.law == NeuralFrictionLaw::LUGRE
-                    || (s.law == NeuralFrictionLaw::RATE_AND_STATE
-                        && StateEvolution::from_code(s.laws.get(&STATE_EVOLUTION) as i32)
-                            == Some(StateEvolution::Slip))
-            }
+            StateVelocity::Auto => true,
         }
     }
 }

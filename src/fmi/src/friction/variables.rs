@@ -273,6 +273,7 @@ pub(super) static VARIABLES: LazyLock<Vec<Variable<NeuralFriction>>> = LazyLock:
     let law_state = law_state_outputs(FIRST_STATE_OUTPUT, state_output, |m: &NeuralFriction, k| {
         m.outputs.state[k]
     });
+    let table = table_outputs();
     let laws = law_parameters(
         "law",
         |m: &NeuralFriction| &m.settings.laws,
@@ -282,5 +283,66 @@ pub(super) static VARIABLES: LazyLock<Vec<Variable<NeuralFriction>>> = LazyLock:
         .chain(laws)
         .chain(tail)
         .chain(law_state)
+        .chain(table)
         .collect()
 });
+
+/// What the tabulated curves depend on: the law at fixed velocities, from the committed
+/// state, so every input but the sliding velocity (the normal force, the features a
+/// network reads); in Initialization Mode also the laws' parameters, as the force.
+fn table_output() -> Dependencies {
+    Dependencies {
+        inputs: &[
+            (NORMAL_FORCE, DependencyKind::Dependent),
+            (EXTRA_FEATURE[0], DependencyKind::Dependent),
+            (EXTRA_FEATURE[1], DependencyKind::Dependent),
+            (EXTRA_FEATURE[2], DependencyKind::Dependent),
+            (EXTRA_FEATURE[3], DependencyKind::Dependent),
+        ],
+        initial: InitialDependencies::InputsAnd(&LAW_OUTPUT_INITIAL),
+    }
+}
+
+/// The `table` coupling's outputs (StickSlipBeam's `external.table_force_i` and
+/// `external.table_step_force_i`): both force curves at each of `TABLE_VELOCITIES`,
+/// value references from `FIRST_TABLE_OUTPUT` (the first curve's nodes, then the
+/// second's).
+fn table_outputs() -> Vec<Variable<NeuralFriction>> {
+    (0..2 * TABLE_LEN)
+        .map(|k| {
+            let (i, step) = (k % TABLE_LEN, k >= TABLE_LEN);
+            let v = TABLE_VELOCITIES[i];
+            // Once per row, when the table is first built.
+            let (name, description) = if step {
+                (
+                    format!("table_step_friction_force_{i}"),
+                    format!("step_friction_force at sliding velocity {v:e} m/s held instead of sliding_velocity (the table coupling's one-step curve, node {i})"),
+                )
+            } else {
+                (
+                    format!("table_friction_force_{i}"),
+                    format!("friction_force at sliding velocity {v:e} m/s instead of sliding_velocity, at the committed state (the table coupling's instantaneous curve, node {i})"),
+                )
+            };
+            Variable {
+                name: Box::leak(name.into_boxed_str()),
+                value_reference: FIRST_TABLE_OUTPUT + k as u32,
+                causality: crate::variables::Causality::Output,
+                variability: crate::variables::Variability::Continuous,
+                description: Box::leak(description.into_boxed_str()),
+                access: crate::variables::Access::Real {
+                    unit: Some("N"),
+                    get: Box::new(move |m: &NeuralFriction| {
+                        if step {
+                            m.outputs.table_step_force[i]
+                        } else {
+                            m.outputs.table_force[i]
+                        }
+                    }),
+                    set: None,
+                },
+                depends_on: Some(table_output()),
+            }
+        })
+        .collect()
+}

@@ -54,7 +54,9 @@ pub const STATE_FORMAT: &str = "stickslip-fmu-state";
 ///   step with `friction.law = external` lacks it and is refused (`beam::saved`). NeuralFriction's settings gain
 ///   `state_velocity` (absent: `end`, as those states committed) and the input
 ///   `mean_sliding_velocity` with whether a master has set it (absent: not).
-pub const STATE_VERSION: u32 = 7;
+/// - 8: StickSlipBeam's inputs gain the `table` coupling's curves (`table_force`,
+///   `table_step_force`; absent: 0, as no older state could couple by `table`).
+pub const STATE_VERSION: u32 = 8;
 /// The first version whose bytes end in a checksum: the JSON text, then
 /// [`CHECKSUM_MARK`] and the CRC-32 (IEEE) of the JSON text's bytes in 8 lowercase hex
 /// digits. Older versions are the JSON text alone.

@@ -29,6 +29,7 @@ pub mod rate_and_state;
 pub mod registry;
 pub mod state;
 pub mod stribeck;
+pub mod tabulated;
 
 pub use kind::FrictionLawKind;
 pub use law::FrictionLaw;
