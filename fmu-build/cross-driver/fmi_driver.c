@@ -49,7 +49,7 @@ static void *symbol(void *library, const char *name) { return dlsym(library, nam
 static const char *load_error(void) { return dlerror(); }
 #endif
 
-#define MAX_OUTPUTS 32
+#define MAX_OUTPUTS 256
 #define MAX_LINE 4096
 
 typedef unsigned int vr_t;
@@ -304,7 +304,12 @@ int main(int argc, char **argv) {
         } else if (strcmp(command, "string") == 0 && sscanf(line, "string %u %s", &vr, a) == 2) {
             set_string(&f, vr, a);
         } else if (strcmp(command, "output") == 0 &&
-                   sscanf(line, "output %s %u", a, &vr) == 2 && n_outputs < MAX_OUTPUTS) {
+                   sscanf(line, "output %s %u", a, &vr) == 2) {
+            if (n_outputs == MAX_OUTPUTS) {
+                fprintf(stderr, "fmi_driver: more than %d outputs in the plan (at: %s)\n",
+                        MAX_OUTPUTS, line);
+                return 2;
+            }
             outputs[n_outputs].kind = strcmp(a, "real") == 0  ? KIND_REAL
                                       : strcmp(a, "int") == 0 ? KIND_INT
                                                               : KIND_BOOL;
